@@ -1,0 +1,427 @@
+//! Arbitrary-precision integers with a machine-word fast path.
+//!
+//! [`Int`] keeps values that fit in an `i64` inline and only falls back to
+//! [`num_bigint::BigInt`] when an operation overflows. Every operation is
+//! exact: the fast path is an optimisation, never a source of rounding.
+
+use num_bigint::{BigInt, Sign};
+use num_integer::Integer;
+use num_traits::{One, Signed, ToPrimitive, Zero};
+use std::cmp::Ordering;
+use std::fmt;
+use std::ops::{Add, Mul, Neg, Sub};
+use std::str::FromStr;
+
+/// An exact integer: `i64` while it fits, a big integer otherwise.
+///
+/// The representation is canonical (a value that fits in `i64` is always
+/// `Small`), so derived equality and hashing are value equality.
+///
+/// ```
+/// use poly::Int;
+/// let a = Int::from(i64::MAX);
+/// let b = &a + &Int::from(1);
+/// assert_eq!(b.to_string(), "9223372036854775808");
+/// assert_eq!(&b - &Int::from(1), a);
+/// ```
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub enum Int {
+    /// A value in `i64` range.
+    Small(i64),
+    /// A value outside `i64` range.
+    Big(BigInt),
+}
+
+impl Int {
+    /// Zero.
+    pub const ZERO: Int = Int::Small(0);
+    /// One.
+    pub const ONE: Int = Int::Small(1);
+
+    fn from_big(b: BigInt) -> Int {
+        match b.to_i64() {
+            Some(v) => Int::Small(v),
+            None => Int::Big(b),
+        }
+    }
+
+    /// The value as a big integer.
+    pub fn to_big(&self) -> BigInt {
+        match self {
+            Int::Small(v) => BigInt::from(*v),
+            Int::Big(b) => b.clone(),
+        }
+    }
+
+    /// True for zero.
+    pub fn is_zero(&self) -> bool {
+        matches!(self, Int::Small(0))
+    }
+
+    /// True for one.
+    pub fn is_one(&self) -> bool {
+        matches!(self, Int::Small(1))
+    }
+
+    /// -1, 0 or 1.
+    pub fn signum(&self) -> i32 {
+        match self {
+            Int::Small(v) => v.signum() as i32,
+            Int::Big(b) => match b.sign() {
+                Sign::Minus => -1,
+                Sign::NoSign => 0,
+                Sign::Plus => 1,
+            },
+        }
+    }
+
+    /// True for values < 0.
+    pub fn is_negative(&self) -> bool {
+        self.signum() < 0
+    }
+
+    /// Absolute value.
+    pub fn abs(&self) -> Int {
+        match self {
+            Int::Small(v) => match v.checked_abs() {
+                Some(a) => Int::Small(a),
+                None => Int::Big(BigInt::from(*v).abs()),
+            },
+            Int::Big(b) => Int::from_big(b.abs()),
+        }
+    }
+
+    /// Greatest common divisor, always >= 0; gcd(0, 0) = 0.
+    pub fn gcd(&self, other: &Int) -> Int {
+        match (self, other) {
+            (Int::Small(a), Int::Small(b)) => {
+                let (mut a, mut b) = (a.unsigned_abs(), b.unsigned_abs());
+                while b != 0 {
+                    let t = a % b;
+                    a = b;
+                    b = t;
+                }
+                if a <= i64::MAX as u64 {
+                    Int::Small(a as i64)
+                } else {
+                    Int::Big(BigInt::from(a))
+                }
+            }
+            _ => Int::from_big(self.to_big().gcd(&other.to_big())),
+        }
+    }
+
+    /// Least common multiple, always >= 0.
+    pub fn lcm(&self, other: &Int) -> Int {
+        if self.is_zero() || other.is_zero() {
+            return Int::ZERO;
+        }
+        let g = self.gcd(other);
+        (&self.div_exact(&g) * other).abs()
+    }
+
+    /// Quotient of an exact division. The caller guarantees `other | self`;
+    /// in debug builds a non-zero remainder panics.
+    pub fn div_exact(&self, other: &Int) -> Int {
+        match (self, other) {
+            (Int::Small(a), Int::Small(b)) => {
+                debug_assert!(*b != 0 && a % b == 0, "inexact division {a}/{b}");
+                match a.checked_div(*b) {
+                    Some(q) => Int::Small(q),
+                    None => Int::from_big(BigInt::from(*a) / BigInt::from(*b)),
+                }
+            }
+            _ => {
+                let (q, r) = self.to_big().div_rem(&other.to_big());
+                debug_assert!(r.is_zero(), "inexact division");
+                Int::from_big(q)
+            }
+        }
+    }
+
+    /// Floor division and the matching non-negative remainder for `other > 0`
+    /// (Euclidean for positive divisors).
+    pub fn div_mod_floor(&self, other: &Int) -> (Int, Int) {
+        match (self, other) {
+            (Int::Small(a), Int::Small(b)) if *b != 0 && !(*a == i64::MIN && *b == -1) => {
+                let (q, r) = a.div_mod_floor(b);
+                (Int::Small(q), Int::Small(r))
+            }
+            _ => {
+                let (q, r) = self.to_big().div_mod_floor(&other.to_big());
+                (Int::from_big(q), Int::from_big(r))
+            }
+        }
+    }
+
+    /// Truncating division with remainder (remainder has the sign of `self`).
+    pub fn div_rem(&self, other: &Int) -> (Int, Int) {
+        match (self, other) {
+            (Int::Small(a), Int::Small(b)) if *b != 0 && !(*a == i64::MIN && *b == -1) => {
+                (Int::Small(a / b), Int::Small(a % b))
+            }
+            _ => {
+                let (q, r) = self.to_big().div_rem(&other.to_big());
+                (Int::from_big(q), Int::from_big(r))
+            }
+        }
+    }
+
+    /// `self` raised to `e`.
+    pub fn pow(&self, e: u32) -> Int {
+        let mut result = Int::ONE;
+        let mut base = self.clone();
+        let mut e = e;
+        while e > 0 {
+            if e & 1 == 1 {
+                result = &result * &base;
+            }
+            e >>= 1;
+            if e > 0 {
+                base = &base * &base;
+            }
+        }
+        result
+    }
+
+    /// Nearest `f64` (may be infinite for huge values).
+    pub fn to_f64(&self) -> f64 {
+        match self {
+            Int::Small(v) => *v as f64,
+            Int::Big(b) => b.to_f64().unwrap_or(if b.is_negative() {
+                f64::NEG_INFINITY
+            } else {
+                f64::INFINITY
+            }),
+        }
+    }
+
+    /// The value as `i64` if it fits.
+    pub fn to_i64(&self) -> Option<i64> {
+        match self {
+            Int::Small(v) => Some(*v),
+            Int::Big(_) => None,
+        }
+    }
+
+    /// Number of bits of the absolute value.
+    pub fn bits(&self) -> u64 {
+        match self {
+            Int::Small(v) => 64 - v.unsigned_abs().leading_zeros() as u64,
+            Int::Big(b) => b.bits(),
+        }
+    }
+
+    /// Floor of the square root for `self >= 0`.
+    pub fn isqrt(&self) -> Int {
+        Int::from_big(self.to_big().sqrt())
+    }
+
+    /// Residue in `[0, m)` for a word-size modulus `m > 0`.
+    pub fn rem_u64(&self, m: u64) -> u64 {
+        match self {
+            Int::Small(v) => (*v as i128).rem_euclid(m as i128) as u64,
+            Int::Big(b) => {
+                let r = b.mod_floor(&BigInt::from(m));
+                r.to_u64().expect("residue fits")
+            }
+        }
+    }
+}
+
+impl Default for Int {
+    fn default() -> Self {
+        Int::ZERO
+    }
+}
+
+impl From<i64> for Int {
+    fn from(v: i64) -> Self {
+        Int::Small(v)
+    }
+}
+
+impl From<i32> for Int {
+    fn from(v: i32) -> Self {
+        Int::Small(v as i64)
+    }
+}
+
+impl From<u64> for Int {
+    fn from(v: u64) -> Self {
+        Int::from_big(BigInt::from(v))
+    }
+}
+
+impl From<usize> for Int {
+    fn from(v: usize) -> Self {
+        Int::from_big(BigInt::from(v))
+    }
+}
+
+impl From<BigInt> for Int {
+    fn from(v: BigInt) -> Self {
+        Int::from_big(v)
+    }
+}
+
+impl FromStr for Int {
+    type Err = num_bigint::ParseBigIntError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if let Ok(v) = s.parse::<i64>() {
+            return Ok(Int::Small(v));
+        }
+        BigInt::from_str(s).map(Int::from_big)
+    }
+}
+
+impl Ord for Int {
+    fn cmp(&self, other: &Self) -> Ordering {
+        match (self, other) {
+            (Int::Small(a), Int::Small(b)) => a.cmp(b),
+            _ => self.to_big().cmp(&other.to_big()),
+        }
+    }
+}
+
+impl PartialOrd for Int {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl fmt::Display for Int {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Int::Small(v) => write!(f, "{v}"),
+            Int::Big(b) => write!(f, "{b}"),
+        }
+    }
+}
+
+impl fmt::Debug for Int {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Display::fmt(self, f)
+    }
+}
+
+impl Add for &Int {
+    type Output = Int;
+    fn add(self, rhs: &Int) -> Int {
+        if let (Int::Small(a), Int::Small(b)) = (self, rhs) {
+            if let Some(s) = a.checked_add(*b) {
+                return Int::Small(s);
+            }
+        }
+        Int::from_big(self.to_big() + rhs.to_big())
+    }
+}
+
+impl Sub for &Int {
+    type Output = Int;
+    fn sub(self, rhs: &Int) -> Int {
+        if let (Int::Small(a), Int::Small(b)) = (self, rhs) {
+            if let Some(s) = a.checked_sub(*b) {
+                return Int::Small(s);
+            }
+        }
+        Int::from_big(self.to_big() - rhs.to_big())
+    }
+}
+
+impl Mul for &Int {
+    type Output = Int;
+    fn mul(self, rhs: &Int) -> Int {
+        if let (Int::Small(a), Int::Small(b)) = (self, rhs) {
+            if let Some(s) = a.checked_mul(*b) {
+                return Int::Small(s);
+            }
+        }
+        Int::from_big(self.to_big() * rhs.to_big())
+    }
+}
+
+impl Neg for &Int {
+    type Output = Int;
+    fn neg(self) -> Int {
+        match self {
+            Int::Small(v) => match v.checked_neg() {
+                Some(n) => Int::Small(n),
+                None => Int::Big(-BigInt::from(*v)),
+            },
+            Int::Big(b) => Int::from_big(-b),
+        }
+    }
+}
+
+macro_rules! forward_owned {
+    ($($tr:ident $m:ident),*) => {$(
+        impl $tr for Int {
+            type Output = Int;
+            fn $m(self, rhs: Int) -> Int { (&self).$m(&rhs) }
+        }
+        impl $tr<&Int> for Int {
+            type Output = Int;
+            fn $m(self, rhs: &Int) -> Int { (&self).$m(rhs) }
+        }
+    )*};
+}
+forward_owned!(Add add, Sub sub, Mul mul);
+
+impl Neg for Int {
+    type Output = Int;
+    fn neg(self) -> Int {
+        -(&self)
+    }
+}
+
+impl Zero for Int {
+    fn zero() -> Self {
+        Int::ZERO
+    }
+    fn is_zero(&self) -> bool {
+        Int::is_zero(self)
+    }
+}
+
+impl One for Int {
+    fn one() -> Self {
+        Int::ONE
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overflow_promotes_and_demotes() {
+        let m = Int::from(i64::MAX);
+        let p = &m * &m;
+        assert!(matches!(p, Int::Big(_)));
+        let back = p.div_exact(&m);
+        assert!(matches!(back, Int::Small(_)));
+        assert_eq!(back, m);
+        assert_eq!((-&Int::from(i64::MIN)).to_string(), "9223372036854775808");
+    }
+
+    #[test]
+    fn gcd_matches_bigint() {
+        let a = Int::from(-48);
+        let b = Int::from(180);
+        assert_eq!(a.gcd(&b), Int::from(12));
+        let big = Int::from(1u64 << 63).pow(3);
+        assert_eq!(big.gcd(&Int::from(6)), Int::from(2));
+        assert_eq!(
+            Int::from(i64::MIN).gcd(&Int::ZERO).to_string(),
+            "9223372036854775808"
+        );
+    }
+
+    #[test]
+    fn floor_division() {
+        let (q, r) = Int::from(-7).div_mod_floor(&Int::from(2));
+        assert_eq!((q, r), (Int::from(-4), Int::from(1)));
+        assert_eq!(Int::from(-7).rem_u64(5), 3);
+    }
+}

@@ -1,0 +1,227 @@
+//! Parser for the plain-text polynomial syntax.
+//!
+//! Grammar: `expr := term (('+'|'-') term)*`, `term := factor (('*'|'/') factor)*`
+//! (division only by non-zero constants), `factor := ('-'|'+') factor | atom ('^' uint)?`,
+//! `atom := number | identifier | '(' expr ')'`. Numbers are integers or
+//! decimals, read exactly.
+
+use crate::poly::Poly;
+use crate::rat::Rat;
+use std::str::FromStr;
+
+/// Error when parsing a polynomial, with the byte offset where it occurred.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("cannot parse polynomial at byte {offset}: {message}")]
+pub struct ParsePolyError {
+    /// Byte offset into the input.
+    pub offset: usize,
+    /// What was wrong there.
+    pub message: String,
+}
+
+struct Parser<'a> {
+    s: &'a [u8],
+    pos: usize,
+    depth: usize,
+}
+
+const MAX_DEPTH: usize = 200;
+const MAX_EXPONENT: u32 = 10_000;
+
+impl<'a> Parser<'a> {
+    fn err<T>(&self, msg: impl Into<String>) -> Result<T, ParsePolyError> {
+        Err(ParsePolyError {
+            offset: self.pos,
+            message: msg.into(),
+        })
+    }
+
+    fn skip_ws(&mut self) {
+        while self.pos < self.s.len() && self.s[self.pos].is_ascii_whitespace() {
+            self.pos += 1;
+        }
+    }
+
+    fn peek(&mut self) -> Option<u8> {
+        self.skip_ws();
+        self.s.get(self.pos).copied()
+    }
+
+    fn expr(&mut self) -> Result<Poly, ParsePolyError> {
+        let mut acc = self.term()?;
+        while let Some(c) = self.peek() {
+            match c {
+                b'+' => {
+                    self.pos += 1;
+                    acc = &acc + &self.term()?;
+                }
+                b'-' => {
+                    self.pos += 1;
+                    acc = &acc - &self.term()?;
+                }
+                _ => break,
+            }
+        }
+        Ok(acc)
+    }
+
+    fn term(&mut self) -> Result<Poly, ParsePolyError> {
+        let mut acc = self.factor()?;
+        while let Some(c) = self.peek() {
+            match c {
+                b'*' => {
+                    self.pos += 1;
+                    acc = &acc * &self.factor()?;
+                }
+                b'/' => {
+                    self.pos += 1;
+                    let at = self.pos;
+                    let d = self.factor()?;
+                    match d.as_constant() {
+                        Some(c) if !c.is_zero() => acc = acc.scale(&c.recip()),
+                        _ => {
+                            self.pos = at;
+                            return self.err("division only by a non-zero constant");
+                        }
+                    }
+                }
+                _ => break,
+            }
+        }
+        Ok(acc)
+    }
+
+    fn factor(&mut self) -> Result<Poly, ParsePolyError> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return self.err("nesting too deep");
+        }
+        let r = match self.peek() {
+            Some(b'-') => {
+                self.pos += 1;
+                Ok(-self.factor()?)
+            }
+            Some(b'+') => {
+                self.pos += 1;
+                self.factor()
+            }
+            _ => {
+                let base = self.atom()?;
+                if self.peek() == Some(b'^') {
+                    self.pos += 1;
+                    self.skip_ws();
+                    let start = self.pos;
+                    while self.pos < self.s.len() && self.s[self.pos].is_ascii_digit() {
+                        self.pos += 1;
+                    }
+                    let txt = std::str::from_utf8(&self.s[start..self.pos]).unwrap_or("");
+                    match txt.parse::<u32>() {
+                        Ok(e) if e <= MAX_EXPONENT => Ok(base.pow(e)),
+                        Ok(_) => self.err(format!("exponent above {MAX_EXPONENT}")),
+                        Err(_) => self.err("expected a non-negative integer exponent"),
+                    }
+                } else {
+                    Ok(base)
+                }
+            }
+        };
+        self.depth -= 1;
+        r
+    }
+
+    fn atom(&mut self) -> Result<Poly, ParsePolyError> {
+        match self.peek() {
+            Some(b'(') => {
+                self.pos += 1;
+                let e = self.expr()?;
+                if self.peek() != Some(b')') {
+                    return self.err("expected ')'");
+                }
+                self.pos += 1;
+                Ok(e)
+            }
+            Some(c) if c.is_ascii_digit() || c == b'.' => {
+                let start = self.pos;
+                while self.pos < self.s.len()
+                    && (self.s[self.pos].is_ascii_digit() || self.s[self.pos] == b'.')
+                {
+                    self.pos += 1;
+                }
+                let txt = std::str::from_utf8(&self.s[start..self.pos]).unwrap_or("");
+                match Rat::from_str(txt) {
+                    Ok(r) => Ok(Poly::constant(r)),
+                    Err(_) => {
+                        self.pos = start;
+                        self.err(format!("invalid number {txt:?}"))
+                    }
+                }
+            }
+            Some(c) if c.is_ascii_alphabetic() || c == b'_' => {
+                let start = self.pos;
+                while self.pos < self.s.len()
+                    && (self.s[self.pos].is_ascii_alphanumeric() || self.s[self.pos] == b'_')
+                {
+                    self.pos += 1;
+                }
+                let name = std::str::from_utf8(&self.s[start..self.pos]).unwrap_or("");
+                Ok(Poly::var(name))
+            }
+            Some(c) => self.err(format!("unexpected character {:?}", c as char)),
+            None => self.err("unexpected end of input"),
+        }
+    }
+}
+
+impl FromStr for Poly {
+    type Err = ParsePolyError;
+
+    /// Parses the plain-text syntax written by [`Poly`]'s `Display`.
+    ///
+    /// ```
+    /// use poly::Poly;
+    /// let p: Poly = "2*(x + y)^2 - 4*x*y".parse().unwrap();
+    /// assert_eq!(p.to_string(), "2*x^2 + 2*y^2");
+    /// assert!("x +".parse::<Poly>().is_err());
+    /// ```
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let mut p = Parser {
+            s: s.as_bytes(),
+            pos: 0,
+            depth: 0,
+        };
+        let e = p.expr()?;
+        if p.peek().is_some() {
+            return p.err("unexpected trailing input");
+        }
+        Ok(e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn roundtrip_display() {
+        for s in [
+            "Omega^2*m1*m2*m3 - 3/2*c12*m1 + 7",
+            "-x^10*y + 0.25*z",
+            "0",
+            "-1",
+        ] {
+            let p: Poly = s.parse().unwrap();
+            let q: Poly = p.to_string().parse().unwrap();
+            assert_eq!(p, q, "{s}");
+        }
+    }
+
+    #[test]
+    fn errors_name_position() {
+        let e = "x + * y".parse::<Poly>().unwrap_err();
+        assert_eq!(e.offset, 4);
+        assert!("x / y".parse::<Poly>().is_err());
+        assert!("x^99999".parse::<Poly>().is_err());
+        assert!("(x".parse::<Poly>().is_err());
+        assert!("((((((((((((((((((((".repeat(20).parse::<Poly>().is_err());
+    }
+}

@@ -1,0 +1,845 @@
+//! Sparse multivariate polynomials over Q with named variables.
+//!
+//! Invariants of [`Poly`] (every constructor and operation keeps them, so
+//! derived equality is mathematical equality):
+//! - `vars` is sorted by [`var_cmp`] and lists exactly the variables that
+//!   occur with a positive exponent in some term;
+//! - `terms` are sorted strictly descending in lexicographic order (the first
+//!   variable most significant) and no coefficient is zero.
+
+use crate::int::Int;
+use crate::rat::Rat;
+use std::cmp::Ordering;
+use std::collections::BTreeMap;
+use std::fmt;
+use std::ops::{Add, Mul, Neg, Sub};
+use std::sync::Arc;
+
+/// Order of variable names: alphabetic prefix, then the number that follows
+/// it by value (`c2 < c12`), then the whole string. `Omega` sorts before the
+/// lower-case parameter names, so polynomials in Omega print in powers of
+/// Omega first.
+pub fn var_cmp(a: &str, b: &str) -> Ordering {
+    fn split(s: &str) -> (&str, Option<u128>, &str) {
+        let idx = s.find(|c: char| c.is_ascii_digit()).unwrap_or(s.len());
+        let (pre, rest) = s.split_at(idx);
+        let end = rest
+            .find(|c: char| !c.is_ascii_digit())
+            .unwrap_or(rest.len());
+        let num = rest[..end].parse::<u128>().ok();
+        (pre, num, &rest[end..])
+    }
+    let (pa, na, ra) = split(a);
+    let (pb, nb, rb) = split(b);
+    pa.cmp(pb).then(na.cmp(&nb)).then(ra.cmp(rb)).then(a.cmp(b))
+}
+
+/// One term: exponents (one per variable of the owning polynomial) and a
+/// non-zero coefficient.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Term {
+    /// Exponent of each variable, in the order of [`Poly::vars`].
+    pub exps: Vec<u32>,
+    /// The coefficient, never zero inside a [`Poly`].
+    pub coef: Rat,
+}
+
+/// A sparse multivariate polynomial over Q with named variables.
+///
+/// ```
+/// use poly::Poly;
+/// let p: Poly = "m1*m2*Omega^2 - (c12*m1 + c12*m2)*Omega".parse().unwrap();
+/// let q = Poly::var("Omega");
+/// let r = p.div_exact(&q).unwrap();
+/// assert_eq!(r.to_string(), "Omega*m1*m2 - c12*m1 - c12*m2");
+/// assert_eq!(r.degree("Omega"), 1);
+/// ```
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub struct Poly {
+    vars: Arc<[String]>,
+    terms: Vec<Term>,
+}
+
+fn lex_cmp(a: &[u32], b: &[u32]) -> Ordering {
+    a.cmp(b)
+}
+
+impl Poly {
+    /// The zero polynomial.
+    pub fn zero() -> Poly {
+        Poly {
+            vars: Arc::from(Vec::<String>::new()),
+            terms: Vec::new(),
+        }
+    }
+
+    /// The constant polynomial `c`.
+    pub fn constant(c: Rat) -> Poly {
+        if c.is_zero() {
+            return Poly::zero();
+        }
+        Poly {
+            vars: Arc::from(Vec::<String>::new()),
+            terms: vec![Term {
+                exps: Vec::new(),
+                coef: c,
+            }],
+        }
+    }
+
+    /// The constant 1.
+    pub fn one() -> Poly {
+        Poly::constant(Rat::ONE)
+    }
+
+    /// The integer constant `n`.
+    pub fn int(n: i64) -> Poly {
+        Poly::constant(Rat::from(n))
+    }
+
+    /// The polynomial consisting of the single variable `name`.
+    pub fn var(name: &str) -> Poly {
+        Poly {
+            vars: Arc::from(vec![name.to_string()]),
+            terms: vec![Term {
+                exps: vec![1],
+                coef: Rat::ONE,
+            }],
+        }
+    }
+
+    /// Builds a polynomial from terms over the given variables (any order,
+    /// duplicates and zero coefficients allowed: they are normalised).
+    ///
+    /// Panics if a term has a different number of exponents than `vars`.
+    pub fn from_terms(vars: &[String], terms: Vec<Term>) -> Poly {
+        let mut order: Vec<usize> = (0..vars.len()).collect();
+        order.sort_by(|&a, &b| var_cmp(&vars[a], &vars[b]));
+        // Merge duplicate variable names.
+        let mut names: Vec<String> = Vec::new();
+        let mut target: Vec<usize> = vec![0; vars.len()];
+        for &i in &order {
+            if names.last() != Some(&vars[i]) {
+                names.push(vars[i].clone());
+            }
+            target[i] = names.len() - 1;
+        }
+        let terms = terms
+            .into_iter()
+            .map(|t| {
+                assert_eq!(t.exps.len(), vars.len(), "term arity");
+                let mut e = vec![0u32; names.len()];
+                for (i, x) in t.exps.iter().enumerate() {
+                    e[target[i]] += x;
+                }
+                Term {
+                    exps: e,
+                    coef: t.coef,
+                }
+            })
+            .collect();
+        Poly::normalize(Arc::from(names), terms)
+    }
+
+    /// Sorts, merges equal monomials, drops zeros and unused variables.
+    fn normalize(vars: Arc<[String]>, mut terms: Vec<Term>) -> Poly {
+        terms.sort_by(|a, b| lex_cmp(&b.exps, &a.exps));
+        let mut out: Vec<Term> = Vec::with_capacity(terms.len());
+        for t in terms {
+            match out.last_mut() {
+                Some(last) if last.exps == t.exps => {
+                    last.coef = &last.coef + &t.coef;
+                }
+                _ => {
+                    if let Some(last) = out.last() {
+                        if last.coef.is_zero() {
+                            out.pop();
+                        }
+                    }
+                    out.push(t);
+                }
+            }
+        }
+        if let Some(last) = out.last() {
+            if last.coef.is_zero() {
+                out.pop();
+            }
+        }
+        Poly { vars, terms: out }.drop_unused_vars()
+    }
+
+    fn drop_unused_vars(self) -> Poly {
+        let n = self.vars.len();
+        let mut used = vec![false; n];
+        for t in &self.terms {
+            for (i, &e) in t.exps.iter().enumerate() {
+                if e > 0 {
+                    used[i] = true;
+                }
+            }
+        }
+        if used.iter().all(|&u| u) {
+            return self;
+        }
+        let vars: Vec<String> = self
+            .vars
+            .iter()
+            .zip(&used)
+            .filter(|(_, &u)| u)
+            .map(|(v, _)| v.clone())
+            .collect();
+        let terms = self
+            .terms
+            .into_iter()
+            .map(|t| Term {
+                exps: t
+                    .exps
+                    .iter()
+                    .zip(&used)
+                    .filter(|(_, &u)| u)
+                    .map(|(e, _)| *e)
+                    .collect(),
+                coef: t.coef,
+            })
+            .collect();
+        Poly {
+            vars: Arc::from(vars),
+            terms,
+        }
+    }
+
+    /// The variables that occur, sorted by [`var_cmp`].
+    pub fn vars(&self) -> &[String] {
+        &self.vars
+    }
+
+    /// The terms, in descending lexicographic order of [`Poly::vars`].
+    pub fn terms(&self) -> &[Term] {
+        &self.terms
+    }
+
+    /// Number of terms.
+    pub fn num_terms(&self) -> usize {
+        self.terms.len()
+    }
+
+    /// True for the zero polynomial.
+    pub fn is_zero(&self) -> bool {
+        self.terms.is_empty()
+    }
+
+    /// The value if the polynomial is constant (zero included).
+    pub fn as_constant(&self) -> Option<Rat> {
+        match self.terms.len() {
+            0 => Some(Rat::ZERO),
+            1 if self.vars.is_empty() => Some(self.terms[0].coef.clone()),
+            _ => None,
+        }
+    }
+
+    /// True if no variable occurs.
+    pub fn is_constant(&self) -> bool {
+        self.vars.is_empty()
+    }
+
+    /// True if `name` occurs.
+    pub fn has_var(&self, name: &str) -> bool {
+        self.var_index(name).is_some()
+    }
+
+    fn var_index(&self, name: &str) -> Option<usize> {
+        self.vars.binary_search_by(|v| var_cmp(v, name)).ok()
+    }
+
+    /// Degree in `name` (0 if it does not occur; 0 for the zero polynomial).
+    pub fn degree(&self, name: &str) -> u32 {
+        match self.var_index(name) {
+            None => 0,
+            Some(i) => self.terms.iter().map(|t| t.exps[i]).max().unwrap_or(0),
+        }
+    }
+
+    /// Lowest exponent of `name` over all terms.
+    pub fn min_degree(&self, name: &str) -> u32 {
+        match self.var_index(name) {
+            None => 0,
+            Some(i) => self.terms.iter().map(|t| t.exps[i]).min().unwrap_or(0),
+        }
+    }
+
+    /// Total degree (0 for the zero polynomial).
+    pub fn total_degree(&self) -> u32 {
+        self.terms
+            .iter()
+            .map(|t| t.exps.iter().sum::<u32>())
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// True if every coefficient is an integer.
+    pub fn is_integral(&self) -> bool {
+        self.terms.iter().all(|t| t.coef.is_integer())
+    }
+
+    /// The leading coefficient in the term order (zero for the zero polynomial).
+    pub fn leading_coef(&self) -> Rat {
+        self.terms
+            .first()
+            .map(|t| t.coef.clone())
+            .unwrap_or(Rat::ZERO)
+    }
+
+    /// Merged variable list of two polynomials and, for each, the position of
+    /// its variables in the merged list.
+    fn merge_vars(a: &[String], b: &[String]) -> (Vec<String>, Vec<usize>, Vec<usize>) {
+        let mut out = Vec::with_capacity(a.len() + b.len());
+        let (mut ia, mut ib) = (Vec::new(), Vec::new());
+        let (mut i, mut j) = (0, 0);
+        while i < a.len() || j < b.len() {
+            let ord = if i == a.len() {
+                Ordering::Greater
+            } else if j == b.len() {
+                Ordering::Less
+            } else {
+                var_cmp(&a[i], &b[j])
+            };
+            match ord {
+                Ordering::Less => {
+                    ia.push(out.len());
+                    out.push(a[i].clone());
+                    i += 1;
+                }
+                Ordering::Greater => {
+                    ib.push(out.len());
+                    out.push(b[j].clone());
+                    j += 1;
+                }
+                Ordering::Equal => {
+                    ia.push(out.len());
+                    ib.push(out.len());
+                    out.push(a[i].clone());
+                    i += 1;
+                    j += 1;
+                }
+            }
+        }
+        (out, ia, ib)
+    }
+
+    fn remap(&self, n: usize, pos: &[usize]) -> Vec<Term> {
+        self.terms
+            .iter()
+            .map(|t| {
+                let mut e = vec![0u32; n];
+                for (k, &p) in pos.iter().enumerate() {
+                    e[p] = t.exps[k];
+                }
+                Term {
+                    exps: e,
+                    coef: t.coef.clone(),
+                }
+            })
+            .collect()
+    }
+
+    /// Both operands over one common variable list.
+    fn aligned(&self, other: &Poly) -> (Arc<[String]>, Vec<Term>, Vec<Term>) {
+        if Arc::ptr_eq(&self.vars, &other.vars) || self.vars == other.vars {
+            return (self.vars.clone(), self.terms.clone(), other.terms.clone());
+        }
+        let (vars, ia, ib) = Poly::merge_vars(&self.vars, &other.vars);
+        let n = vars.len();
+        (Arc::from(vars), self.remap(n, &ia), other.remap(n, &ib))
+    }
+
+    /// Multiplies every coefficient by `c`.
+    pub fn scale(&self, c: &Rat) -> Poly {
+        if c.is_zero() {
+            return Poly::zero();
+        }
+        Poly {
+            vars: self.vars.clone(),
+            terms: self
+                .terms
+                .iter()
+                .map(|t| Term {
+                    exps: t.exps.clone(),
+                    coef: &t.coef * c,
+                })
+                .collect(),
+        }
+    }
+
+    /// `self^e`.
+    pub fn pow(&self, e: u32) -> Poly {
+        let mut result = Poly::one();
+        let mut base = self.clone();
+        let mut e = e;
+        while e > 0 {
+            if e & 1 == 1 {
+                result = &result * &base;
+            }
+            e >>= 1;
+            if e > 0 {
+                base = &base * &base;
+            }
+        }
+        result
+    }
+
+    /// Multiplies by `name^k`.
+    pub fn mul_var_pow(&self, name: &str, k: u32) -> Poly {
+        self * &Poly::var(name).pow(k)
+    }
+
+    /// Exact division: `Some(q)` with `self = q * other`, or `None` when
+    /// `other` does not divide `self`. Panics if `other` is zero.
+    pub fn div_exact(&self, other: &Poly) -> Option<Poly> {
+        assert!(!other.is_zero(), "division by the zero polynomial");
+        if let Some(c) = other.as_constant() {
+            return Some(self.scale(&c.recip()));
+        }
+        if self.is_zero() {
+            return Some(Poly::zero());
+        }
+        // A variable of the divisor missing from the dividend: no exact quotient.
+        if other.vars.iter().any(|v| !self.has_var(v)) {
+            return None;
+        }
+        let (vars, a, b) = self.aligned(other);
+        let n = vars.len();
+        let lead = &b[0];
+        let lead_inv = lead.coef.recip();
+        // Remainder kept as a sorted map, largest monomial last.
+        let mut rem: BTreeMap<Vec<u32>, Rat> = a.into_iter().map(|t| (t.exps, t.coef)).collect();
+        let mut quot: Vec<Term> = Vec::new();
+        while let Some((m, c)) = rem.pop_last() {
+            let mut qe = Vec::with_capacity(n);
+            for k in 0..n {
+                if m[k] < lead.exps[k] {
+                    return None;
+                }
+                qe.push(m[k] - lead.exps[k]);
+            }
+            let qc = &c * &lead_inv;
+            for t in &b[1..] {
+                let e: Vec<u32> = t.exps.iter().zip(&qe).map(|(x, y)| x + y).collect();
+                let delta = &t.coef * &qc;
+                match rem.get_mut(&e) {
+                    Some(v) => {
+                        *v = &*v - &delta;
+                        if v.is_zero() {
+                            rem.remove(&e);
+                        }
+                    }
+                    None => {
+                        rem.insert(e, -delta);
+                    }
+                }
+            }
+            quot.push(Term { exps: qe, coef: qc });
+        }
+        Some(Poly::normalize(vars, quot))
+    }
+
+    /// Coefficients as a polynomial in `name`: entry `i` is the coefficient of
+    /// `name^i` (a polynomial in the other variables). Empty for zero.
+    ///
+    /// ```
+    /// use poly::Poly;
+    /// let p: Poly = "a*x^2 + b*x + 1".parse().unwrap();
+    /// let c = p.coeffs_in("x");
+    /// assert_eq!(c.len(), 3);
+    /// assert_eq!(c[1].to_string(), "b");
+    /// assert_eq!(Poly::from_coeffs_in("x", &c), p);
+    /// ```
+    pub fn coeffs_in(&self, name: &str) -> Vec<Poly> {
+        if self.is_zero() {
+            return Vec::new();
+        }
+        let Some(i) = self.var_index(name) else {
+            return vec![self.clone()];
+        };
+        let deg = self.degree(name) as usize;
+        let mut buckets: Vec<Vec<Term>> = vec![Vec::new(); deg + 1];
+        for t in &self.terms {
+            let mut e = t.exps.clone();
+            let k = e[i] as usize;
+            e[i] = 0;
+            buckets[k].push(Term {
+                exps: e,
+                coef: t.coef.clone(),
+            });
+        }
+        buckets
+            .into_iter()
+            .map(|ts| Poly::normalize(self.vars.clone(), ts))
+            .collect()
+    }
+
+    /// Inverse of [`Poly::coeffs_in`]: `sum coeffs[i] * name^i`.
+    pub fn from_coeffs_in(name: &str, coeffs: &[Poly]) -> Poly {
+        let x = Poly::var(name);
+        let mut acc = Poly::zero();
+        for c in coeffs.iter().rev() {
+            acc = &(&acc * &x) + c;
+        }
+        acc
+    }
+
+    /// The leading coefficient in `name` (a polynomial in the other variables).
+    pub fn lead_in(&self, name: &str) -> Poly {
+        self.coeffs_in(name).pop().unwrap_or_else(Poly::zero)
+    }
+
+    /// Partial derivative with respect to `name`.
+    pub fn derivative(&self, name: &str) -> Poly {
+        let Some(i) = self.var_index(name) else {
+            return Poly::zero();
+        };
+        let terms = self
+            .terms
+            .iter()
+            .filter(|t| t.exps[i] > 0)
+            .map(|t| {
+                let mut e = t.exps.clone();
+                let k = e[i];
+                e[i] -= 1;
+                Term {
+                    exps: e,
+                    coef: &t.coef * &Rat::from(k as i64),
+                }
+            })
+            .collect();
+        Poly::normalize(self.vars.clone(), terms)
+    }
+
+    /// Substitutes the value `v` for the variable `name`.
+    pub fn subs(&self, name: &str, v: &Rat) -> Poly {
+        let Some(i) = self.var_index(name) else {
+            return self.clone();
+        };
+        let deg = self.degree(name) as usize;
+        let mut powers = vec![Rat::ONE];
+        for k in 1..=deg {
+            powers.push(&powers[k - 1] * v);
+        }
+        let terms = self
+            .terms
+            .iter()
+            .map(|t| {
+                let mut e = t.exps.clone();
+                let k = e[i] as usize;
+                e[i] = 0;
+                Term {
+                    exps: e,
+                    coef: &t.coef * &powers[k],
+                }
+            })
+            .collect();
+        Poly::normalize(self.vars.clone(), terms)
+    }
+
+    /// Substitutes the polynomial `q` for the variable `name`.
+    pub fn subs_poly(&self, name: &str, q: &Poly) -> Poly {
+        let c = self.coeffs_in(name);
+        let mut acc = Poly::zero();
+        for ci in c.iter().rev() {
+            acc = &(&acc * q) + ci;
+        }
+        acc
+    }
+
+    /// Renames variables through `f` (names mapped to the same target merge).
+    pub fn rename(&self, f: impl Fn(&str) -> String) -> Poly {
+        let vars: Vec<String> = self.vars.iter().map(|v| f(v)).collect();
+        Poly::from_terms(&vars, self.terms.clone())
+    }
+
+    /// Exact value at a rational point; `Err(name)` names a variable without a value.
+    pub fn eval(&self, point: &BTreeMap<String, Rat>) -> Result<Rat, String> {
+        let vals: Vec<&Rat> = self
+            .vars
+            .iter()
+            .map(|v| point.get(v).ok_or_else(|| v.clone()))
+            .collect::<Result<_, _>>()?;
+        let mut powers: Vec<Vec<Rat>> = Vec::with_capacity(vals.len());
+        for (i, v) in vals.iter().enumerate() {
+            let d = self.terms.iter().map(|t| t.exps[i]).max().unwrap_or(0) as usize;
+            let mut p = vec![Rat::ONE];
+            for k in 1..=d {
+                p.push(&p[k - 1] * *v);
+            }
+            powers.push(p);
+        }
+        let mut acc = Rat::ZERO;
+        for t in &self.terms {
+            let mut m = t.coef.clone();
+            for (i, &e) in t.exps.iter().enumerate() {
+                if e > 0 {
+                    m = &m * &powers[i][e as usize];
+                }
+            }
+            acc = &acc + &m;
+        }
+        Ok(acc)
+    }
+
+    /// Floating-point value at a point; `Err(name)` names a variable without a value.
+    pub fn eval_f64(&self, point: &BTreeMap<String, f64>) -> Result<f64, String> {
+        let vals: Vec<f64> = self
+            .vars
+            .iter()
+            .map(|v| point.get(v).copied().ok_or_else(|| v.clone()))
+            .collect::<Result<_, _>>()?;
+        Ok(self
+            .terms
+            .iter()
+            .map(|t| {
+                t.exps
+                    .iter()
+                    .zip(&vals)
+                    .fold(t.coef.to_f64(), |m, (&e, &v)| m * v.powi(e as i32))
+            })
+            .sum())
+    }
+
+    /// Splits `self = c * p` with `p` having integer coefficients whose gcd is
+    /// 1 and a positive leading coefficient. Returns `(c, p)`; `(0, 0)` for zero.
+    pub fn primitive(&self) -> (Rat, Poly) {
+        if self.is_zero() {
+            return (Rat::ZERO, Poly::zero());
+        }
+        let mut den = Int::ONE;
+        for t in &self.terms {
+            den = den.lcm(t.coef.denom());
+        }
+        let mut g = Int::ZERO;
+        for t in &self.terms {
+            let v = t.coef.numer() * &den.div_exact(t.coef.denom());
+            g = g.gcd(&v);
+            if g.is_one() {
+                break;
+            }
+        }
+        let mut c = Rat::new(g, den);
+        if self.terms[0].coef.signum() < 0 {
+            c = -c;
+        }
+        let p = self.scale(&c.recip());
+        (c, p)
+    }
+
+    /// The primitive part (see [`Poly::primitive`]).
+    pub fn primitive_part(&self) -> Poly {
+        self.primitive().1
+    }
+
+    /// True when every coefficient is positive (an empty sum is not positive).
+    /// Such a polynomial is > 0 wherever all variables are > 0.
+    pub fn all_coefs_positive(&self) -> bool {
+        !self.is_zero() && self.terms.iter().all(|t| t.coef.signum() > 0)
+    }
+
+    /// True when every coefficient is negative.
+    pub fn all_coefs_negative(&self) -> bool {
+        !self.is_zero() && self.terms.iter().all(|t| t.coef.signum() < 0)
+    }
+
+    fn mul_terms(vars: Arc<[String]>, a: &[Term], b: &[Term]) -> Poly {
+        let mut acc: Vec<Term> = Vec::with_capacity(a.len() * b.len());
+        for x in a {
+            for y in b {
+                acc.push(Term {
+                    exps: x.exps.iter().zip(&y.exps).map(|(p, q)| p + q).collect(),
+                    coef: &x.coef * &y.coef,
+                });
+            }
+        }
+        Poly::normalize(vars, acc)
+    }
+
+    /// Plain text, parseable by [`str::parse`]: terms in descending order,
+    /// `*` between factors, `^` for powers.
+    pub fn to_text(&self) -> String {
+        self.to_string()
+    }
+}
+
+impl Default for Poly {
+    fn default() -> Self {
+        Poly::zero()
+    }
+}
+
+impl From<Rat> for Poly {
+    fn from(c: Rat) -> Self {
+        Poly::constant(c)
+    }
+}
+
+impl From<i64> for Poly {
+    fn from(c: i64) -> Self {
+        Poly::int(c)
+    }
+}
+
+impl Add for &Poly {
+    type Output = Poly;
+    fn add(self, rhs: &Poly) -> Poly {
+        if self.is_zero() {
+            return rhs.clone();
+        }
+        if rhs.is_zero() {
+            return self.clone();
+        }
+        let (vars, mut a, b) = self.aligned(rhs);
+        a.extend(b);
+        Poly::normalize(vars, a)
+    }
+}
+
+impl Sub for &Poly {
+    type Output = Poly;
+    fn sub(self, rhs: &Poly) -> Poly {
+        self + &(-rhs)
+    }
+}
+
+impl Mul for &Poly {
+    type Output = Poly;
+    fn mul(self, rhs: &Poly) -> Poly {
+        if self.is_zero() || rhs.is_zero() {
+            return Poly::zero();
+        }
+        let (vars, a, b) = self.aligned(rhs);
+        Poly::mul_terms(vars, &a, &b)
+    }
+}
+
+impl Neg for &Poly {
+    type Output = Poly;
+    fn neg(self) -> Poly {
+        self.scale(&Rat::from(-1))
+    }
+}
+
+impl Neg for Poly {
+    type Output = Poly;
+    fn neg(self) -> Poly {
+        -(&self)
+    }
+}
+
+macro_rules! forward_owned {
+    ($($tr:ident $m:ident),*) => {$(
+        impl $tr for Poly {
+            type Output = Poly;
+            fn $m(self, rhs: Poly) -> Poly { (&self).$m(&rhs) }
+        }
+        impl $tr<&Poly> for Poly {
+            type Output = Poly;
+            fn $m(self, rhs: &Poly) -> Poly { (&self).$m(rhs) }
+        }
+        impl $tr<Poly> for &Poly {
+            type Output = Poly;
+            fn $m(self, rhs: Poly) -> Poly { self.$m(&rhs) }
+        }
+    )*};
+}
+forward_owned!(Add add, Sub sub, Mul mul);
+
+impl fmt::Display for Poly {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.terms.is_empty() {
+            return write!(f, "0");
+        }
+        for (k, t) in self.terms.iter().enumerate() {
+            let neg = t.coef.signum() < 0;
+            let c = t.coef.abs();
+            if k == 0 {
+                if neg {
+                    write!(f, "-")?;
+                }
+            } else {
+                write!(f, " {} ", if neg { '-' } else { '+' })?;
+            }
+            let mut factors: Vec<String> = Vec::new();
+            let is_const = t.exps.iter().all(|&e| e == 0);
+            if !c.is_one() || is_const {
+                factors.push(c.to_string());
+            }
+            for (v, &e) in self.vars.iter().zip(&t.exps) {
+                match e {
+                    0 => {}
+                    1 => factors.push(v.clone()),
+                    _ => factors.push(format!("{v}^{e}")),
+                }
+            }
+            write!(f, "{}", factors.join("*"))?;
+        }
+        Ok(())
+    }
+}
+
+impl fmt::Debug for Poly {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "Poly({self})")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(s: &str) -> Poly {
+        s.parse().unwrap()
+    }
+
+    #[test]
+    fn natural_variable_order() {
+        let mut v = vec!["m1", "c12", "c2", "Omega", "c1", "m10", "m2", "d1"];
+        v.sort_by(|a, b| var_cmp(a, b));
+        assert_eq!(v, ["Omega", "c1", "c2", "c12", "d1", "m1", "m2", "m10"]);
+    }
+
+    #[test]
+    fn arithmetic_identities() {
+        let a = p("x + y");
+        let b = p("x - y");
+        assert_eq!(&a * &b, p("x^2 - y^2"));
+        assert_eq!(&(&a * &b) - &p("x^2"), p("-y^2"));
+        assert!((&a - &a).is_zero());
+        assert_eq!((&a - &a).vars().len(), 0);
+        assert_eq!(a.pow(3), p("x^3 + 3*x^2*y + 3*x*y^2 + y^3"));
+    }
+
+    #[test]
+    fn exact_division() {
+        let f = p("(a + b)*(c - 2*a*b + 1)");
+        assert_eq!(f.div_exact(&p("a + b")).unwrap(), p("c - 2*a*b + 1"));
+        assert!(f.div_exact(&p("a + 2*b")).is_none());
+        assert!(p("x + 1").div_exact(&p("y")).is_none());
+    }
+
+    #[test]
+    fn primitive_and_sign() {
+        let f = p("-6*x + 4/3*y");
+        let (c, q) = f.primitive();
+        assert_eq!(q, p("9*x - 2*y"));
+        assert_eq!(q.scale(&c), f);
+    }
+
+    #[test]
+    fn substitution_and_evaluation() {
+        let f = p("x^2*y - 3*y + 1/2");
+        let g = f.subs("x", &Rat::from(2));
+        assert_eq!(g, p("y + 1/2"));
+        let mut pt = BTreeMap::new();
+        pt.insert("x".to_string(), Rat::from(2));
+        pt.insert("y".to_string(), "1/3".parse().unwrap());
+        assert_eq!(f.eval(&pt).unwrap(), "5/6".parse().unwrap());
+        assert_eq!(f.subs_poly("x", &p("y + 1")), p("y^3 + 2*y^2 - 2*y + 1/2"));
+        assert_eq!(f.derivative("x"), p("2*x*y"));
+    }
+}
