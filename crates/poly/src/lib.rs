@@ -29,3 +29,5 @@ pub use crate::int::Int;
 pub use crate::parse::ParsePolyError;
 pub use crate::poly::{var_cmp, Poly, Term};
 pub use crate::rat::{ParseRatError, Rat};
+mod upoly;
+pub use crate::upoly::UPoly;
