@@ -1,1 +1,197 @@
-fn main() {}
+//! `mms`: the command-line front end. It parses arguments, calls the `mms`
+//! and `poly` libraries and formats what they return.
+
+mod algebra;
+mod derive;
+mod enumerate;
+mod output;
+mod study;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "mms",
+    version,
+    about = "Multiple-mass models of electromechanical motion systems: enumeration, exact transfer functions, FRF types",
+    long_about = None
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// Which models a command works on: all classes of N masses, or one model.
+#[derive(clap::Args, Clone)]
+#[group(required = true, multiple = false)]
+pub struct Selection {
+    /// All models of N masses (the paper's rule (3) representatives).
+    #[arg(long, value_name = "N")]
+    masses: Option<usize>,
+    /// One model: a paper ID for 3 masses (A1..A5, B1, B2, C1..C4, star
+    /// optional) or a generic ID such as N4-g1-a2.1-s3.1.
+    #[arg(value_name = "ID")]
+    id: Option<String>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Count and list the models of N masses (the paper's Tab. 1 and more).
+    Enumerate {
+        /// Number of masses.
+        #[arg(long, value_name = "N")]
+        masses: usize,
+        #[arg(long, value_enum, default_value_t = TableFormat::Table)]
+        format: TableFormat,
+    },
+    /// Derive transfer functions symbolically from the chain graph.
+    Derive {
+        #[command(flatten)]
+        selection: Selection,
+        #[arg(long, value_enum, default_value_t = DeriveFormat::Text)]
+        format: DeriveFormat,
+        /// Measured quantity: position (receptance), velocity, or acceleration (inertance).
+        #[arg(long, value_enum, default_value_t = OutputArg::Acceleration)]
+        output: OutputArg,
+        /// The damped TF in s instead of the undamped TF in Omega = w^2.
+        #[arg(long)]
+        damped: bool,
+        /// Write the paper's abbreviations m_{1.2} = m1*m2, m_{1+2} = m1+m2 (md and tex).
+        #[arg(long)]
+        abbreviate: bool,
+    },
+    /// Benchmark pipeline: Num, Den, Res(Num, Den), Disc(Num), Disc(Den) and their factorizations.
+    Algebra {
+        /// Number of masses.
+        #[arg(long, value_name = "N")]
+        masses: usize,
+        #[arg(long, value_enum, default_value_t = AlgebraFormat::Text)]
+        format: AlgebraFormat,
+    },
+    /// The full study of N masses as one report (default: the paper's 3 masses).
+    Study {
+        /// Number of masses.
+        #[arg(long, value_name = "N", default_value_t = 3)]
+        masses: usize,
+        #[arg(long, value_enum, default_value_t = ReportFormat::Md)]
+        format: ReportFormat,
+        /// Write the report to this file (atomically) instead of stdout.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+    },
+}
+
+#[derive(ValueEnum, Clone, Copy, PartialEq, Eq)]
+pub enum TableFormat {
+    Table,
+    Json,
+    Md,
+}
+
+#[derive(ValueEnum, Clone, Copy, PartialEq, Eq)]
+pub enum DeriveFormat {
+    Text,
+    Json,
+    Md,
+    Tex,
+}
+
+#[derive(ValueEnum, Clone, Copy, PartialEq, Eq)]
+pub enum AlgebraFormat {
+    Text,
+    Json,
+}
+
+#[derive(ValueEnum, Clone, Copy, PartialEq, Eq)]
+pub enum ReportFormat {
+    Md,
+    Tex,
+}
+
+#[derive(ValueEnum, Clone, Copy, PartialEq, Eq)]
+pub enum OutputArg {
+    Position,
+    Velocity,
+    Acceleration,
+}
+
+impl From<OutputArg> for mms::Output {
+    fn from(o: OutputArg) -> Self {
+        match o {
+            OutputArg::Position => mms::Output::Position,
+            OutputArg::Velocity => mms::Output::Velocity,
+            OutputArg::Acceleration => mms::Output::Acceleration,
+        }
+    }
+}
+
+/// One model of every renumbering class of `n` masses: the one the paper's
+/// rule (3) keeps where it keeps one, else the first in the class.
+pub fn class_representatives(n: usize) -> Result<Vec<mms::Model>, String> {
+    let classes = mms::equivalence_classes(n, mms::Symmetry::Renumbering)
+        .map_err(|e| format!("--masses {n}: {e}"))?;
+    let mut reps: Vec<mms::Model> = classes
+        .iter()
+        .map(|c| {
+            c.iter()
+                .copied()
+                .find(mms::Model::satisfies_rule3)
+                .unwrap_or(c[0])
+        })
+        .collect();
+    // Paper IDs (3 masses) in the paper's order, then generic IDs.
+    reps.sort_by_key(|m| (m.paper_id().is_none(), m.paper_id(), *m));
+    Ok(reps)
+}
+
+/// The models a selection names.
+pub fn select(sel: &Selection) -> Result<Vec<mms::Model>, String> {
+    match (&sel.masses, &sel.id) {
+        (Some(n), _) => class_representatives(*n),
+        (None, Some(id)) => mms::Model::from_id(id)
+            .map(|m| vec![m])
+            .map_err(|e| e.to_string()),
+        (None, None) => Err("give --masses N or a model ID".into()),
+    }
+}
+
+fn run(cli: Cli) -> Result<(), String> {
+    match cli.command {
+        Command::Enumerate { masses, format } => {
+            output::emit(None, &enumerate::run(masses, format)?)
+        }
+        Command::Derive {
+            selection,
+            format,
+            output,
+            damped,
+            abbreviate,
+        } => {
+            let models = select(&selection)?;
+            let text = derive::run(&models, format, output.into(), damped, abbreviate)?;
+            output::emit(None, &text)
+        }
+        Command::Algebra { masses, format } => output::emit(None, &algebra::run(masses, format)?),
+        Command::Study {
+            masses,
+            format,
+            out,
+        } => {
+            let text = study::run(masses, format)?;
+            output::emit(out.as_deref(), &text)
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("mms: error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -15,9 +15,10 @@
 //! use poly::Poly;
 //! let den: Poly = "m1*m2*Omega^2 - c12*(m1 + m2)*Omega".parse().unwrap();
 //! let num: Poly = "m2*Omega - c12".parse().unwrap();
-//! // The resultant in Omega vanishes exactly where Num and Den share a root.
+//! // The resultant in Omega vanishes exactly where Num and Den share a root:
+//! // Res = lc(num)^2 * den(c12/m2) = m2^2 * (-c12^2).
 //! let r = poly::resultant(&num, &den, "Omega");
-//! assert_eq!(r.to_string(), "c12^2*m1*m2");
+//! assert_eq!(r.to_string(), "-c12^2*m2^2");
 //! ```
 
 mod int;
@@ -31,3 +32,26 @@ pub use crate::poly::{var_cmp, Poly, Term};
 pub use crate::rat::{ParseRatError, Rat};
 mod upoly;
 pub use crate::upoly::UPoly;
+mod matrix;
+pub use crate::matrix::{
+    adjugate, check_square, cofactor, det, det_bareiss, det_laplace, det_minors, mat_mul, minor,
+    try_adjugate, try_cofactor, try_det, MatrixError, LAPLACE_MAX, MINORS_MAX,
+};
+mod gcd;
+pub use crate::gcd::{content_and_pp, content_in, gcd, gcd_many, lcm, primitive_part_in};
+mod roots;
+pub use crate::roots::{
+    count_nonpositive_or_nonreal, count_real_roots, count_roots_in, interleave_roots,
+    positive_roots, real_roots, RealRoot, RootError, SharedRoot,
+};
+mod factor_uni;
+pub use crate::factor_uni::factor_univariate;
+mod resultant;
+pub use crate::resultant::{
+    discriminant, psc, resultant, sturm_habicht, sturm_habicht_principal, subresultant_chain,
+    subresultants, sylvester_matrix,
+};
+mod factor;
+pub use crate::factor::{factor, Factorization};
+mod sqfree;
+pub use crate::sqfree::{is_square_free, square_free, square_free_part};

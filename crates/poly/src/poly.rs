@@ -10,7 +10,7 @@
 use crate::int::Int;
 use crate::rat::Rat;
 use std::cmp::Ordering;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BinaryHeap};
 use std::fmt;
 use std::ops::{Add, Mul, Neg, Sub};
 use std::sync::Arc;
@@ -62,6 +62,75 @@ pub struct Poly {
 
 fn lex_cmp(a: &[u32], b: &[u32]) -> Ordering {
     a.cmp(b)
+}
+
+/// Largest exponent of each of the `n` variables over `terms`.
+fn max_exps(terms: &[Term], n: usize) -> Vec<u32> {
+    let mut m = vec![0u32; n];
+    for t in terms {
+        for (x, &e) in m.iter_mut().zip(&t.exps) {
+            *x = (*x).max(e);
+        }
+    }
+    m
+}
+
+/// Exponent vectors packed into one `u128`, the first variable in the most
+/// significant field, so that integer order is the lexicographic term order
+/// and adding keys multiplies monomials. Each field has a guard bit above
+/// its value bits (always 0 in a packed monomial), which makes the
+/// componentwise comparison in [`Packing::sub`] a single subtraction.
+struct Packing {
+    shifts: Vec<u32>,
+    masks: Vec<u128>,
+    guard: u128,
+}
+
+impl Packing {
+    /// A layout holding exponents up to `max[i]` in field `i`; `None` if it
+    /// needs more than 128 bits.
+    fn new(max: &[u32]) -> Option<Packing> {
+        let widths: Vec<u32> = max.iter().map(|&d| 33 - d.leading_zeros()).collect();
+        let total: u32 = widths.iter().sum();
+        if total > 128 {
+            return None;
+        }
+        let mut shifts = Vec::with_capacity(max.len());
+        let mut masks = Vec::with_capacity(max.len());
+        let mut guard = 0u128;
+        let mut s = total;
+        for w in widths {
+            s -= w;
+            shifts.push(s);
+            masks.push((1u128 << (w - 1)) - 1);
+            guard |= 1u128 << (s + w - 1);
+        }
+        Some(Packing {
+            shifts,
+            masks,
+            guard,
+        })
+    }
+
+    fn pack(&self, e: &[u32]) -> u128 {
+        e.iter()
+            .zip(&self.shifts)
+            .fold(0u128, |k, (&x, &s)| k | ((x as u128) << s))
+    }
+
+    fn unpack(&self, k: u128) -> Vec<u32> {
+        self.shifts
+            .iter()
+            .zip(&self.masks)
+            .map(|(&s, &m)| ((k >> s) & m) as u32)
+            .collect()
+    }
+
+    /// `m - l` if every field of `m` is at least that of `l`.
+    fn sub(&self, m: u128, l: u128) -> Option<u128> {
+        let d = (m | self.guard) - l;
+        (d & self.guard == self.guard).then_some(d & !self.guard)
+    }
 }
 
 impl Poly {
@@ -408,6 +477,70 @@ impl Poly {
         }
         let (vars, a, b) = self.aligned(other);
         let n = vars.len();
+        let da = max_exps(&a, n);
+        let db = max_exps(&b, n);
+        // deg_v(q) = deg_v(self) - deg_v(other) for an exact quotient.
+        if da.iter().zip(&db).any(|(x, y)| y > x) {
+            return None;
+        }
+        match Packing::new(&da) {
+            Some(pk) => {
+                let bound: Vec<u32> = da.iter().zip(&db).map(|(x, y)| x - y).collect();
+                Poly::div_packed(vars, &a, &b, &pk, pk.pack(&bound))
+            }
+            None => Poly::div_generic(vars, a, b),
+        }
+    }
+
+    /// Sparse exact division on packed exponents (see [`Packing`]); every
+    /// monomial met is bounded by the dividend's degrees because quotient
+    /// terms beyond `bound` mean the division is not exact.
+    fn div_packed(
+        vars: Arc<[String]>,
+        a: &[Term],
+        b: &[Term],
+        pk: &Packing,
+        bound: u128,
+    ) -> Option<Poly> {
+        let kb: Vec<u128> = b.iter().map(|t| pk.pack(&t.exps)).collect();
+        let lead = kb[0];
+        let lead_inv = b[0].coef.recip();
+        let mut rem: BTreeMap<u128, Rat> = a
+            .iter()
+            .map(|t| (pk.pack(&t.exps), t.coef.clone()))
+            .collect();
+        let mut quot: Vec<Term> = Vec::new();
+        while let Some((m, c)) = rem.pop_last() {
+            let qe = pk.sub(m, lead)?;
+            pk.sub(bound, qe)?;
+            let qc = &c * &lead_inv;
+            for (t, &k) in b[1..].iter().zip(&kb[1..]) {
+                let delta = &t.coef * &qc;
+                match rem.entry(k + qe) {
+                    std::collections::btree_map::Entry::Occupied(mut o) => {
+                        let v = o.get() - &delta;
+                        if v.is_zero() {
+                            o.remove();
+                        } else {
+                            *o.get_mut() = v;
+                        }
+                    }
+                    std::collections::btree_map::Entry::Vacant(v) => {
+                        v.insert(-delta);
+                    }
+                }
+            }
+            quot.push(Term {
+                exps: pk.unpack(qe),
+                coef: qc,
+            });
+        }
+        Some(Poly { vars, terms: quot }.drop_unused_vars())
+    }
+
+    /// Sparse exact division with exponent vectors as keys (any degrees).
+    fn div_generic(vars: Arc<[String]>, a: Vec<Term>, b: Vec<Term>) -> Option<Poly> {
+        let n = vars.len();
         let lead = &b[0];
         let lead_inv = lead.coef.recip();
         // Remainder kept as a sorted map, largest monomial last.
@@ -415,11 +548,11 @@ impl Poly {
         let mut quot: Vec<Term> = Vec::new();
         while let Some((m, c)) = rem.pop_last() {
             let mut qe = Vec::with_capacity(n);
-            for k in 0..n {
-                if m[k] < lead.exps[k] {
+            for (mk, lk) in m.iter().zip(&lead.exps) {
+                if mk < lk {
                     return None;
                 }
-                qe.push(m[k] - lead.exps[k]);
+                qe.push(mk - lk);
             }
             let qc = &c * &lead_inv;
             for t in &b[1..] {
@@ -647,6 +780,60 @@ impl Poly {
     }
 
     fn mul_terms(vars: Arc<[String]>, a: &[Term], b: &[Term]) -> Poly {
+        let n = vars.len();
+        let maxes: Vec<u32> = max_exps(a, n)
+            .iter()
+            .zip(max_exps(b, n))
+            .map(|(x, y)| x + y)
+            .collect();
+        match Packing::new(&maxes) {
+            Some(pk) => Poly::mul_packed(vars, a, b, &pk),
+            None => Poly::mul_generic(vars, a, b),
+        }
+    }
+
+    /// Johnson's heap multiplication: the products `a_i b_j` are generated in
+    /// descending order (at most `min(|a|, |b|)` heap entries), so like terms
+    /// are adjacent and no sort is needed.
+    fn mul_packed(vars: Arc<[String]>, a: &[Term], b: &[Term], pk: &Packing) -> Poly {
+        let (a, b) = if a.len() <= b.len() { (a, b) } else { (b, a) };
+        let ka: Vec<u128> = a.iter().map(|t| pk.pack(&t.exps)).collect();
+        let kb: Vec<u128> = b.iter().map(|t| pk.pack(&t.exps)).collect();
+        let mut heap: BinaryHeap<(u128, usize, usize)> = BinaryHeap::with_capacity(a.len());
+        heap.push((ka[0] + kb[0], 0, 0));
+        let mut out: Vec<(u128, Rat)> = Vec::new();
+        while let Some((k, i, j)) = heap.pop() {
+            let c = &a[i].coef * &b[j].coef;
+            match out.last_mut() {
+                Some((lk, lc)) if *lk == k => *lc = &*lc + &c,
+                _ => {
+                    if out.last().is_some_and(|(_, lc)| lc.is_zero()) {
+                        out.pop();
+                    }
+                    out.push((k, c));
+                }
+            }
+            if j + 1 < b.len() {
+                heap.push((ka[i] + kb[j + 1], i, j + 1));
+            }
+            if j == 0 && i + 1 < a.len() {
+                heap.push((ka[i + 1] + kb[0], i + 1, 0));
+            }
+        }
+        if out.last().is_some_and(|(_, lc)| lc.is_zero()) {
+            out.pop();
+        }
+        let terms = out
+            .into_iter()
+            .map(|(k, coef)| Term {
+                exps: pk.unpack(k),
+                coef,
+            })
+            .collect();
+        Poly { vars, terms }.drop_unused_vars()
+    }
+
+    fn mul_generic(vars: Arc<[String]>, a: &[Term], b: &[Term]) -> Poly {
         let mut acc: Vec<Term> = Vec::with_capacity(a.len() * b.len());
         for x in a {
             for y in b {
@@ -657,6 +844,37 @@ impl Poly {
             }
         }
         Poly::normalize(vars, acc)
+    }
+
+    /// Sum of two term lists over the same variables, both sorted
+    /// descending: a linear merge.
+    fn merge_add(vars: Arc<[String]>, a: Vec<Term>, b: Vec<Term>) -> Poly {
+        let mut out: Vec<Term> = Vec::with_capacity(a.len() + b.len());
+        let mut ia = a.into_iter().peekable();
+        let mut ib = b.into_iter().peekable();
+        loop {
+            let ord = match (ia.peek(), ib.peek()) {
+                (None, None) => break,
+                (Some(_), None) => Ordering::Greater,
+                (None, Some(_)) => Ordering::Less,
+                (Some(x), Some(y)) => lex_cmp(&x.exps, &y.exps),
+            };
+            match ord {
+                Ordering::Greater => out.extend(ia.next()),
+                Ordering::Less => out.extend(ib.next()),
+                Ordering::Equal => {
+                    let (x, y) = (ia.next().expect("peeked"), ib.next().expect("peeked"));
+                    let c = &x.coef + &y.coef;
+                    if !c.is_zero() {
+                        out.push(Term {
+                            exps: x.exps,
+                            coef: c,
+                        });
+                    }
+                }
+            }
+        }
+        Poly { vars, terms: out }.drop_unused_vars()
     }
 
     /// Plain text, parseable by [`str::parse`]: terms in descending order,
@@ -693,9 +911,8 @@ impl Add for &Poly {
         if rhs.is_zero() {
             return self.clone();
         }
-        let (vars, mut a, b) = self.aligned(rhs);
-        a.extend(b);
-        Poly::normalize(vars, a)
+        let (vars, a, b) = self.aligned(rhs);
+        Poly::merge_add(vars, a, b)
     }
 }
 

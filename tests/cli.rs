@@ -1,0 +1,148 @@
+//! End-to-end tests of the `mms` binary: results against the paper's printed
+//! numbers, and the behaviour on bad input.
+
+use std::process::Command;
+
+fn mms(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_mms"))
+        .args(args)
+        .output()
+        .expect("run mms");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8(out.stdout).expect("utf-8 stdout"),
+        String::from_utf8(out.stderr).expect("utf-8 stderr"),
+    )
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let (code, out, err) = mms(args);
+    assert_eq!(code, 0, "mms {args:?} failed: {err}");
+    serde_json::from_str(&out).expect("valid JSON")
+}
+
+#[test]
+fn enumerate_reproduces_tab1() {
+    // Tab. 1 of the paper: basic, degradation-free, redundancy-free.
+    let paper = [
+        (1, 1, 1, 1),
+        (2, 8, 5, 3),
+        (3, 34, 17, 11),
+        (4, 104, 50, 29),
+        (5, 259, 129, 73),
+    ];
+    for (n, basic, free, rule3) in paper {
+        let v = json(&["enumerate", "--masses", &n.to_string(), "--format", "json"]);
+        assert_eq!(v["masses"], n);
+        assert_eq!(v["basic"], basic, "N={n}");
+        assert_eq!(v["degradation_free"], free, "N={n}");
+        assert_eq!(v["paper_rule3"], rule3, "N={n}");
+        assert_eq!(v["models"].as_array().unwrap().len(), free, "N={n}");
+    }
+}
+
+#[test]
+fn enumerate_three_masses_has_the_papers_eleven_ids() {
+    let v = json(&["enumerate", "--masses", "3", "--format", "json"]);
+    let mut ids: Vec<String> = v["models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|m| m["paper_rule3"] == true)
+        .map(|m| m["paper_id"].as_str().unwrap().to_string())
+        .collect();
+    ids.sort();
+    // Tab. 2 of the paper, stars on the collocated models.
+    assert_eq!(
+        ids,
+        ["A1*", "A2", "A3", "A4*", "A5", "B1*", "B2", "C1*", "C2", "C3*", "C4"]
+    );
+    assert_eq!(v["classes"], 11);
+}
+
+#[test]
+fn derive_json_matches_paper_eq21() {
+    let v = json(&["derive", "A2", "--format", "json"]);
+    let m = &v["models"][0];
+    assert_eq!(m["id"], "A2");
+    assert_eq!(m["gap"], 0);
+    assert_eq!(m["actuator"], serde_json::json!([1, 0]));
+    assert_eq!(m["sensor"], serde_json::json!([2, 0]));
+    let num: poly::Poly = m["numerator"].as_str().unwrap().parse().unwrap();
+    // eq. (21): Num_A2 = -m3 c12 Omega + c12 c23
+    let paper: poly::Poly = "-m3*c12*Omega + c12*c23".parse().unwrap();
+    assert_eq!(num, paper);
+    // eq. (10): Den_A
+    let den: poly::Poly = m["denominator"].as_str().unwrap().parse().unwrap();
+    let paper_den: poly::Poly = "m1*m2*m3*Omega^2 - (c12*(m1*m3 + m2*m3) + c23*m1*(m2 + m3))*Omega + c12*c23*(m1 + m2 + m3)"
+        .parse()
+        .unwrap();
+    assert_eq!(den, paper_den);
+}
+
+#[test]
+fn derive_position_output_is_receptance() {
+    // Receptance = -Num/(Omega Den): the denominator gains the factor Omega.
+    let v = json(&["derive", "A3", "--format", "json", "--output", "position"]);
+    let den: poly::Poly = v["models"][0]["denominator"]
+        .as_str()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(den.min_degree("Omega"), 1);
+    let num: poly::Poly = v["models"][0]["numerator"]
+        .as_str()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(num, "-c12*c23".parse().unwrap());
+}
+
+#[test]
+fn bad_input_is_one_line_and_exit_2() {
+    for args in [
+        vec!["enumerate", "--masses", "0"],
+        vec!["enumerate", "--masses", "1000000"],
+        vec!["derive", "--masses", "0"],
+        vec!["derive", "Z9"],
+        vec!["derive", "N3-g5-a1.0-s1.0"],
+        vec!["enumerate", "--masses", "3", "--format", "xml"],
+        vec!["enumerate", "--masses", "-3"],
+        vec!["algebra", "--masses", "99"],
+        vec!["frobnicate"],
+    ] {
+        let (code, out, err) = mms(&args);
+        assert_eq!(code, 2, "{args:?}: stdout {out:?} stderr {err:?}");
+        assert!(out.is_empty(), "{args:?} wrote to stdout");
+        assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+        if !args.contains(&"xml") && !args.contains(&"frobnicate") && !args.contains(&"-3") {
+            // Our own errors are one line; clap's usage errors add a usage hint.
+            assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        }
+    }
+}
+
+#[test]
+fn study_writes_the_report_atomically() {
+    let dir = std::env::temp_dir().join(format!("mms-study-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("study.md");
+    let (code, out, err) = mms(&["study", "--out", path.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.is_empty());
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("Tab. 1"));
+    assert!(text.contains("| 3 | 34 | 17 | 11 | 11 |"), "{text}");
+    // no temporary file left behind
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(Result::ok)
+        .collect();
+    assert_eq!(leftovers.len(), 1);
+    // an unwritable target fails with exit 2 and no partial file
+    let bad = dir.join("no-such-dir").join("x.md");
+    let (code, _, err) = mms(&["study", "--out", bad.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(!bad.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
