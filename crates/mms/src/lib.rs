@@ -39,6 +39,8 @@
 //! # Ok::<(), mms::ModelError>(())
 //! ```
 
+#![warn(missing_docs)]
+
 mod enumerate;
 mod model;
 pub mod render;

@@ -32,6 +32,7 @@
 
 use crate::tf::{DampedTf, OmegaTf, UndampedTf, OMEGA, S};
 use poly::{Poly, Rat, Term};
+use std::collections::BTreeMap;
 
 /// Output format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -148,6 +149,93 @@ fn term_product(vars: &[String], t: &Term, abbreviate: bool) -> Product {
     }
 }
 
+/// A prime for the modular filter of [`ModImage`].
+const PRIME: u64 = 1_000_000_007;
+
+fn pow_mod(mut b: u64, mut e: u64) -> u64 {
+    let mut r = 1;
+    while e > 0 {
+        if e & 1 == 1 {
+            r = r * b % PRIME;
+        }
+        b = b * b % PRIME;
+        e >>= 1;
+    }
+    r
+}
+
+/// A polynomial reduced modulo [`PRIME`], for a cheap necessary test of
+/// divisibility by a sum of masses: if `m_a + m_b + ...` divides `p`, then
+/// `p` vanishes at `m_a = -(m_b + ...)` for any values of the others. Only
+/// candidates passing the test are tried by exact division, so the result
+/// never depends on the filter.
+struct ModImage {
+    /// Position among the variables and value of each mass, by index text.
+    masses: BTreeMap<String, (usize, u64)>,
+    /// For each variable position `f`: the image of `p` as a polynomial in
+    /// that variable alone (coefficient `k` = power `k`), all other
+    /// variables at their fixed pseudo-random values.
+    univariate: Vec<Vec<u64>>,
+}
+
+impl ModImage {
+    fn new(p: &Poly) -> ModImage {
+        let nv = p.vars().len();
+        let values: Vec<u64> = (0..nv as u64)
+            .map(|i| (i + 3).wrapping_mul(0x9E37_79B9_7F4A_7C15) % PRIME)
+            .collect();
+        let masses = p
+            .vars()
+            .iter()
+            .enumerate()
+            .filter_map(|(i, v)| mass_index(v).map(|k| (k.to_string(), (i, values[i]))))
+            .collect::<BTreeMap<_, _>>();
+        let mut univariate: Vec<Vec<u64>> = (0..nv)
+            .map(|f| vec![0; p.degree(&p.vars()[f]) as usize + 1])
+            .collect();
+        for t in p.terms() {
+            let n = t.coef.numer().rem_u64(PRIME);
+            let d = t.coef.denom().rem_u64(PRIME);
+            let c = n * pow_mod(d, PRIME - 2) % PRIME;
+            let powers: Vec<u64> = values
+                .iter()
+                .zip(&t.exps)
+                .map(|(&v, &e)| pow_mod(v, e as u64))
+                .collect();
+            for &(f, _) in masses.values() {
+                let mut r = c;
+                for (k, pk) in powers.iter().enumerate() {
+                    if k != f {
+                        r = r * pk % PRIME;
+                    }
+                }
+                let slot = &mut univariate[f][t.exps[f] as usize];
+                *slot = (*slot + r) % PRIME;
+            }
+        }
+        ModImage { masses, univariate }
+    }
+
+    fn may_divide(&self, subset: &[String]) -> bool {
+        let Some(&(first, _)) = self.masses.get(&subset[0]) else {
+            return false;
+        };
+        let mut others = 0;
+        for m in &subset[1..] {
+            match self.masses.get(m) {
+                Some(&(_, v)) => others = (others + v) % PRIME,
+                None => return false,
+            }
+        }
+        let x = (PRIME - others) % PRIME;
+        let acc = self.univariate[first]
+            .iter()
+            .rev()
+            .fold(0, |acc, &c| (acc * x + c) % PRIME);
+        acc == 0
+    }
+}
+
 /// Sums of two or more of `masses`, largest first, then lexicographic.
 fn mass_subsets(masses: &[String]) -> Vec<Vec<String>> {
     let k = masses.len().min(12);
@@ -176,13 +264,14 @@ fn grouped_sum(p: &Poly, depth: u32) -> Vec<Product> {
             .map(|(v, &e)| if mass_index(v).is_some() { 0 } else { e })
             .collect()
     };
-    let mut groups: Vec<(Vec<u32>, Vec<Term>)> = Vec::new();
+    let mut groups: Vec<Vec<Term>> = Vec::new();
+    let mut slot: BTreeMap<Vec<u32>, usize> = BTreeMap::new();
     for t in p.terms() {
-        let k = key(t);
-        match groups.iter_mut().find(|g| g.0 == k) {
-            Some(g) => g.1.push(t.clone()),
-            None => groups.push((k, vec![t.clone()])),
-        }
+        let g = *slot.entry(key(t)).or_insert_with(|| {
+            groups.push(Vec::new());
+            groups.len() - 1
+        });
+        groups[g].push(t.clone());
     }
     if depth == 0 || groups.len() < 2 {
         return p
@@ -193,7 +282,7 @@ fn grouped_sum(p: &Poly, depth: u32) -> Vec<Product> {
     }
     groups
         .into_iter()
-        .map(|(_, ts)| coefficient_product(&Poly::from_terms(vars, ts), true, depth - 1))
+        .map(|ts| coefficient_product(&Poly::from_terms(vars, ts), true, depth - 1))
         .collect()
 }
 
@@ -239,8 +328,9 @@ fn coefficient_product(p: &Poly, abbreviate: bool, depth: u32) -> Product {
             .iter()
             .filter_map(|v| mass_index(v).map(str::to_string))
             .collect();
+        let image = ModImage::new(&rest);
         for subset in mass_subsets(&masses) {
-            if subset.len() > rest.num_terms() {
+            if subset.len() > rest.num_terms() || !image.may_divide(&subset) {
                 continue;
             }
             let sum = subset
