@@ -977,12 +977,17 @@ mod tests {
 }
 
 #[cfg(test)]
+fn workload_chain(n: usize) -> (Poly, Poly) {
+    workload::chain(n)
+}
+
+#[cfg(test)]
 mod workload {
     //! Chain models: masses m1..mn, ground spring c1, springs c12, c23, ...
     use super::*;
     use std::time::Instant;
 
-    fn chain(n: usize) -> (Poly, Poly) {
+    pub(super) fn chain(n: usize) -> (Poly, Poly) {
         let v = |s: String| Poly::var(&s);
         let om = Poly::var("Omega");
         let spring = |i: usize| -> Poly {
@@ -1009,33 +1014,39 @@ mod workload {
         (num, den)
     }
 
-    fn run(n: usize) -> Vec<(String, usize, usize, f64)> {
+    fn run(n: usize, verbose: bool) -> Vec<(String, usize, usize, f64)> {
         let (num, den) = chain(n);
-        let mut inputs = vec![
+        let (num1, den1) = chain(n - 1);
+        let t = Instant::now();
+        let res = crate::resultant::resultant(&num, &den, "Omega");
+        let dnum = crate::resultant::discriminant(&num, "Omega");
+        let dden1 = crate::resultant::discriminant(&den1, "Omega");
+        if verbose {
+            println!("n={n} inputs computed in {:.3}s", t.elapsed().as_secs_f64());
+        }
+        let inputs = vec![
             ("Num".to_string(), num.clone()),
             ("Den".to_string(), den.clone()),
-            (
-                "Res(Num,Den)".to_string(),
-                crate::resultant::resultant(&num, &den, "Omega"),
-            ),
-            (
-                "Disc(Num)".to_string(),
-                crate::resultant::discriminant(&num, "Omega"),
-            ),
-            (
-                "Disc(Den)".to_string(),
-                crate::resultant::discriminant(&den, "Omega"),
-            ),
+            ("Res(Num,Den)".to_string(), res),
+            ("Disc(Num)".to_string(), dnum.clone()),
+            ("Disc(Den_{n-1})".to_string(), dden1.clone()),
+            // Products of pieces exercise the lifting.
+            ("Num*Den".to_string(), &num * &den),
+            ("Num^2*Den*Num_{n-1}".to_string(), &(&num.pow(2) * &den) * &num1),
+            ("Disc(Num)*Den_{n-1}".to_string(), &dnum * &den1),
         ];
-        // Products of the pieces exercise the lifting.
-        let prod = &inputs[3].1 * &(&num - &Poly::var("c1"));
-        inputs.push(("Disc(Num)*(Num-c1)".to_string(), prod));
         let mut rows = Vec::new();
         for (name, f) in inputs {
+            if verbose {
+                println!("n={n} {name:22} terms={:6} ...", f.num_terms());
+            }
             let t = Instant::now();
             let fa = factor(&f);
             let dt = t.elapsed().as_secs_f64();
             assert_eq!(fa.expand(), f, "{name}");
+            if verbose {
+                println!("n={n} {name:22} factors={:3} {dt:.3}s", fa.factors.len());
+            }
             rows.push((name, f.num_terms(), fa.factors.len(), dt));
         }
         rows
@@ -1043,7 +1054,7 @@ mod workload {
 
     #[test]
     fn chain3_factorizations() {
-        for (name, terms, k, _) in run(3) {
+        for (name, terms, k, _) in run(3, false) {
             assert!(k >= 1, "{name} with {terms} terms");
         }
     }
@@ -1052,9 +1063,38 @@ mod workload {
     #[ignore = "timing report; run with --ignored --nocapture"]
     fn chain_timings() {
         for n in 3..=5 {
-            for (name, terms, k, dt) in run(n) {
-                println!("n={n} {name:22} terms={terms:6} factors={k:3} {dt:.3}s");
-            }
+            run(n, true);
+        }
+    }
+}
+#[cfg(test)]
+mod prof {
+    use super::*;
+    use std::time::Instant;
+    #[test]
+    #[ignore]
+    fn prof_yun() {
+        let (num, den) = super::workload_chain(5);
+        let (num1, _) = super::workload_chain(4);
+        let f = &(&num.pow(2) * &den) * &num1;
+        let vars = f.vars().to_vec();
+        for x in &vars {
+            println!("{x} deg {}", f.degree(x));
+        }
+        let t = Instant::now();
+        let x = "Omega";
+        let _ = content_and_pp(&f, x);
+        println!("content {:.3}", t.elapsed().as_secs_f64());
+        let t = Instant::now();
+        let sq = proven_squarefree(&f, x);
+        println!("sqcheck {sq} {:.3}", t.elapsed().as_secs_f64());
+        let t = Instant::now();
+        let parts = yun(&f, x);
+        println!("yun {} {:.3}", parts.len(), t.elapsed().as_secs_f64());
+        for (g, _) in &parts {
+            let t = Instant::now();
+            let fa = factor(g);
+            println!("part {} terms -> {} factors {:.3}", g.num_terms(), fa.factors.len(), t.elapsed().as_secs_f64());
         }
     }
 }

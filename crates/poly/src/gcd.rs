@@ -290,16 +290,19 @@ fn gcd_core(a: &Poly, b: &Poly) -> Poly {
             elim.push(v.clone());
         }
     }
+    let mut both: Vec<String> = Vec::new();
     for v in b.vars() {
-        if !a.has_var(v) {
+        if a.has_var(v) {
+            both.push(v.clone());
+        } else {
+            elim.push(v.clone());
+        }
+    }
+    for (v, bound) in both.iter().zip(degree_bounds(a, b, &both)) {
+        if bound == 0 {
             elim.push(v.clone());
         } else {
-            let bound = degree_bound(a, b, v);
-            if bound == 0 {
-                elim.push(v.clone());
-            } else {
-                shared.push((v.clone(), bound));
-            }
+            shared.push((v.clone(), bound));
         }
     }
     if shared.is_empty() {
@@ -420,7 +423,15 @@ pub(crate) fn prem_coeffs(f: &[Poly], g: &[Poly]) -> Vec<Poly> {
 const P: u64 = (1 << 61) - 1;
 
 fn mulm(a: u64, b: u64) -> u64 {
-    ((a as u128 * b as u128) % P as u128) as u64
+    // Mersenne reduction: 2^61 = 1 (mod P); a, b < P so the product < 2^122.
+    let x = a as u128 * b as u128;
+    let r = (x as u64 & P) + (x >> 61) as u64;
+    let r = (r & P) + (r >> 61);
+    if r >= P {
+        r - P
+    } else {
+        r
+    }
 }
 
 fn addm(a: u64, b: u64) -> u64 {
@@ -461,6 +472,9 @@ fn int_mod(n: &Int) -> u64 {
 }
 
 fn rat_mod(c: &Rat) -> Option<u64> {
+    if c.is_integer() {
+        return Some(int_mod(c.numer()));
+    }
     let d = int_mod(c.denom());
     if d == 0 {
         return None;
@@ -483,46 +497,59 @@ fn point_value(name: &str, k: u64) -> u64 {
     2 + z % (P - 3)
 }
 
-/// Image of `p` in GF(P)[x] with all other variables evaluated (attempt
-/// `k`); lowest degree first, trimmed. `None` if a denominator vanishes.
-fn image(p: &Poly, x: &str, k: u64) -> Option<Vec<u64>> {
+/// The value of every term of `p` at the point of attempt `k` (all
+/// variables evaluated), and the point itself (one value per variable of
+/// `p`, never 0). `None` if a denominator vanishes modulo `P`.
+fn term_values(p: &Poly, k: u64) -> Option<(Vec<u64>, Vec<u64>)> {
     let vars = p.vars();
-    let xi = vars.iter().position(|v| v == x);
-    let powers: Vec<Vec<u64>> = vars
-        .iter()
-        .enumerate()
-        .map(|(i, v)| {
+    let point: Vec<u64> = vars.iter().map(|v| point_value(v, k)).collect();
+    let powers: Vec<Vec<u64>> = (0..vars.len())
+        .map(|i| {
             let d = p.terms().iter().map(|t| t.exps[i]).max().unwrap_or(0) as usize;
-            if Some(i) == xi {
-                return Vec::new();
-            }
-            let val = point_value(v, k);
             let mut pw = Vec::with_capacity(d + 1);
             pw.push(1);
             for j in 1..=d {
-                pw.push(mulm(pw[j - 1], val));
+                pw.push(mulm(pw[j - 1], point[i]));
             }
             pw
         })
         .collect();
-    let deg = xi.map_or(0, |i| p.degree(&vars[i])) as usize;
-    let mut out = vec![0u64; deg + 1];
-    for t in p.terms() {
-        let mut m = rat_mod(&t.coef)?;
-        let mut slot = 0;
-        for (i, &e) in t.exps.iter().enumerate() {
-            if Some(i) == xi {
-                slot = e as usize;
-            } else if e > 0 {
-                m = mulm(m, powers[i][e as usize]);
+    let vals = p
+        .terms()
+        .iter()
+        .map(|t| {
+            let mut m = rat_mod(&t.coef)?;
+            for (i, &e) in t.exps.iter().enumerate() {
+                if e > 0 {
+                    m = mulm(m, powers[i][e as usize]);
+                }
             }
-        }
-        out[slot] = addm(out[slot], m);
+            Some(m)
+        })
+        .collect::<Option<Vec<u64>>>()?;
+    Some((vals, point))
+}
+
+/// Image of `p` in GF(P)[x] (x = variable number `xi` of `p`) with the
+/// other variables at `point`, from the full term values: each term's value
+/// is divided by its power of `point[xi]`. Lowest degree first, trimmed.
+fn image_from(p: &Poly, vals: &[u64], point: &[u64], xi: usize) -> Vec<u64> {
+    let deg = p.terms().iter().map(|t| t.exps[xi]).max().unwrap_or(0) as usize;
+    let inv = invm(point[xi]);
+    let mut inv_pw = Vec::with_capacity(deg + 1);
+    inv_pw.push(1);
+    for j in 1..=deg {
+        inv_pw.push(mulm(inv_pw[j - 1], inv));
+    }
+    let mut out = vec![0u64; deg + 1];
+    for (t, &v) in p.terms().iter().zip(vals) {
+        let e = t.exps[xi] as usize;
+        out[e] = addm(out[e], mulm(v, inv_pw[e]));
     }
     while out.last() == Some(&0) {
         out.pop();
     }
-    Some(out)
+    out
 }
 
 /// Degree of the gcd of two polynomials over GF(P) (`None` if both are 0).
@@ -550,22 +577,47 @@ fn gcd_degree_mod(a: &[u64], b: &[u64]) -> Option<usize> {
     f.len().checked_sub(1)
 }
 
-/// A proven upper bound for `deg_x gcd(a, b)` (a, b containing `x`).
-fn degree_bound(a: &Poly, b: &Poly, x: &str) -> u32 {
-    let (da, db) = (a.degree(x), b.degree(x));
-    let trivial = da.min(db);
+/// Proven upper bounds for `deg_v gcd(a, b)`, for each `v` of `shared`
+/// (variables of both `a` and `b`). For each attempt, all variables are
+/// evaluated once per term; a variable's bound is taken from the first
+/// attempt at which both leading coefficients in it survive, else it is the
+/// trivial `min(deg_v a, deg_v b)`.
+fn degree_bounds(a: &Poly, b: &Poly, shared: &[String]) -> Vec<u32> {
+    let mut res: Vec<Option<u32>> = vec![None; shared.len()];
     for k in 0..3 {
-        let (Some(ia), Some(ib)) = (image(a, x, k), image(b, x, k)) else {
+        if res.iter().all(|r| r.is_some()) {
+            break;
+        }
+        let (Some((va, pa)), Some((vb, pb))) = (term_values(a, k), term_values(b, k)) else {
             continue;
         };
-        if ia.len() != da as usize + 1 || ib.len() != db as usize + 1 {
-            continue; // a leading coefficient vanished at this point
-        }
-        if let Some(d) = gcd_degree_mod(&ia, &ib) {
-            return (d as u32).min(trivial);
+        for (r, v) in res.iter_mut().zip(shared) {
+            if r.is_some() {
+                continue;
+            }
+            let xa = a.vars().iter().position(|w| w == v).expect("shared");
+            let xb = b.vars().iter().position(|w| w == v).expect("shared");
+            let (da, db) = (a.degree(v) as usize, b.degree(v) as usize);
+            let ia = image_from(a, &va, &pa, xa);
+            let ib = image_from(b, &vb, &pb, xb);
+            if ia.len() != da + 1 || ib.len() != db + 1 {
+                continue; // a leading coefficient vanished at this point
+            }
+            if let Some(d) = gcd_degree_mod(&ia, &ib) {
+                *r = Some(d.min(da).min(db) as u32);
+            }
         }
     }
-    trivial
+    res.iter()
+        .zip(shared)
+        .map(|(r, v)| r.unwrap_or_else(|| a.degree(v).min(b.degree(v))))
+        .collect()
+}
+
+/// [`degree_bounds`] for one variable.
+#[cfg(test)]
+fn degree_bound(a: &Poly, b: &Poly, x: &str) -> u32 {
+    degree_bounds(a, b, &[x.to_string()])[0]
 }
 
 #[cfg(test)]
@@ -681,6 +733,119 @@ mod tests {
         assert!(r.degree("x") < 2);
         let lhs = &(&p("y + 1").pow(2) * &a) - &r;
         assert!(lhs.div_exact(&b).is_some());
+    }
+
+    /// Deterministic pseudo-random sparse polynomial (fixed seed).
+    fn random_poly(seed: &mut u64, vars: &[&str], terms: usize, max_deg: u32) -> Poly {
+        let mut next = || {
+            *seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (*seed >> 33) as u32
+        };
+        let mut acc = Poly::zero();
+        for _ in 0..terms {
+            let c = (next() % 11) as i64 - 5;
+            let mut t = Poly::int(if c == 0 { 1 } else { c });
+            for v in vars {
+                t = t.mul_var_pow(v, next() % (max_deg + 1));
+            }
+            acc = &acc + &t;
+        }
+        if acc.is_zero() {
+            Poly::var(vars[0])
+        } else {
+            acc
+        }
+    }
+
+    /// Certificate that `a` and `b` have no common non-constant factor,
+    /// independent of the PRS: for every variable, images at a point where
+    /// both leading coefficients survive have a constant gcd over GF(P).
+    fn certified_coprime(a: &Poly, b: &Poly) -> bool {
+        let mut vars: Vec<String> = a.vars().to_vec();
+        vars.extend(b.vars().iter().cloned());
+        vars.sort();
+        vars.dedup();
+        vars.iter().all(|v| {
+            if !a.has_var(v) || !b.has_var(v) {
+                return false; // only used on operands with the same variables
+            }
+            (0..3).any(|k| {
+                let (Some((va, pa)), Some((vb, pb))) = (term_values(a, k), term_values(b, k))
+                else {
+                    return false;
+                };
+                let xa = a.vars().iter().position(|w| w == v).unwrap();
+                let xb = b.vars().iter().position(|w| w == v).unwrap();
+                let ia = image_from(a, &va, &pa, xa);
+                let ib = image_from(b, &vb, &pb, xb);
+                ia.len() == a.degree(v) as usize + 1
+                    && ib.len() == b.degree(v) as usize + 1
+                    && gcd_degree_mod(&ia, &ib) == Some(0)
+            })
+        })
+    }
+
+    #[test]
+    fn randomized_against_certificates() {
+        let mut seed = 20240601u64;
+        let vars = ["x", "y", "z"];
+        for round in 0..40 {
+            let f = random_poly(&mut seed, &vars, 1 + round % 4, 2);
+            let g = random_poly(&mut seed, &vars, 2 + round % 3, 2);
+            let h = random_poly(&mut seed, &vars, 2 + round % 5, 2);
+            let (a, b) = (&f * &g, &f * &h);
+            let got = gcd(&a, &b);
+            assert_eq!(gcd(&b, &a), got);
+            // The constructed common factor divides the gcd, which divides both.
+            assert!(
+                got.div_exact(&f).is_some(),
+                "round {round}: {f} does not divide {got}"
+            );
+            let ca = a.div_exact(&got).expect("gcd divides a");
+            let cb = b.div_exact(&got).expect("gcd divides b");
+            // The cofactors are coprime: a variable-free gcd certificate for
+            // every variable both contain, plus the content over Z.
+            if ca.vars().iter().all(|v| cb.has_var(v)) && cb.vars().iter().all(|v| ca.has_var(v)) {
+                assert!(certified_coprime(&ca, &cb), "round {round}: {ca} / {cb}");
+            }
+            assert_eq!(got.primitive_part(), got);
+            // The PRS route alone agrees (inputs made primitive in x first).
+            if a.has_var("x") && b.has_var("x") {
+                let (ca_x, pa) = content_and_pp(&a, "x");
+                let (cb_x, pb) = content_and_pp(&b, "x");
+                let prs = if pa.has_var("x") && pb.has_var("x") {
+                    prs_gcd_primitive(&pa, &pb, "x")
+                } else {
+                    Poly::one()
+                };
+                let via_prs = (&gcd(&ca_x, &cb_x) * &prs).primitive_part();
+                assert_eq!(via_prs, got, "round {round}");
+            }
+        }
+    }
+
+    #[test]
+    fn mersenne_reduction() {
+        let xs = [
+            0,
+            1,
+            2,
+            3,
+            P - 1,
+            P - 2,
+            1 << 60,
+            (1 << 61) - 3,
+            123_456_789_012_345,
+        ];
+        for &a in &xs {
+            for &b in &xs {
+                let want = ((a as u128 * b as u128) % P as u128) as u64;
+                assert_eq!(mulm(a, b), want, "{a} * {b}");
+            }
+        }
+        assert_eq!(mulm(invm(12345), 12345), 1);
     }
 
     #[test]

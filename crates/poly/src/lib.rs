@@ -34,22 +34,23 @@ mod upoly;
 pub use crate::upoly::UPoly;
 mod matrix;
 pub use crate::matrix::{
-    adjugate, check_square, cofactor, det, det_bareiss, det_laplace, det_minors, mat_mul, minor,
-    try_adjugate, try_cofactor, try_det, MatrixError, LAPLACE_MAX, MINORS_MAX,
+    adjugate, check_square, cofactor, det, det_bareiss, det_laplace, det_minors,
+    leading_principal_minors, mat_mul, minor, try_adjugate, try_cofactor, try_det, MatrixError,
+    LAPLACE_MAX, MINORS_MAX,
 };
 mod gcd;
 pub use crate::gcd::{content_and_pp, content_in, gcd, gcd_many, lcm, primitive_part_in};
 mod roots;
 pub use crate::roots::{
     count_nonpositive_or_nonreal, count_real_roots, count_roots_in, interleave_roots,
-    positive_roots, real_roots, RealRoot, RootError, SharedRoot,
+    positive_roots, real_roots, RealRoot, RootError, SharedRoot, SturmSequence,
 };
 mod factor_uni;
 pub use crate::factor_uni::factor_univariate;
 mod resultant;
 pub use crate::resultant::{
-    discriminant, psc, resultant, sturm_habicht, sturm_habicht_principal, subresultant_chain,
-    subresultants, sylvester_matrix,
+    bezout_matrix, discriminant, psc, resultant, sturm_habicht, sturm_habicht_principal,
+    subresultant_chain, subresultants, sylvester_matrix,
 };
 mod factor;
 pub use crate::factor::{factor, Factorization};

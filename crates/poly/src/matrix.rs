@@ -206,6 +206,38 @@ pub fn det_minors(m: &[Vec<Poly>]) -> Result<Poly, MatrixError> {
 }
 
 fn minors_unchecked(m: &[Vec<Poly>], n: usize) -> Poly {
+    minors_dp(m, n, |_, _| {})
+}
+
+/// The leading principal minors `[D_1, ..., D_n]` (`D_k` = determinant of
+/// the top-left `k x k` block), all from one division-free expansion by
+/// minors. Errors if `m` is not square or larger than [`MINORS_MAX`].
+///
+/// ```
+/// use poly::{leading_principal_minors, Poly};
+/// let p = |s: &str| s.parse::<Poly>().unwrap();
+/// let m = vec![vec![p("a"), p("b")], vec![p("c"), p("d")]];
+/// assert_eq!(leading_principal_minors(&m).unwrap(), vec![p("a"), p("a*d - b*c")]);
+/// ```
+pub fn leading_principal_minors(m: &[Vec<Poly>]) -> Result<Vec<Poly>, MatrixError> {
+    let n = check_square(m)?;
+    if n > MINORS_MAX {
+        return Err(MatrixError::TooLarge { n, max: MINORS_MAX });
+    }
+    let mut out = Vec::with_capacity(n);
+    minors_dp(m, n, |k, level| {
+        out.push(level.get(&((1u32 << k) - 1)).cloned().unwrap_or_default());
+    });
+    Ok(out)
+}
+
+/// Expansion by minors; `visit(k, level)` sees, after each row `k - 1`, the
+/// non-zero minors on rows `0..k` keyed by their column masks.
+fn minors_dp(
+    m: &[Vec<Poly>],
+    n: usize,
+    mut visit: impl FnMut(usize, &BTreeMap<u32, Poly>),
+) -> Poly {
     // level[mask] = det of rows 0..k, columns in mask (|mask| = k).
     let mut level: BTreeMap<u32, Poly> = BTreeMap::new();
     level.insert(0, Poly::one());
@@ -228,11 +260,9 @@ fn minors_unchecked(m: &[Vec<Poly>], n: usize) -> Poly {
             }
         }
         next.retain(|_, v| !v.is_zero());
-        if next.is_empty() {
-            return Poly::zero();
-        }
         level = next;
         debug_assert!(level.keys().all(|mk| mk.count_ones() as usize == k + 1));
+        visit(k + 1, &level);
     }
     level.remove(&((1u32 << n) - 1)).unwrap_or_default()
 }
@@ -523,6 +553,32 @@ mod tests {
                     assert_eq!(prod2[i][j], want);
                 }
             }
+        }
+    }
+
+    /// Timing of the determinant algorithms (run with `--ignored --nocapture`).
+    #[test]
+    #[ignore]
+    fn timing_det() {
+        use std::time::Instant;
+        for (name, m) in [
+            ("chain 8", chain(8)),
+            ("chain 10", chain(10)),
+            ("generic 5", generic(5)),
+            ("generic 6", generic(6)),
+            ("generic 7", generic(7)),
+        ] {
+            let t = Instant::now();
+            let a = det_minors(&m).unwrap();
+            let t_min = t.elapsed();
+            let t = Instant::now();
+            let b = det_bareiss(&m).unwrap();
+            let t_bar = t.elapsed();
+            assert_eq!(a, b);
+            eprintln!(
+                "{name}: minors {t_min:?}, Bareiss {t_bar:?}, {} terms",
+                a.num_terms()
+            );
         }
     }
 

@@ -10,8 +10,9 @@
 use crate::int::Int;
 use crate::rat::Rat;
 use std::cmp::Ordering;
-use std::collections::{BTreeMap, BinaryHeap};
+use std::collections::{BTreeMap, HashMap};
 use std::fmt;
+use std::hash::{BuildHasherDefault, Hasher};
 use std::ops::{Add, Mul, Neg, Sub};
 use std::sync::Arc;
 
@@ -73,6 +74,94 @@ fn max_exps(terms: &[Term], n: usize) -> Vec<u32> {
         }
     }
     m
+}
+
+/// Coefficients as `i64` if all are integers in machine range.
+fn small_coefs(ts: &[Term]) -> Option<Vec<i64>> {
+    ts.iter()
+        .map(|t| {
+            if t.coef.is_integer() {
+                t.coef.numer().to_i64()
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
+/// A fast deterministic hasher for packed monomials (multiply-fold mixing).
+#[derive(Default)]
+struct MonoHasher(u64);
+
+impl Hasher for MonoHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(b as u64);
+        }
+    }
+    fn write_u64(&mut self, x: u64) {
+        let m = ((self.0 ^ x) as u128).wrapping_mul(0x9e37_79b9_7f4a_7c15_f39c_c060_5ced_c835);
+        self.0 = (m as u64) ^ ((m >> 64) as u64);
+    }
+    fn write_u128(&mut self, x: u128) {
+        self.write_u64(x as u64);
+        self.write_u64((x >> 64) as u64);
+    }
+}
+
+type MonoMap<V> = HashMap<u128, V, BuildHasherDefault<MonoHasher>>;
+
+/// Accumulates all products with `i128` coefficients; `None` on overflow.
+fn mul_acc_small(
+    ka: &[u128],
+    ca: &[i64],
+    kb: &[u128],
+    cb: &[i64],
+    cap: usize,
+) -> Option<Vec<(u128, Rat)>> {
+    let mut acc: MonoMap<i128> = MonoMap::with_capacity_and_hasher(cap, Default::default());
+    for (&x, &cx) in ka.iter().zip(ca) {
+        for (&y, &cy) in kb.iter().zip(cb) {
+            let p = cx as i128 * cy as i128;
+            let slot = acc.entry(x + y).or_insert(0);
+            *slot = slot.checked_add(p)?;
+        }
+    }
+    Some(
+        acc.into_iter()
+            .filter(|&(_, c)| c != 0)
+            .map(|(k, c)| {
+                let c = match i64::try_from(c) {
+                    Ok(v) => Rat::from(v),
+                    Err(_) => Rat::from_int(Int::from(num_bigint::BigInt::from(c))),
+                };
+                (k, c)
+            })
+            .collect(),
+    )
+}
+
+/// Accumulates all products with [`Rat`] coefficients.
+fn mul_acc_rat(ka: &[u128], a: &[Term], kb: &[u128], b: &[Term], cap: usize) -> Vec<(u128, Rat)> {
+    let mut acc: MonoMap<Rat> = MonoMap::with_capacity_and_hasher(cap, Default::default());
+    for (&x, s) in ka.iter().zip(a) {
+        for (&y, t) in kb.iter().zip(b) {
+            let p = &s.coef * &t.coef;
+            match acc.entry(x + y) {
+                std::collections::hash_map::Entry::Occupied(mut o) => {
+                    let v = o.get() + &p;
+                    *o.get_mut() = v;
+                }
+                std::collections::hash_map::Entry::Vacant(v) => {
+                    v.insert(p);
+                }
+            }
+        }
+    }
+    acc.into_iter().filter(|(_, c)| !c.is_zero()).collect()
 }
 
 /// Exponent vectors packed into one `u128`, the first variable in the most
@@ -792,37 +881,23 @@ impl Poly {
         }
     }
 
-    /// Johnson's heap multiplication: the products `a_i b_j` are generated in
-    /// descending order (at most `min(|a|, |b|)` heap entries), so like terms
-    /// are adjacent and no sort is needed.
+    /// Multiplication on packed exponents: every product `a_i b_j` is
+    /// accumulated in a hash table keyed by the packed monomial (small
+    /// integer coefficients in `i128`, others as [`Rat`]), then the distinct
+    /// monomials are sorted once. The output order depends only on the
+    /// monomials, never on the table.
     fn mul_packed(vars: Arc<[String]>, a: &[Term], b: &[Term], pk: &Packing) -> Poly {
-        let (a, b) = if a.len() <= b.len() { (a, b) } else { (b, a) };
         let ka: Vec<u128> = a.iter().map(|t| pk.pack(&t.exps)).collect();
         let kb: Vec<u128> = b.iter().map(|t| pk.pack(&t.exps)).collect();
-        let mut heap: BinaryHeap<(u128, usize, usize)> = BinaryHeap::with_capacity(a.len());
-        heap.push((ka[0] + kb[0], 0, 0));
-        let mut out: Vec<(u128, Rat)> = Vec::new();
-        while let Some((k, i, j)) = heap.pop() {
-            let c = &a[i].coef * &b[j].coef;
-            match out.last_mut() {
-                Some((lk, lc)) if *lk == k => *lc = &*lc + &c,
-                _ => {
-                    if out.last().is_some_and(|(_, lc)| lc.is_zero()) {
-                        out.pop();
-                    }
-                    out.push((k, c));
-                }
-            }
-            if j + 1 < b.len() {
-                heap.push((ka[i] + kb[j + 1], i, j + 1));
-            }
-            if j == 0 && i + 1 < a.len() {
-                heap.push((ka[i + 1] + kb[0], i + 1, 0));
-            }
-        }
-        if out.last().is_some_and(|(_, lc)| lc.is_zero()) {
-            out.pop();
-        }
+        let cap = (a.len() * b.len()).min(1 << 20);
+        let mut out: Vec<(u128, Rat)> = match (small_coefs(a), small_coefs(b)) {
+            (Some(ca), Some(cb)) => match mul_acc_small(&ka, &ca, &kb, &cb, cap) {
+                Some(v) => v,
+                None => mul_acc_rat(&ka, a, &kb, b, cap),
+            },
+            _ => mul_acc_rat(&ka, a, &kb, b, cap),
+        };
+        out.sort_unstable_by_key(|x| std::cmp::Reverse(x.0));
         let terms = out
             .into_iter()
             .map(|(k, coef)| Term {

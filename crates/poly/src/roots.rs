@@ -11,15 +11,19 @@
 //!    the sign variations of `(x + 1)^n q(1 / (x + 1))` bound the number of
 //!    roots of `q` in `(0, 1)` and are exact when 0 or 1; otherwise the
 //!    interval is halved (`2^n q(x/2)` and its Taylor shift by 1). A midpoint
-//!    that is a root is reported exactly and divided out.
+//!    that is a root is reported exactly and divided out. The shifts run on
+//!    fixed-width two's-complement limb arrays sized per node with headroom
+//!    for the node's coefficient growth (exact, no allocation per addition).
 //! 4. Isolating intervals with an endpoint that is a root (a rational root
 //!    found as a midpoint, or 0) are shrunk by exact-sign bisection.
 //! 5. The multiplicity of each root is the `mi` of the factor `fi` that
 //!    vanishes there or changes sign across the interval.
 //!
-//! [`count_roots_in`] and [`count_real_roots`] count roots by a Sturm
-//! sequence instead: an independent route, used by the tests to check the
-//! isolation.
+//! [`SturmSequence`], [`count_roots_in`] and [`count_real_roots`] count roots
+//! by a Sturm sequence instead: an independent route, used by the tests to
+//! check the isolation. It is much slower for large inputs (the chain's
+//! coefficients grow to about `deg * bits` bits: ~0.1 s for degree 30 with
+//! 500-bit coefficients, against ~1 ms for [`real_roots`]).
 //!
 //! ```
 //! use poly::{real_roots, Rat, UPoly};
@@ -35,7 +39,7 @@
 
 use crate::int::Int;
 use crate::rat::Rat;
-use crate::upoly::{pseudo_div_raw, UPoly};
+use crate::upoly::{gcd_pp, pseudo_div_raw, UPoly};
 use num_bigint::BigInt;
 use num_traits::{One, Signed, Zero};
 
@@ -83,12 +87,10 @@ pub enum RootError {
     NotIsolating,
 }
 
-fn half() -> Rat {
-    Rat::new(Int::ONE, Int::from(2))
-}
-
 fn mid(lo: &Rat, hi: &Rat) -> Rat {
-    &(lo + hi) * &half()
+    let num = &(lo.numer() * hi.denom()) + &(hi.numer() * lo.denom());
+    let den = &(lo.denom() * hi.denom()) * &Int::from(2);
+    Rat::new(num, den)
 }
 
 /// Bisects `(lo, hi)`, where `q` changes sign and has one root, until
@@ -233,6 +235,11 @@ impl SharedRoot {
     /// True when the root is > 0 (relies on intervals not straddling 0).
     pub fn is_positive(&self) -> bool {
         self.lo.signum() >= 0 && self.hi.signum() > 0
+    }
+
+    /// True when the root is < 0 (relies on intervals not straddling 0).
+    pub fn is_negative(&self) -> bool {
+        self.hi.signum() <= 0 && self.lo.signum() < 0
     }
 
     /// Shrinks the interval until `hi - lo <= width`, using one of `polys`
@@ -383,7 +390,7 @@ pub fn interleave_roots(polys: &[UPoly]) -> Vec<SharedRoot> {
     let mut s = UPoly::one();
     for d in &decomps {
         for (f, _) in d {
-            let g = s.gcd(f);
+            let g = gcd_pp(&s, f);
             let extra = f.div_exact(&g).unwrap_or_else(|| f.clone());
             s = &s * &extra;
         }
@@ -479,71 +486,49 @@ fn strip_pow2(v: &mut [BigInt]) {
     }
 }
 
-/// In-place `a(x) <- a(x + 1)`.
-fn taylor_shift1(a: &mut [BigInt]) {
-    let n = a.len().saturating_sub(1);
-    for i in 0..n {
-        for j in (i..n).rev() {
-            let (x, y) = a.split_at_mut(j + 1);
-            x[j] += &y[0];
-        }
-    }
-}
-
-/// Sign variations of `(x + 1)^n q(1 / (x + 1))`, capped at 2: an upper
-/// bound for the number of roots of `q` in `(0, 1)`, exact when 0 or 1.
-fn descartes_01(q: &[BigInt]) -> u32 {
-    let n = q.len().saturating_sub(1);
-    if n == 0 {
-        return 0;
-    }
-    let mut a: Vec<BigInt> = q.iter().rev().cloned().collect();
-    let mut count = 0;
-    let mut last = 0;
-    let mut see = |c: &BigInt, count: &mut u32| {
-        let s = if c.is_positive() {
-            1
-        } else if c.is_negative() {
-            -1
-        } else {
-            0
-        };
-        if s != 0 {
-            if last != 0 && s != last {
-                *count += 1;
+/// For `q` with positive leading coefficient: `e` such that `q` has no root
+/// in `[2^e, oo)`, or `None` if no coefficient is negative (then `q > 0` on
+/// `(0, oo)`).
+///
+/// Kioustelidis' bound rounded up to a power of two: `e = 1 + max` over
+/// negative `a_{n-k}` of the least `s` with `a_n 2^(k s) >= |a_{n-k}|`.
+/// For `x >= 2^e` each such term obeys `|a_{n-k}| x^(n-k) <= a_n x^n 2^-k`,
+/// so `q(x) >= a_n x^n (1 - sum 2^-k) > 0`.
+fn positive_root_bound_exp(q: &[BigInt]) -> Option<i64> {
+    let n = q.len() - 1;
+    let bn = q[n].bits() as i64;
+    let mut emax: Option<i64> = None;
+    for k in 1..=n {
+        let c = &q[n - k];
+        if c.is_negative() {
+            let a = -c;
+            let kk = k as i64;
+            // 2^(d-1) < |a| / a_n < 2^(d+1), so the least s lies in
+            // ceil((d - 1) / k) ..= ceil((d + 1) / k).
+            let d = a.bits() as i64 - bn;
+            let ceil_div = |x: i64| -((-x).div_euclid(kk));
+            let mut sk = ceil_div(d - 1);
+            while !dominates(&q[n], kk * sk, &a) {
+                sk += 1;
             }
-            last = s;
-        }
-    };
-    // After round i of the shift, a[i] is final: count on the fly.
-    for i in 0..n {
-        for j in (i..n).rev() {
-            let (x, y) = a.split_at_mut(j + 1);
-            x[j] += &y[0];
-        }
-        see(&a[i], &mut count);
-        if count >= 2 {
-            return 2;
+            emax = Some(emax.map_or(sk, |m| m.max(sk)));
         }
     }
-    see(&a[n], &mut count);
-    count.min(2)
+    emax.map(|m| m + 1)
 }
 
-/// `q(x) / (x - 1)` for `q(1) = 0`.
-fn div_x_minus_1(q: &[BigInt]) -> Vec<BigInt> {
-    let m = q.len() - 1;
-    let mut b = vec![BigInt::zero(); m];
-    b[m - 1] = q[m].clone();
-    for i in (1..m).rev() {
-        b[i - 1] = &q[i] + &b[i];
+/// `lead * 2^sh >= a` for `lead, a > 0`.
+fn dominates(lead: &BigInt, sh: i64, a: &BigInt) -> bool {
+    if sh >= 0 {
+        (lead << sh as u64) >= *a
+    } else {
+        *lead >= (a << (-sh) as u64)
     }
-    b
 }
 
 enum Work {
     /// `q` has, up to a positive factor, the roots of `s(B (c + x) / 2^k)`.
-    Node { q: Vec<BigInt>, c: BigInt, k: i64 },
+    Node { q: Fixed, c: BigInt, k: i64 },
     /// The exact root `B c / 2^k`.
     Root { c: BigInt, k: i64 },
 }
@@ -557,21 +542,9 @@ fn positive_isolation(mut q: Vec<BigInt>) -> Vec<(Rat, Rat)> {
             *c = -&*c;
         }
     }
-    // Kioustelidis bound, rounded up to B = 2^e.
-    let bn = q[n].bits() as i64;
-    let mut emax: Option<i64> = None;
-    for k in 1..=n {
-        let c = &q[n - k];
-        if c.is_negative() {
-            let num = c.bits() as i64 - bn + 1;
-            let ek = -((-num).div_euclid(k as i64));
-            emax = Some(emax.map_or(ek, |m| m.max(ek)));
-        }
-    }
-    let Some(emax) = emax else {
+    let Some(e) = positive_root_bound_exp(&q) else {
         return Vec::new(); // no sign variation: no positive root
     };
-    let e = emax + 1;
     // q(B x), times 2^(-e n) if e < 0.
     for (i, c) in q.iter_mut().enumerate() {
         let sh = if e >= 0 {
@@ -584,7 +557,7 @@ fn positive_isolation(mut q: Vec<BigInt>) -> Vec<(Rat, Rat)> {
     strip_pow2(&mut q);
     let mut out = Vec::new();
     let mut stack = vec![Work::Node {
-        q,
+        q: Fixed::from_big(&q),
         c: BigInt::zero(),
         k: 0,
     }];
@@ -594,45 +567,326 @@ fn positive_isolation(mut q: Vec<BigInt>) -> Vec<(Rat, Rat)> {
                 let r = dyadic(&c, e - k);
                 out.push((r.clone(), r));
             }
-            Work::Node { q, c, k } => match descartes_01(&q) {
-                0 => {}
-                1 => out.push((dyadic(&c, e - k), dyadic(&(&c + 1u32), e - k))),
-                _ => {
-                    let m = q.len() - 1;
-                    let mut l: Vec<BigInt> = q
-                        .iter()
-                        .enumerate()
-                        .map(|(i, x)| x << (m - i) as u64)
-                        .collect();
-                    let at_mid: BigInt = l.iter().sum();
-                    let mid_root = at_mid.is_zero();
-                    if mid_root {
-                        l = div_x_minus_1(&l);
+            Work::Node { mut q, c, k } => {
+                q.fit();
+                match q.descartes_01() {
+                    0 => {}
+                    1 => out.push((dyadic(&c, e - k), dyadic(&(&c + 1u32), e - k))),
+                    _ => {
+                        let (l, r, mid_root) = q.split();
+                        let c2: BigInt = c << 1u32;
+                        let c2p: BigInt = &c2 + 1u32;
+                        stack.push(Work::Node {
+                            q: r,
+                            c: c2p.clone(),
+                            k: k + 1,
+                        });
+                        if mid_root {
+                            stack.push(Work::Root { c: c2p, k: k + 1 });
+                        }
+                        stack.push(Work::Node {
+                            q: l,
+                            c: c2,
+                            k: k + 1,
+                        });
                     }
-                    let mut r = l.clone();
-                    taylor_shift1(&mut r);
-                    strip_pow2(&mut l);
-                    strip_pow2(&mut r);
-                    let c2: BigInt = c << 1u32;
-                    let c2p: BigInt = &c2 + 1u32;
-                    stack.push(Work::Node {
-                        q: r,
-                        c: c2p.clone(),
-                        k: k + 1,
-                    });
-                    if mid_root {
-                        stack.push(Work::Root { c: c2p, k: k + 1 });
-                    }
-                    stack.push(Work::Node {
-                        q: l,
-                        c: c2,
-                        k: k + 1,
-                    });
                 }
-            },
+            }
         }
     }
     out
+}
+
+/// Fixed-width two's-complement integers (little-endian 64-bit limbs) for
+/// the bisection: the Taylor shifts are long runs of additions, which on
+/// flat limb arrays need no allocation and no sign juggling.
+mod fixed_limbs {
+    /// `dst += src` (same width, wrapping; callers leave enough headroom).
+    pub(super) fn add(dst: &mut [u64], src: &[u64]) {
+        let mut carry = false;
+        for (a, &b) in dst.iter_mut().zip(src) {
+            let (s1, c1) = a.overflowing_add(b);
+            let (s2, c2) = s1.overflowing_add(u64::from(carry));
+            *a = s2;
+            carry = c1 || c2;
+        }
+    }
+
+    /// `x <- -x`.
+    pub(super) fn negate(x: &mut [u64]) {
+        let mut carry = true;
+        for a in x.iter_mut() {
+            let (v, c) = (!*a).overflowing_add(u64::from(carry));
+            *a = v;
+            carry = c;
+        }
+    }
+
+    pub(super) fn is_negative(x: &[u64]) -> bool {
+        x.last().is_some_and(|&t| (t as i64) < 0)
+    }
+
+    /// -1, 0 or 1.
+    pub(super) fn sign(x: &[u64]) -> i32 {
+        if is_negative(x) {
+            -1
+        } else if x.iter().any(|&a| a != 0) {
+            1
+        } else {
+            0
+        }
+    }
+
+    /// Bits of the magnitude beyond the sign: `|x| <= 2^bits`.
+    pub(super) fn sig_bits(x: &[u64]) -> u64 {
+        let fill = if is_negative(x) { u64::MAX } else { 0 };
+        for (i, &a) in x.iter().enumerate().rev() {
+            let v = a ^ fill;
+            if v != 0 {
+                return i as u64 * 64 + 64 - u64::from(v.leading_zeros());
+            }
+        }
+        0
+    }
+
+    /// `x <- x * 2^s` (the result must fit).
+    pub(super) fn shl(x: &mut [u64], s: u64) {
+        let w = x.len();
+        let (limbs, bits) = ((s / 64) as usize, (s % 64) as u32);
+        if limbs > 0 {
+            for i in (0..w).rev() {
+                x[i] = if i >= limbs { x[i - limbs] } else { 0 };
+            }
+        }
+        if bits > 0 {
+            for i in (0..w).rev() {
+                let low = if i > 0 { x[i - 1] >> (64 - bits) } else { 0 };
+                x[i] = (x[i] << bits) | low;
+            }
+        }
+    }
+
+    /// `x <- floor(x / 2^s)`.
+    pub(super) fn sar(x: &mut [u64], s: u64) {
+        let w = x.len();
+        let fill = if is_negative(x) { u64::MAX } else { 0 };
+        let (limbs, bits) = ((s / 64) as usize, (s % 64) as u32);
+        if limbs > 0 {
+            for i in 0..w {
+                x[i] = if i + limbs < w { x[i + limbs] } else { fill };
+            }
+        }
+        if bits > 0 {
+            for i in 0..w {
+                let high = if i + 1 < w { x[i + 1] } else { fill };
+                x[i] = (x[i] >> bits) | (high << (64 - bits));
+            }
+        }
+    }
+
+    /// Trailing zero bits; `None` for zero.
+    pub(super) fn trailing_zeros(x: &[u64]) -> Option<u64> {
+        x.iter()
+            .position(|&a| a != 0)
+            .map(|i| i as u64 * 64 + u64::from(x[i].trailing_zeros()))
+    }
+}
+
+/// A polynomial (lowest degree first) with coefficients as two's-complement
+/// integers of `w` limbs each, stored row after row.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct Fixed {
+    w: usize,
+    d: Vec<u64>,
+}
+
+impl Fixed {
+    /// Headroom in bits for one node: the Descartes test and the children
+    /// multiply coefficients by at most `2^m (m + 1)` and `2^(2m) (m + 1)^2`.
+    fn headroom(m: usize) -> u64 {
+        let lg = 64 - u64::from((m as u64 + 1).leading_zeros());
+        2 * m as u64 + 2 * lg + 2
+    }
+
+    fn width_for(bits: u64, m: usize) -> usize {
+        // magnitude bits + headroom + sign bit
+        ((bits + Fixed::headroom(m) + 1) / 64 + 1) as usize
+    }
+
+    fn from_big(q: &[BigInt]) -> Fixed {
+        let bits = q.iter().map(BigInt::bits).max().unwrap_or(0);
+        let w = Fixed::width_for(bits, q.len().saturating_sub(1));
+        let mut d = vec![0u64; q.len() * w];
+        for (row, c) in d.chunks_mut(w).zip(q) {
+            let (sign, mag) = c.to_u64_digits();
+            row[..mag.len()].copy_from_slice(&mag);
+            if sign == num_bigint::Sign::Minus {
+                fixed_limbs::negate(row);
+            }
+        }
+        Fixed { w, d }
+    }
+
+    #[cfg(test)]
+    fn to_big(&self) -> Vec<BigInt> {
+        self.d
+            .chunks(self.w)
+            .map(|row| {
+                let mut r = row.to_vec();
+                let neg = fixed_limbs::is_negative(&r);
+                if neg {
+                    fixed_limbs::negate(&mut r);
+                }
+                let m = BigInt::from(num_bigint::BigUint::new(
+                    r.iter()
+                        .flat_map(|&a| [a as u32, (a >> 32) as u32])
+                        .collect(),
+                ));
+                if neg {
+                    -m
+                } else {
+                    m
+                }
+            })
+            .collect()
+    }
+
+    /// Number of coefficients.
+    fn len(&self) -> usize {
+        self.d.len() / self.w
+    }
+
+    fn row(&self, i: usize) -> &[u64] {
+        &self.d[i * self.w..(i + 1) * self.w]
+    }
+
+    fn row_mut(&mut self, i: usize) -> &mut [u64] {
+        &mut self.d[i * self.w..(i + 1) * self.w]
+    }
+
+    /// `row[j] += row[j + 1]`.
+    fn add_next(d: &mut [u64], w: usize, j: usize) {
+        let (x, y) = d.split_at_mut((j + 1) * w);
+        fixed_limbs::add(&mut x[j * w..], &y[..w]);
+    }
+
+    /// Re-chooses the width for the current coefficients and degree.
+    fn fit(&mut self) {
+        let bits = self
+            .d
+            .chunks(self.w)
+            .map(fixed_limbs::sig_bits)
+            .max()
+            .unwrap_or(0)
+            + 1;
+        let w = Fixed::width_for(bits, self.len().saturating_sub(1));
+        if w == self.w {
+            return;
+        }
+        let mut d = vec![0u64; self.len() * w];
+        for (new, old) in d.chunks_mut(w).zip(self.d.chunks(self.w)) {
+            let fill = if fixed_limbs::is_negative(old) {
+                u64::MAX
+            } else {
+                0
+            };
+            for (i, a) in new.iter_mut().enumerate() {
+                *a = old.get(i).copied().unwrap_or(fill);
+            }
+        }
+        *self = Fixed { w, d };
+    }
+
+    /// In-place `q(x) <- q(x + 1)`.
+    fn taylor_shift1(&mut self) {
+        let (w, n) = (self.w, self.len().saturating_sub(1));
+        for i in 0..n {
+            for j in (i..n).rev() {
+                Fixed::add_next(&mut self.d, w, j);
+            }
+        }
+    }
+
+    /// Sign variations of `(x + 1)^n q(1 / (x + 1))`, capped at 2: an upper
+    /// bound for the number of roots of `q` in `(0, 1)`, exact when 0 or 1.
+    fn descartes_01(&self) -> u32 {
+        let (w, n) = (self.w, self.len().saturating_sub(1));
+        if n == 0 {
+            return 0;
+        }
+        let mut a = vec![0u64; self.d.len()];
+        for (dst, src) in a.chunks_mut(w).zip(self.d.chunks(w).rev()) {
+            dst.copy_from_slice(src);
+        }
+        let mut count = 0;
+        let mut last = 0;
+        let mut see = |s: i32, count: &mut u32| {
+            if s != 0 {
+                if last != 0 && s != last {
+                    *count += 1;
+                }
+                last = s;
+            }
+        };
+        // After round i of the shift, a[i] is final: count on the fly.
+        for i in 0..n {
+            for j in (i..n).rev() {
+                Fixed::add_next(&mut a, w, j);
+            }
+            see(fixed_limbs::sign(&a[i * w..(i + 1) * w]), &mut count);
+            if count >= 2 {
+                return 2;
+            }
+        }
+        see(fixed_limbs::sign(&a[n * w..]), &mut count);
+        count.min(2)
+    }
+
+    /// Divides all coefficients by their largest common power of two.
+    fn strip_pow2(&mut self) {
+        let tz = self
+            .d
+            .chunks(self.w)
+            .filter_map(fixed_limbs::trailing_zeros)
+            .min();
+        if let Some(tz) = tz.filter(|&t| t > 0) {
+            for row in self.d.chunks_mut(self.w) {
+                fixed_limbs::sar(row, tz);
+            }
+        }
+    }
+
+    /// The halves: `l = 2^m q(x/2)` (roots in `(0, 1/2)` moved to `(0, 1)`)
+    /// and `r = l(x + 1)`, with the factor `x - 1` of `l` divided out first
+    /// when the midpoint is a root (reported as the third value).
+    fn split(&self) -> (Fixed, Fixed, bool) {
+        let (w, m) = (self.w, self.len() - 1);
+        let mut l = self.clone();
+        for i in 0..m {
+            fixed_limbs::shl(l.row_mut(i), (m - i) as u64);
+        }
+        let mut sum = vec![0u64; w];
+        for i in 0..=m {
+            fixed_limbs::add(&mut sum, l.row(i));
+        }
+        let mid_root = fixed_limbs::sign(&sum) == 0;
+        if mid_root {
+            // b[m-1] = l[m], b[i-1] = l[i] + b[i]
+            let mut b = Fixed {
+                w,
+                d: l.d[w..].to_vec(),
+            };
+            for i in (0..m.saturating_sub(1)).rev() {
+                Fixed::add_next(&mut b.d, w, i);
+            }
+            l = b;
+        }
+        let mut r = l.clone();
+        r.taylor_shift1();
+        l.strip_pow2();
+        r.strip_pow2();
+        (l, r, mid_root)
+    }
 }
 
 /// `p` with its content divided out, sign kept.
@@ -687,13 +941,85 @@ fn variations(signs: impl Iterator<Item = i32>) -> usize {
     count
 }
 
-fn variations_at(chain: &[UPoly], x: &Rat) -> usize {
-    variations(chain.iter().map(|c| c.sign_at(x)))
+/// A Sturm sequence, for counting the distinct real roots of a polynomial
+/// in many intervals (the chain is computed once).
+///
+/// It is built for the square-free part of the polynomial (the chain of
+/// `p, p'` divided by its last element), so counts are of distinct roots and
+/// half-open intervals `(lo, hi]` are counted correctly even when an endpoint
+/// is a root. This route is independent of [`real_roots`].
+///
+/// ```
+/// use poly::{SturmSequence, UPoly};
+/// let p = &UPoly::from_i64s(&[-2, 1]).pow(2) * &UPoly::from_i64s(&[1, 0, 1]); // (x-2)^2 (x^2+1)
+/// let s = SturmSequence::new(&p);
+/// assert_eq!(s.count_real(), 1);
+/// assert_eq!(s.count_in(&1.into(), &2.into()), 1);
+/// assert_eq!(s.count_in(&2.into(), &3.into()), 0);
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SturmSequence {
+    chain: Vec<UPoly>,
+}
+
+impl SturmSequence {
+    /// The Sturm sequence of `p` (empty for constants and zero, which then
+    /// count no roots).
+    pub fn new(p: &UPoly) -> SturmSequence {
+        let chain = if p.is_constant() {
+            Vec::new()
+        } else {
+            sturm_chain(p)
+        };
+        SturmSequence { chain }
+    }
+
+    /// The polynomials of the chain, starting with the square-free part of
+    /// `p` (up to a constant factor).
+    pub fn chain(&self) -> &[UPoly] {
+        &self.chain
+    }
+
+    /// Sign variations of the chain at `x` (zeros skipped).
+    pub fn variations_at(&self, x: &Rat) -> usize {
+        variations(self.chain.iter().map(|c| c.sign_at(x)))
+    }
+
+    /// Number of distinct real roots in the half-open interval `(lo, hi]`;
+    /// 0 when `lo >= hi`.
+    pub fn count_in(&self, lo: &Rat, hi: &Rat) -> usize {
+        if self.chain.is_empty() || lo >= hi {
+            return 0;
+        }
+        self.variations_at(lo)
+            .saturating_sub(self.variations_at(hi))
+    }
+
+    /// Number of distinct real roots (variations at minus and plus infinity).
+    pub fn count_real(&self) -> usize {
+        let at_minus = variations(self.chain.iter().map(|c| {
+            let s = c.leading_coeff().signum();
+            if c.degree().unwrap_or(0) % 2 == 1 {
+                -s
+            } else {
+                s
+            }
+        }));
+        let at_plus = variations(self.chain.iter().map(|c| c.leading_coeff().signum()));
+        at_minus.saturating_sub(at_plus)
+    }
+
+    /// Number of distinct real roots > 0.
+    pub fn count_positive(&self) -> usize {
+        let at_plus = variations(self.chain.iter().map(|c| c.leading_coeff().signum()));
+        self.variations_at(&Rat::ZERO).saturating_sub(at_plus)
+    }
 }
 
 /// Number of distinct real roots of `p` in the half-open interval
-/// `(lo, hi]`, by a Sturm sequence (independent of [`real_roots`]).
-/// 0 when `lo >= hi`, for constants and for the zero polynomial.
+/// `(lo, hi]`, by a Sturm sequence (independent of [`real_roots`]; use
+/// [`SturmSequence`] to count in many intervals). 0 when `lo >= hi`, for
+/// constants and for the zero polynomial.
 ///
 /// ```
 /// use poly::{count_roots_in, UPoly};
@@ -705,8 +1031,7 @@ pub fn count_roots_in(p: &UPoly, lo: &Rat, hi: &Rat) -> usize {
     if p.is_constant() || lo >= hi {
         return 0;
     }
-    let chain = sturm_chain(p);
-    variations_at(&chain, lo).saturating_sub(variations_at(&chain, hi))
+    SturmSequence::new(p).count_in(lo, hi)
 }
 
 /// Number of distinct real roots of `p` by a Sturm sequence (signs at
@@ -718,25 +1043,55 @@ pub fn count_roots_in(p: &UPoly, lo: &Rat, hi: &Rat) -> usize {
 /// assert_eq!(count_real_roots(&UPoly::from_i64s(&[-1, 0, 0, 0, 1])), 2);
 /// ```
 pub fn count_real_roots(p: &UPoly) -> usize {
-    if p.is_constant() {
-        return 0;
-    }
-    let chain = sturm_chain(p);
-    let at_minus = variations(chain.iter().map(|c| {
-        let s = c.leading_coeff().signum();
-        if c.degree().unwrap_or(0) % 2 == 1 {
-            -s
-        } else {
-            s
-        }
-    }));
-    let at_plus = variations(chain.iter().map(|c| c.leading_coeff().signum()));
-    at_minus.saturating_sub(at_plus)
+    SturmSequence::new(p).count_real()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    // BigInt reference versions of the bisection kernels.
+
+    /// In-place `a(x) <- a(x + 1)`.
+    fn taylor_shift1(a: &mut [BigInt]) {
+        let n = a.len().saturating_sub(1);
+        for i in 0..n {
+            for j in (i..n).rev() {
+                let (x, y) = a.split_at_mut(j + 1);
+                x[j] += &y[0];
+            }
+        }
+    }
+
+    /// `q(x) / (x - 1)` for `q(1) = 0`.
+    fn div_x_minus_1(q: &[BigInt]) -> Vec<BigInt> {
+        let m = q.len() - 1;
+        let mut b = vec![BigInt::zero(); m];
+        b[m - 1] = q[m].clone();
+        for i in (1..m).rev() {
+            b[i - 1] = &q[i] + &b[i];
+        }
+        b
+    }
+
+    /// Reference Descartes test on BigInt coefficients.
+    fn descartes_01_big(q: &[BigInt]) -> u32 {
+        let mut a: Vec<BigInt> = q.iter().rev().cloned().collect();
+        taylor_shift1(&mut a);
+        let signs: Vec<i32> = a
+            .iter()
+            .map(|c| {
+                if c.is_positive() {
+                    1
+                } else if c.is_negative() {
+                    -1
+                } else {
+                    0
+                }
+            })
+            .collect();
+        (variations(signs.into_iter()) as u32).min(2)
+    }
 
     fn up(c: &[i64]) -> UPoly {
         UPoly::from_i64s(c)
@@ -766,6 +1121,7 @@ mod tests {
     /// factors), and Sturm counts (a different algorithm).
     fn check(p: &UPoly, sqf: &UPoly) -> Vec<RealRoot> {
         let roots = real_roots(p);
+        let sturm = SturmSequence::new(p);
         for (i, r) in roots.iter().enumerate() {
             assert!(r.lo <= r.hi, "{r:?}");
             assert!(r.multiplicity >= 1);
@@ -779,7 +1135,7 @@ mod tests {
                     sqf.sign_at(&r.lo) * sqf.sign_at(&r.hi) < 0,
                     "no sign change in {r:?}"
                 );
-                assert_eq!(count_roots_in(p, &r.lo, &r.hi), 1, "Sturm: {r:?}");
+                assert_eq!(sturm.count_in(&r.lo, &r.hi), 1, "Sturm: {r:?}");
             }
             assert!(r.lo.signum() >= 0 || r.hi.signum() <= 0, "straddles 0");
             if let Some(next) = roots.get(i + 1) {
@@ -788,10 +1144,12 @@ mod tests {
                 // Between two consecutive roots Sturm sees nothing (or just
                 // the next root if it sits exactly on the left endpoint).
                 let expect = usize::from(next.is_exact());
-                assert_eq!(count_roots_in(p, &r.hi, &next.lo), expect);
+                assert_eq!(sturm.count_in(&r.hi, &next.lo), expect);
             }
         }
-        assert_eq!(roots.len(), count_real_roots(p), "total count vs Sturm");
+        assert_eq!(roots.len(), sturm.count_real(), "total count vs Sturm");
+        let positive = roots.iter().filter(|r| r.is_positive()).count();
+        assert_eq!(positive, sturm.count_positive());
         assert_eq!(roots.len(), count_real_roots(sqf));
         roots
     }
@@ -824,6 +1182,31 @@ mod tests {
         assert!(two.sign_at(&r[3].lo) * two.sign_at(&r[3].hi) < 0 && r[3].lo.signum() >= 0);
         // Same roots for any non-zero multiple.
         assert_eq!(real_roots(&p.scale(&Int::from(-12))), r);
+    }
+
+    #[test]
+    fn small_hand_cases() {
+        let r = check(&up(&[7, 3]), &up(&[7, 3]));
+        assert_eq!(r.len(), 1);
+        assert!(contains(&r[0], &q("-7/3")));
+        let r = check(&UPoly::x(), &UPoly::x());
+        assert_eq!((r[0].exact(), r[0].multiplicity), (Some(&Rat::ZERO), 1));
+        let r = check(&UPoly::x().pow(2), &UPoly::x());
+        assert_eq!((r[0].exact(), r[0].multiplicity), (Some(&Rat::ZERO), 2));
+        let p = up(&[0, 1, 0, -1]); // -x (x - 1)(x + 1)
+        let r = check(&p, &p);
+        assert_eq!(r.len(), 3);
+        for (root, x) in r.iter().zip(["-1", "0", "1"]) {
+            assert!(contains(root, &q(x)));
+        }
+        let r = check(&lin("1").pow(5), &lin("1"));
+        assert_eq!(mults(&r), [5]);
+        let r = check(&up(&[-1, 0, 2]), &up(&[-1, 0, 2])); // 2x^2 - 1
+        assert_eq!(r.len(), 2);
+        let half = up(&[-1, 0, 2]);
+        assert!(r
+            .iter()
+            .all(|x| half.sign_at(&x.lo) * half.sign_at(&x.hi) < 0));
     }
 
     #[test]
@@ -1012,7 +1395,7 @@ mod tests {
                 c[deg] = 3;
             }
             let mut p = up(&c);
-            if g.next() % 3 == 0 {
+            if g.next().is_multiple_of(3) {
                 let f = up(&[g.small(5), 1 + g.next() as i64 % 3]);
                 p = &p * &f.pow(2);
             }
@@ -1080,6 +1463,155 @@ mod tests {
     }
 
     #[test]
+    fn positive_root_bound_is_valid_and_tight() {
+        let mut g = Lcg(99);
+        for _ in 0..200 {
+            let deg = 1 + g.next() as usize % 10;
+            let mut c: Vec<i64> = (0..=deg).map(|_| g.small(1000)).collect();
+            c[deg] = 1 + g.next() as i64 % 50;
+            let p = up(&c);
+            let big: Vec<BigInt> = p.coeffs().iter().map(Int::to_big).collect();
+            let Some(e) = positive_root_bound_exp(&big) else {
+                assert!(c.iter().all(|&x| x >= 0));
+                continue;
+            };
+            let b = dyadic(&BigInt::one(), e);
+            // No root in [B, oo): checked by Sturm up to a far bound (any
+            // root is below 1 + max |a_i / a_n| <= 1001).
+            assert_ne!(p.sign_at(&b), 0);
+            assert_eq!(count_roots_in(&p, &b, &Rat::from(1 << 20)), 0);
+        }
+        // Exactly known cases: x - 1 has bound 2 (s = 0), x^2 - 16 has 8.
+        let exp = |c: &[i64]| {
+            positive_root_bound_exp(&c.iter().map(|&x| BigInt::from(x)).collect::<Vec<_>>())
+        };
+        assert_eq!(exp(&[-1, 1]), Some(1));
+        assert_eq!(exp(&[-16, 0, 1]), Some(3));
+        assert_eq!(exp(&[-17, 0, 1]), Some(4));
+        assert_eq!(exp(&[1, 1]), None);
+        assert_eq!(exp(&[-1, 1024]), Some(-9));
+    }
+
+    /// Random BigInts of assorted sizes and signs, including 0 and values
+    /// near limb boundaries.
+    fn random_bigs(g: &mut Lcg, count: usize) -> Vec<BigInt> {
+        (0..count)
+            .map(|_| {
+                let bits = g.next() % 300;
+                let mut x = BigInt::from(g.next()) << bits;
+                x += BigInt::from(g.next());
+                match g.next() % 6 {
+                    0 => BigInt::zero(),
+                    1 => -x,
+                    2 => (BigInt::one() << (64 * (1 + g.next() % 4))) - 1u32,
+                    3 => -(BigInt::one() << (64 * (1 + g.next() % 4))),
+                    _ => x,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn fixed_width_limbs_match_bigint() {
+        let mut g = Lcg(77);
+        for _ in 0..200 {
+            let count = 1 + g.next() as usize % 8;
+            let v = random_bigs(&mut g, count);
+            let f = Fixed::from_big(&v);
+            assert_eq!(f.to_big(), v);
+            let mut f2 = f.clone();
+            f2.fit();
+            assert_eq!(f2.to_big(), v);
+            for (i, x) in v.iter().enumerate() {
+                let row = f.row(i);
+                let sign = if x.is_positive() {
+                    1
+                } else if x.is_negative() {
+                    -1
+                } else {
+                    0
+                };
+                assert_eq!(fixed_limbs::sign(row), sign);
+                let sb = fixed_limbs::sig_bits(row);
+                assert!(x.abs() <= BigInt::one() << sb);
+                assert!(sb == 0 || x.abs() >= BigInt::one() << (sb - 1));
+                assert_eq!(fixed_limbs::trailing_zeros(row), x.trailing_zeros());
+                let s = g.next() % 130;
+                // two more limbs, sign-extended, so that the shift fits
+                let fill = if x.is_negative() { u64::MAX } else { 0 };
+                let mut r = row.to_vec();
+                r.extend([fill, fill]);
+                fixed_limbs::shl(&mut r, s);
+                let mut back = Fixed {
+                    w: f.w + 2,
+                    d: r.clone(),
+                };
+                assert_eq!(back.to_big()[0], x << s, "shl {x} by {s}");
+                fixed_limbs::sar(&mut back.d, s);
+                assert_eq!(back.to_big()[0], x.clone());
+                let t = g.next() % 130;
+                let mut q = row.to_vec();
+                fixed_limbs::sar(&mut q, t);
+                // floor division, as BigInt's >> on negative numbers
+                assert_eq!(Fixed { w: f.w, d: q }.to_big()[0], x >> t);
+            }
+        }
+    }
+
+    #[test]
+    fn fixed_width_bisection_kernels_match_bigint() {
+        let mut g = Lcg(31);
+        for round in 0..300 {
+            let deg = 1 + g.next() as usize % 12;
+            let mut v: Vec<BigInt> = (0..=deg)
+                .map(|_| BigInt::from(g.small(1 << 40)) << (g.next() % 200))
+                .collect();
+            if v[deg].is_zero() {
+                v[deg] = BigInt::from(-3);
+            }
+            if round % 3 == 0 {
+                // a root at the midpoint 1/2: multiply by 2x - 1
+                let mut w = vec![BigInt::zero(); deg + 2];
+                for (i, c) in v.iter().enumerate() {
+                    w[i] -= c;
+                    w[i + 1] += c << 1u32;
+                }
+                v = w;
+            }
+            let f = Fixed::from_big(&v);
+            assert_eq!(f.descartes_01(), descartes_01_big(&v));
+            let mut t = f.clone();
+            t.taylor_shift1();
+            let mut tb = v.clone();
+            taylor_shift1(&mut tb);
+            assert_eq!(t.to_big(), tb);
+            // Children by the reference route.
+            let m = v.len() - 1;
+            let mut l: Vec<BigInt> = v.iter().enumerate().map(|(i, x)| x << (m - i)).collect();
+            let mid_root = l.iter().sum::<BigInt>().is_zero();
+            assert_eq!(mid_root, round % 3 == 0);
+            if mid_root {
+                l = div_x_minus_1(&l);
+            }
+            let mut r = l.clone();
+            taylor_shift1(&mut r);
+            let strip = |v: &mut Vec<BigInt>| {
+                if let Some(tz) = v.iter().filter_map(BigInt::trailing_zeros).min() {
+                    for c in v.iter_mut() {
+                        *c >>= tz;
+                    }
+                }
+            };
+            strip(&mut l);
+            strip(&mut r);
+            let (fl, fr, fmid) = f.split();
+            assert_eq!(fmid, mid_root);
+            assert_eq!(fl.to_big(), l);
+            assert_eq!(fr.to_big(), r);
+        }
+    }
+
+    #[test]
     fn sturm_counts_by_hand() {
         // (x - 1)^3 (x + 2)(x^2 + 1)
         let p = product(&[(lin("1"), 3), (lin("-2"), 1), (up(&[1, 0, 1]), 1)]);
@@ -1136,6 +1668,19 @@ mod tests {
             }
         }
         assert_eq!(s.len(), count_real_roots(&all));
+        // The paper's collocated two-mass system (m1 = 1, m2 = 2, c12 = 3):
+        // Num = m2 W - c12, Den = W (m1 m2 W - c12 (m1 + m2)); roots 3/2 and
+        // 0, 9/2: the positive part reads "A R".
+        let num = up(&[-3, 2]);
+        let den = up(&[0, -9, 2]);
+        let s = interleave_roots(&[num, den]);
+        let kind: String = s
+            .iter()
+            .filter(|r| r.is_positive())
+            .map(|r| if r.multiplicities[0] > 0 { 'A' } else { 'R' })
+            .collect();
+        assert_eq!(kind, "AR");
+        assert!(s[0].is_exact() && s[0].lo.is_zero() && !s[0].is_positive());
         // Roots 10^-30 apart in different polynomials: A R.
         let e = Int::from(10).pow(30);
         let near = UPoly::new(vec![-(&e + &Int::ONE), e]);

@@ -21,6 +21,8 @@
 use crate::int::Int;
 use crate::poly::{Poly, Term};
 use crate::rat::Rat;
+use num_bigint::BigInt;
+use num_traits::{One, Signed};
 use std::fmt;
 use std::ops::{Add, Mul, Neg, Sub};
 
@@ -235,12 +237,22 @@ impl UPoly {
 
     /// The content: gcd of the coefficients, >= 0 (0 for the zero polynomial).
     pub fn content(&self) -> Int {
-        let mut g = Int::ZERO;
+        // Start from the smallest coefficient: the running gcd then stays
+        // small and each further step is one cheap division.
+        let Some(start) = self
+            .coeffs
+            .iter()
+            .filter(|c| !c.is_zero())
+            .min_by_key(|c| c.bits())
+        else {
+            return Int::ZERO;
+        };
+        let mut g = start.abs();
         for c in &self.coeffs {
-            g = int_gcd(&g, c);
             if g.is_one() {
                 break;
             }
+            g = int_gcd(&g, c);
         }
         g
     }
@@ -315,7 +327,7 @@ impl UPoly {
         let (ca, pa) = self.primitive();
         let (cb, pb) = other.primitive();
         let c = ca.gcd(&cb);
-        gcd_primitive(&pa, &pb).scale(&c)
+        gcd_pp(&pa, &pb).scale(&c)
     }
 
     /// Square-free decomposition (Yun): `[(f1, m1), (f2, m2), ...]` with the
@@ -336,9 +348,11 @@ impl UPoly {
         if self.is_constant() {
             return out;
         }
+        // Over Z with primitive gcds every quotient below is exact in Z[x]
+        // (Gauss), and `b` stays primitive with positive leading coefficient.
         let f = self.primitive_part();
         let df = f.derivative();
-        let a0 = gcd_primitive(&f, &df.primitive_part());
+        let a0 = gcd_pp(&f, &df);
         let Some(mut b) = f.div_exact(&a0) else {
             return out;
         };
@@ -349,9 +363,9 @@ impl UPoly {
         let mut i = 1u32;
         while !b.is_constant() {
             let a = if d.is_zero() {
-                b.primitive_part()
+                b.clone()
             } else {
-                gcd_primitive(&b.primitive_part(), &d.primitive_part())
+                gcd_pp(&b, &d)
             };
             let (Some(nb), Some(nc)) = (b.div_exact(&a), d.div_exact(&a)) else {
                 // Unreachable: `a` divides both `b` and `d`.
@@ -375,29 +389,67 @@ impl UPoly {
             return UPoly::zero();
         }
         let f = self.primitive_part();
-        let g = gcd_primitive(&f, &f.derivative().primitive_part());
+        let g = gcd_pp(&f, &f.derivative());
         f.div_exact(&g).unwrap_or(f)
     }
 
     /// `d^deg * self(n/d)` as an integer (`d > 0` keeps the sign of the value).
     pub(crate) fn eval_homog(&self, n: &Int, d: &Int) -> Int {
-        let Some(deg) = self.degree() else {
+        if self.is_zero() {
             return Int::ZERO;
-        };
-        let mut acc = self.coeffs[deg].clone();
-        if d.is_one() {
-            for c in self.coeffs[..deg].iter().rev() {
-                acc = &(&acc * n) + c;
-            }
-            return acc;
         }
-        let mut dp = Int::ONE;
-        for c in self.coeffs[..deg].iter().rev() {
-            dp = &dp * d;
-            acc = &acc * n;
-            if !c.is_zero() {
-                acc = &acc + &(c * &dp);
+        if let Some(v) = self.eval_homog_i128(n, d) {
+            return Int::from(BigInt::from(v));
+        }
+        Int::from(self.eval_homog_big(&n.to_big(), &d.to_big()))
+    }
+
+    /// [`UPoly::eval_homog`] in `i128`; `None` on overflow or big inputs.
+    fn eval_homog_i128(&self, n: &Int, d: &Int) -> Option<i128> {
+        let (Int::Small(n), Int::Small(d)) = (n, d) else {
+            return None;
+        };
+        let (n, d) = (*n as i128, *d as i128);
+        let mut it = self.coeffs.iter().rev();
+        let mut acc = it.next()?.to_i64()? as i128;
+        let mut dp: i128 = 1;
+        for c in it {
+            acc = acc.checked_mul(n)?;
+            if d != 1 {
+                dp = dp.checked_mul(d)?;
             }
+            let c = c.to_i64()? as i128;
+            if c != 0 {
+                acc = acc.checked_add(c.checked_mul(dp)?)?;
+            }
+        }
+        Some(acc)
+    }
+
+    /// [`UPoly::eval_homog`] on big integers; powers of two as denominators
+    /// (the endpoints of isolating intervals) become shifts.
+    fn eval_homog_big(&self, n: &BigInt, d: &BigInt) -> BigInt {
+        let deg = self.coeffs.len() - 1;
+        let mut acc = self.coeffs[deg].to_big();
+        let shift = d
+            .trailing_zeros()
+            .filter(|_| d.magnitude().count_ones() == 1 && !d.is_negative());
+        let mut dp = BigInt::one();
+        for (j, c) in self.coeffs[..deg].iter().rev().enumerate() {
+            acc *= n;
+            if shift.is_none() {
+                dp *= d;
+            }
+            if c.is_zero() {
+                continue;
+            }
+            let term = match (c, shift) {
+                (Int::Small(v), Some(s)) => BigInt::from(*v) << (s * (j as u64 + 1)),
+                (Int::Big(b), Some(s)) => b << (s * (j as u64 + 1)),
+                (Int::Small(v), None) => &dp * *v,
+                (Int::Big(b), None) => b * &dp,
+            };
+            acc += term;
         }
         acc
     }
@@ -637,9 +689,9 @@ pub(crate) fn pseudo_div_raw(a: &UPoly, d: &UPoly, want_q: bool) -> (UPoly, UPol
     (UPoly::new(q), UPoly::new(r), e)
 }
 
-/// Gcd of two primitive polynomials, primitive with positive leading
-/// coefficient. A zero operand gives the other (normalised).
-pub(crate) fn gcd_primitive(a: &UPoly, b: &UPoly) -> UPoly {
+/// The primitive part (positive leading coefficient) of the gcd of `a` and
+/// `b`; a zero operand gives the primitive part of the other.
+pub(crate) fn gcd_pp(a: &UPoly, b: &UPoly) -> UPoly {
     if a.is_zero() {
         return b.primitive_part();
     }
@@ -647,20 +699,20 @@ pub(crate) fn gcd_primitive(a: &UPoly, b: &UPoly) -> UPoly {
         return a.primitive_part();
     }
     let (a, b) = if a.coeffs.len() >= b.coeffs.len() {
-        (a.primitive_part(), b.primitive_part())
+        (a, b)
     } else {
-        (b.primitive_part(), a.primitive_part())
+        (b, a)
     };
     if b.is_constant() {
         return UPoly::one();
     }
     if a == b {
-        return a;
+        return a.primitive_part();
     }
-    if let Some(g) = modular::gcd(&a, &b) {
+    if let Some(g) = modular::gcd(a, b) {
         return g;
     }
-    prs_gcd(a, b)
+    prs_gcd(a.primitive_part(), b.primitive_part())
 }
 
 /// Gcd of primitive `a`, `b` (`deg a >= deg b >= 1`) by the primitive
@@ -778,7 +830,7 @@ mod modular {
             return false;
         }
         for &b in &BASES {
-            if n % b == 0 {
+            if n.is_multiple_of(b) {
                 return n == b;
             }
         }
@@ -815,7 +867,8 @@ mod modular {
         n + max_bits + (64 - n.leading_zeros() as u64) / 2 + 1
     }
 
-    /// Modular gcd of primitive non-constant `a`, `b`.
+    /// Primitive part of the gcd of non-constant `a`, `b`, by a modular
+    /// method.
     ///
     /// For a prime `p` dividing neither leading coefficient, the gcd of the
     /// images has degree >= the true one, so an image of degree 0 proves
@@ -1160,7 +1213,12 @@ mod tests {
         assert_eq!(ps[0], 2_147_483_647); // 2^31 - 1
         assert!(ps.windows(2).all(|w| w[0] > w[1]));
         // Trial division: every generated number is prime and none is skipped.
-        let trial = |n: u64| n > 1 && (2..).take_while(|d| d * d <= n).all(|d| n % d != 0);
+        let trial = |n: u64| {
+            n > 1
+                && (2..)
+                    .take_while(|d| d * d <= n)
+                    .all(|d| !n.is_multiple_of(d))
+        };
         let expect: Vec<u64> = (ps[19]..=ps[0]).rev().filter(|&n| trial(n)).collect();
         assert_eq!(ps, expect);
         assert!(modular::is_prime(9_223_372_036_854_775_783)); // largest below 2^63
@@ -1268,6 +1326,32 @@ mod tests {
             assert!((f - v.to_f64()).abs() <= 1e-9 * (1.0 + v.to_f64().abs()));
         }
         assert_eq!(p.eval_int(&Int::from(2)), Int::from(1)); // 7 - 6 + 16 - 16
+                                                             // Big coefficients and points: the BigInt route (power-of-two and
+                                                             // general denominators), against the multivariate evaluation.
+        let e = Int::from(3).pow(50);
+        let big = UPoly::new(vec![-&e, Int::from(5), Int::ZERO, e.clone(), Int::from(-1)]);
+        let poly = big.to_poly("x");
+        let huge = format!("{}/7", Int::from(2).pow(90));
+        for s in [
+            "12345/1024",
+            "-7/3",
+            "1/4",
+            "-3",
+            huge.as_str(),
+            "5/281474976710656",
+        ] {
+            let x: Rat = s.parse().unwrap();
+            let mut pt = BTreeMap::new();
+            pt.insert("x".to_string(), x.clone());
+            let v = poly.eval(&pt).unwrap();
+            assert_eq!(big.eval(&x), v, "at {s}");
+            assert_eq!(big.sign_at(&x), v.signum());
+            assert_eq!(p.eval(&x), {
+                let mut pt = BTreeMap::new();
+                pt.insert("x".to_string(), x.clone());
+                p.to_poly("x").eval(&pt).unwrap()
+            });
+        }
         assert_eq!(UPoly::zero().eval(&Rat::ONE), Rat::ZERO);
         assert_eq!(UPoly::zero().sign_at(&Rat::ONE), 0);
     }
@@ -1307,37 +1391,5 @@ mod tests {
         assert_eq!(up(&[0, 0, 1, 2]).x_valuation(), 2);
         assert_eq!(up(&[-1, 1]).pow(3), up(&[-1, 3, -3, 1]));
         assert_eq!(UPoly::linear_root(&Rat::from(4)), up(&[-4, 1]));
-    }
-}
-
-#[cfg(test)]
-mod timing_tmp {
-    use super::*;
-    #[test]
-    #[ignore]
-    fn timing() {
-        let mut p = UPoly::one();
-        for k in 0..30i64 {
-            let f = UPoly::new(vec![Int::from(-(k * k * 37 + 5 * k + 3)), Int::from(1000 + k)]);
-            p = &p * &f;
-        }
-        let big = Int::from(10).pow(25);
-        p = &p.scale(&big) + &UPoly::from_i64s(&[1]);
-        let dp = p.derivative().primitive_part();
-        macro_rules! t { ($name:expr, $e:expr) => {{
-            let t = std::time::Instant::now();
-            for _ in 0..20 { std::hint::black_box($e); }
-            println!("{} {:?}", $name, t.elapsed() / 20);
-        }}}
-        let f = p.primitive_part();
-        let df = f.derivative();
-        t!("gcdprim", gcd_primitive(&f, &df.primitive_part()));
-        t!("modgcd", modular::gcd(&f, &df.primitive_part()));
-        let a0 = gcd_primitive(&f, &df.primitive_part());
-        println!("{}", a0);
-        t!("divf", f.div_exact(&a0));
-        t!("divdf", df.div_exact(&a0));
-        t!("self", f.div_exact(&f));
-        t!("sqf", p.square_free());
     }
 }
