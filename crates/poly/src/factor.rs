@@ -1009,9 +1009,49 @@ mod workload {
             m[i][i] = &d - &(&om * &v(format!("m{}", i + 1)));
         }
         let den = crate::matrix::det(&m);
-        let minor: Vec<Vec<Poly>> = m[1..].iter().map(|r| r[1..].to_vec()).collect();
-        let num = crate::matrix::det(&minor);
+        let num = driving_point_num(&m, 0);
         (num, den)
+    }
+
+    /// Minor of the dynamic stiffness matrix without row and column `k`.
+    pub(super) fn driving_point_num(m: &[Vec<Poly>], k: usize) -> Poly {
+        let minor: Vec<Vec<Poly>> = m
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| *i != k)
+            .map(|(_, r)| {
+                r.iter()
+                    .enumerate()
+                    .filter(|(j, _)| *j != k)
+                    .map(|(_, c)| c.clone())
+                    .collect()
+            })
+            .collect();
+        crate::matrix::det(&minor)
+    }
+
+    /// The chain matrix of `n` masses.
+    pub(super) fn chain_matrix(n: usize) -> Vec<Vec<Poly>> {
+        let v = |s: String| Poly::var(&s);
+        let om = Poly::var("Omega");
+        let spring = |i: usize| -> Poly {
+            if i == 0 {
+                v("c1".into())
+            } else {
+                v(format!("c{}{}", i, i + 1))
+            }
+        };
+        let mut m = vec![vec![Poly::zero(); n]; n];
+        for i in 0..n {
+            let mut d = spring(i);
+            if i + 1 < n {
+                d = &d + &spring(i + 1);
+                m[i][i + 1] = -spring(i + 1);
+                m[i + 1][i] = -spring(i + 1);
+            }
+            m[i][i] = &d - &(&om * &v(format!("m{}", i + 1)));
+        }
+        m
     }
 
     fn run(n: usize, verbose: bool) -> Vec<(String, usize, usize, f64)> {
@@ -1032,9 +1072,29 @@ mod workload {
             ("Disc(Den_{n-1})".to_string(), dden1.clone()),
             // Products of pieces exercise the lifting.
             ("Num*Den".to_string(), &num * &den),
-            ("Num^2*Den*Num_{n-1}".to_string(), &(&num.pow(2) * &den) * &num1),
+            (
+                "Num^2*Den*Num_{n-1}".to_string(),
+                &(&num.pow(2) * &den) * &num1,
+            ),
             ("Disc(Num)*Den_{n-1}".to_string(), &dnum * &den1),
         ];
+        let mut inputs = inputs;
+        let m = chain_matrix(n);
+        for k in 1..n - 1 {
+            let numk = driving_point_num(&m, k);
+            let t = Instant::now();
+            let res = crate::resultant::resultant(&numk, &den, "Omega");
+            let disc = crate::resultant::discriminant(&numk, "Omega");
+            if verbose {
+                println!(
+                    "n={n} inputs for k={k} computed in {:.3}s",
+                    t.elapsed().as_secs_f64()
+                );
+            }
+            inputs.push((format!("Num_{k}"), numk));
+            inputs.push((format!("Res(Num_{k},Den)"), res));
+            inputs.push((format!("Disc(Num_{k})"), disc));
+        }
         let mut rows = Vec::new();
         for (name, f) in inputs {
             if verbose {
@@ -1094,7 +1154,12 @@ mod prof {
         for (g, _) in &parts {
             let t = Instant::now();
             let fa = factor(g);
-            println!("part {} terms -> {} factors {:.3}", g.num_terms(), fa.factors.len(), t.elapsed().as_secs_f64());
+            println!(
+                "part {} terms -> {} factors {:.3}",
+                g.num_terms(),
+                fa.factors.len(),
+                t.elapsed().as_secs_f64()
+            );
         }
     }
 }

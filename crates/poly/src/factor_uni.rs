@@ -118,7 +118,7 @@ pub(crate) fn is_squarefree_mod_some_prime(f: &[Int]) -> bool {
             continue;
         }
         let fp = Fp::new(p);
-        let a = fp.from_z(f);
+        let a = fp.reduce_z(f);
         if fp.is_squarefree(&a) {
             return true;
         }
@@ -329,7 +329,7 @@ impl Fp {
     pub(crate) fn inv(&self, a: u64) -> u64 {
         self.pow(a, self.p - 2)
     }
-    pub(crate) fn from_z(&self, a: &[Int]) -> Pp {
+    pub(crate) fn reduce_z(&self, a: &[Int]) -> Pp {
         let mut v: Pp = a.iter().map(|c| c.rem_u64(self.p)).collect();
         trim(&mut v);
         v
@@ -479,7 +479,7 @@ impl Fp {
         let x: Pp = vec![0, 1];
         let mut h = self.rem(&x, &f);
         let mut d = 0usize;
-        while f.len() - 1 >= 2 * (d + 1) {
+        while f.len() > 2 * (d + 1) {
             d += 1;
             h = self.powmod(&h, self.p, &f);
             let g = self.gcd(&f, &self.sub_poly(&h, &x));
@@ -585,7 +585,7 @@ fn is_prime(n: u64) -> bool {
     }
     let mut d = 2u64;
     while d * d <= n {
-        if n % d == 0 {
+        if n.is_multiple_of(d) {
             return false;
         }
         d += 1;
@@ -615,7 +615,7 @@ fn choose_prime(f: &[Int]) -> Option<PrimeChoice> {
             continue;
         }
         let fp = Fp::new(p);
-        let a = fp.from_z(f);
+        let a = fp.reduce_z(f);
         if !fp.is_squarefree(&a) {
             continue;
         }
@@ -732,7 +732,6 @@ fn bp_divrem_monic(a: &[BigInt], b: &[BigInt], m: &BigInt) -> (Bp, Bp) {
         }
         q[i] = c;
     }
-    let mut q = q;
     bp_trim(&mut q);
     (q, bp_reduce(&r, m))
 }
@@ -956,7 +955,7 @@ mod tests {
     }
 
     fn num_divisors(n: usize) -> usize {
-        (1..=n).filter(|d| n % d == 0).count()
+        (1..=n).filter(|d| n.is_multiple_of(*d)).count()
     }
 
     /// Euler's phi.
@@ -1020,7 +1019,7 @@ mod tests {
         assert_eq!(fs, vec![(f.clone(), 1)]);
         // It splits modulo every prime, so this exercises recombination.
         let fp = Fp::new(17);
-        assert_eq!(fp.factor_monic(&fp.from_z(f.coeffs())).len(), 4);
+        assert_eq!(fp.factor_monic(&fp.reduce_z(f.coeffs())).len(), 4);
         // x^8 + 1 too, and (x^4+1)(x^4-x^2+1)(x^2+x+1) with repetition.
         let g = up(&[1, 0, -1, 0, 1]);
         let h = up(&[1, 1, 1]);

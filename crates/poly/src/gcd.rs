@@ -826,6 +826,55 @@ mod tests {
         }
     }
 
+    /// Timing on chain-model polynomials (run with `--ignored --nocapture`).
+    #[test]
+    #[ignore]
+    fn timing_chain_gcd() {
+        use std::time::Instant;
+        let n = 5;
+        let c = |i: usize| p(&format!("c{}{}", i, i + 1));
+        let mut m = vec![vec![Poly::zero(); n]; n];
+        for i in 0..n {
+            let mut d = p(&format!("-Omega*m{} + d{}", i + 1, i + 1));
+            if i > 0 {
+                d = &d + &c(i);
+            }
+            if i + 1 < n {
+                d = &d + &c(i + 1);
+            }
+            m[i][i] = d;
+            if i + 1 < n {
+                m[i][i + 1] = -c(i + 1);
+                m[i + 1][i] = -c(i + 1);
+            }
+        }
+        let den = crate::matrix::det(&m);
+        let cof: Vec<Poly> = (0..n).map(|i| crate::matrix::cofactor(&m, i, i)).collect();
+        for i in 0..n - 1 {
+            let (a, b) = (&den * &cof[i], &den * &cof[i + 1]);
+            let t = Instant::now();
+            let g = gcd(&a, &b);
+            eprintln!(
+                "gcd(den*cof{i}, den*cof{}) [{} and {} terms]: {:?}",
+                i + 1,
+                a.num_terms(),
+                b.num_terms(),
+                t.elapsed()
+            );
+            assert_eq!(g, den.primitive_part());
+            let t = Instant::now();
+            let g = gcd(&cof[i], &cof[i + 1]);
+            eprintln!("gcd(cof{i}, cof{}) = {g}: {:?}", i + 1, t.elapsed());
+        }
+        let t = Instant::now();
+        let (_, sf) = crate::sqfree::square_free(&(&den.pow(2) * &cof[0]));
+        eprintln!(
+            "square_free(den^2*cof0): {:?}, {} factors",
+            t.elapsed(),
+            sf.len()
+        );
+    }
+
     #[test]
     fn mersenne_reduction() {
         let xs = [

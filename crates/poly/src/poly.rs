@@ -1123,6 +1123,46 @@ mod tests {
     }
 
     #[test]
+    fn packed_arithmetic_edge_cases() {
+        // i128 accumulation overflows (2 * (2^63 - 1)^2 > 2^127): Rat fallback.
+        let m = i64::MAX;
+        let f = p(&format!("{m}*x + {m}"));
+        let sq = &f * &f;
+        let mut pt = BTreeMap::new();
+        pt.insert("x".to_string(), Rat::from(3));
+        let v = f.eval(&pt).unwrap();
+        assert_eq!(sq.eval(&pt).unwrap(), &v * &v);
+        assert_eq!(sq.div_exact(&f).unwrap(), f);
+        // Exponents too wide to pack into 128 bits: generic paths.
+        let big = 1u32 << 29;
+        let names: Vec<String> = ["a", "b", "c", "d", "e"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let mono = |e: [u32; 5], c: i64| Term {
+            exps: e.to_vec(),
+            coef: Rat::from(c),
+        };
+        let u = Poly::from_terms(&names, vec![mono([big; 5], 1), mono([0, 0, 0, 0, 1], 1)]);
+        let w = Poly::from_terms(&names, vec![mono([big; 5], 1), mono([0, 0, 0, 0, 1], -1)]);
+        let prod = &u * &w;
+        let want = Poly::from_terms(
+            &names,
+            vec![mono([2 * big; 5], 1), mono([0, 0, 0, 0, 2], -1)],
+        );
+        assert_eq!(prod, want);
+        assert_eq!(prod.div_exact(&u).unwrap(), w);
+        // Inexact divisions are detected (quotient exponent beyond the bound).
+        assert!(p("x^2").div_exact(&p("x + y")).is_none());
+        assert!(p("x^3*y + 1").div_exact(&p("x*y - 1")).is_none());
+        assert_eq!(p("x^2 - y^2").div_exact(&p("x - y")).unwrap(), p("x + y"));
+        // Rational coefficients and cancellation in sums.
+        let r = p("1/2*x + 1/3*y");
+        assert_eq!(&(&r * &r) - &p("1/4*x^2 + 1/9*y^2"), p("1/3*x*y"));
+        assert!((&r - &r).is_zero());
+    }
+
+    #[test]
     fn substitution_and_evaluation() {
         let f = p("x^2*y - 3*y + 1/2");
         let g = f.subs("x", &Rat::from(2));
