@@ -14,39 +14,46 @@
 //!      content `gcd(a, b)` is split off (the content is factored
 //!      recursively). This is the common case for the multilinear
 //!      polynomials of `mms`;
-//!    - otherwise a main variable `x` of least degree is chosen, the content
-//!      in `x` is split off, and square-freeness is *proven* by an image:
-//!      if `f(x, a)` modulo a prime is square-free with the leading
-//!      coefficient surviving, `f` is square-free (a square factor would
-//!      survive in the image). If no image proves it, Yun's square-free
-//!      decomposition with exact gcds is used;
-//! 3. a square-free `f`, primitive in `x`, is evaluated at integer points
-//!    for the other variables (fixed pseudo-random sequence, leading
-//!    coefficient non-zero, square-free image) and the images are factored
-//!    with Zassenhaus. An irreducible image proves `f` irreducible (every
-//!    factorization of `f` maps to one of the image with the same degrees);
-//! 4. otherwise the image factorization with the fewest factors is lifted
-//!    variable by variable (Wang's EEZ lifting with a multivariate
-//!    Diophantine solver over Q) with *known leading coefficients*: with `r`
-//!    image factors, `L^(r-1) f` is lifted with every factor given the
-//!    leading coefficient `L = lc_x(f)` (the lc trick). The lift is accepted
-//!    only if the product is exactly right; the factors are then the
-//!    primitive parts in `x`, each irreducible because its image is;
-//! 5. if the lift fails (the image had extraneous factors), subsets of the
-//!    image factors are lifted as two-factor splittings `L f = G1 G2` by
-//!    increasing size; a success splits `f` (both parts factored again), and
-//!    if no subset lifts, `f` is irreducible.
+//!    - otherwise a main variable `x` of least degree (then fewest leading
+//!      terms) is chosen and the content in `x` is split off
+//!      ([`crate::content_and_pp`]) and factored recursively;
+//! 3. `f`, primitive in `x`, is evaluated at integer points for the other
+//!    variables (fixed pseudo-random sequence, leading coefficient
+//!    non-zero) and the images are factored with Zassenhaus. A square-free
+//!    irreducible image proves `f` irreducible (every factorization of `f`
+//!    maps to one of the image with the same degrees);
+//! 4. otherwise the image factorization that keeps the largest square-free
+//!    part, then has the fewest factors, is lifted variable by variable
+//!    (Wang's EEZ lifting with a multivariate Diophantine solver over Q;
+//!    the univariate Diophantine maps are precomputed as integer matrices)
+//!    with *known leading coefficients*. Repeated image factors `u^e` are
+//!    lifted as powers (the error is divided by `prod u^(e-1)` before the
+//!    Diophantine step), so non-square-free inputs rarely need gcds. The
+//!    leading coefficients come from distributing the irreducible factors
+//!    of `L = lc_x(f)` (factored recursively, fewer variables) over the
+//!    image factors, filtered by a divisibility condition at the point;
+//!    if no distribution lifts, the lc trick is used: `L^(E-1) f` is lifted
+//!    with every factor given the leading coefficient `L`. A lift is
+//!    accepted only if the product is exactly right; the factors are then
+//!    the primitive parts in `x`, each irreducible because its image is;
+//! 5. if the lift fails for a square-free image (extraneous factors),
+//!    subsets of the image factors are lifted as two-factor splittings
+//!    `L f = G1 G2` by increasing size; a success splits `f` (both parts
+//!    factored again), and if no subset lifts, `f` is irreducible. A
+//!    non-square-free `f` whose images did not separate its factors goes
+//!    through [`crate::square_free`] first.
 //!
 //! Every factor returned has been confirmed by exact arithmetic, and
 //! irreducibility is only claimed by the arguments above, never on luck.
 
 use crate::factor_uni::{
-    factor_squarefree, factor_univariate, is_squarefree_mod_some_prime, z_primitive, Fp, SplitMix,
+    factor_squarefree, factor_univariate, is_squarefree_mod_some_prime, z_primitive, SplitMix,
 };
-use crate::gcd::{content_and_pp, gcd};
+use crate::gcd::content_and_pp;
 use crate::int::Int;
 use crate::poly::{Poly, Term};
 use crate::rat::Rat;
+use crate::sqfree::square_free;
 use crate::upoly::UPoly;
 use std::cmp::Ordering;
 use std::fmt;
@@ -271,102 +278,11 @@ fn factor_primitive(f: &Poly, mult: u32, out: &mut Vec<(Poly, u32)>) {
         factor_primitive(&pp, mult, out);
         return;
     }
-    if proven_squarefree(&pp, &x) {
-        factor_squarefree_multi(&pp, &x, mult, out);
-        return;
-    }
-    let parts = yun(&pp, &x);
-    if parts.len() == 1 && parts[0].1 == 1 {
-        factor_squarefree_multi(&parts[0].0, &x, mult, out);
-        return;
-    }
-    for (g, e) in parts {
-        factor_primitive(&g, mult * e, out);
-    }
+    factor_by_lifting(&pp, &x, mult, out);
 }
 
 // ---------------------------------------------------------------------------
 // Images.
-
-/// Large prime used for the square-freeness proofs.
-const P61: u64 = 2305843009213693951;
-
-fn rat_mod(c: &Rat, fp: &Fp) -> Option<u64> {
-    let d = c.denom().rem_u64(fp.p());
-    if d == 0 {
-        return None;
-    }
-    Some(fp.mul(c.numer().rem_u64(fp.p()), fp.inv(d)))
-}
-
-/// Image of `f` in `Z/p[x]` with the other variables at `vals` (by index of
-/// `f.vars()`, the entry at `xi` ignored), lowest degree first, with the
-/// full length `deg_x f + 1` (the leading entry may be zero).
-fn image_mod(f: &Poly, xi: usize, vals: &[u64], fp: &Fp) -> Option<Vec<u64>> {
-    let n = f.terms().iter().map(|t| t.exps[xi]).max().unwrap_or(0) as usize;
-    let mut out = vec![0u64; n + 1];
-    for t in f.terms() {
-        let mut m = rat_mod(&t.coef, fp)?;
-        for (j, &e) in t.exps.iter().enumerate() {
-            if j != xi && e > 0 {
-                m = fp.mul(m, fp.pow(vals[j], e as u64));
-            }
-        }
-        let k = t.exps[xi] as usize;
-        out[k] = fp.add(out[k], m);
-    }
-    Some(out)
-}
-
-/// True if some image of `f` (primitive in `x`, degree >= 1 in `x`) modulo
-/// a large prime is square-free of full degree, which proves that `f` has no
-/// repeated factor involving `x`.
-fn proven_squarefree(f: &Poly, x: &str) -> bool {
-    let xi = f.vars().iter().position(|v| v == x).expect("x occurs");
-    let fp = Fp::new(P61);
-    let mut rng = SplitMix(0x5eed_0f5f);
-    for _ in 0..4 {
-        let vals: Vec<u64> = (0..f.vars().len()).map(|_| rng.next() % P61).collect();
-        let Some(mut img) = image_mod(f, xi, &vals, &fp) else {
-            return false;
-        };
-        if img.last() == Some(&0) {
-            continue;
-        }
-        while img.last() == Some(&0) {
-            img.pop();
-        }
-        if fp.is_squarefree(&img) {
-            return true;
-        }
-    }
-    false
-}
-
-/// Yun's square-free decomposition with respect to `x` of `f`, primitive in
-/// `x` with integer coefficients: `[(part, multiplicity)]`, parts normalized
-/// and of positive degree in `x`.
-fn yun(f: &Poly, x: &str) -> Vec<(Poly, u32)> {
-    let mut out = Vec::new();
-    let df = f.derivative(x);
-    let g = gcd(f, &df);
-    let mut b = f.div_exact(&g).expect("gcd divides");
-    let c = df.div_exact(&g).expect("gcd divides");
-    let mut d = &c - &b.derivative(x);
-    let mut i = 1u32;
-    while b.degree(x) > 0 {
-        let a = gcd(&b, &d);
-        let nb = b.div_exact(&a).expect("gcd divides");
-        let nd = d.div_exact(&a).expect("gcd divides");
-        if a.degree(x) > 0 {
-            out.push((normalize(&a), i));
-        }
-        d = &nd - &nb.derivative(x);
-        b = nb;
-        i += 1;
-    }
-    out
-}
 
 /// Integer image of an integral `f` with every variable but `x` replaced by
 /// `vals` (by index in `f.vars()`), lowest degree first, full length.
@@ -398,85 +314,173 @@ fn image_int(f: &Poly, xi: usize, vals: &[i64], powers: &mut [Vec<Int>]) -> Vec<
 struct Image {
     /// Values of the other variables, in the order of `ys`.
     point: Vec<i64>,
-    /// Irreducible primitive factors of `f(x, point)`.
-    factors: Vec<Vec<Int>>,
+    /// Irreducible primitive factors of `f(x, point)` and multiplicities.
+    factors: Vec<(Vec<Int>, u32)>,
+    /// Degree of the square-free part of the image.
+    rad_degree: usize,
 }
 
-/// Number of good evaluation points whose images are compared.
-const IMAGES: usize = 3;
+impl Image {
+    fn is_squarefree(&self) -> bool {
+        self.factors.iter().all(|(_, e)| *e == 1)
+    }
+    /// Ranking: largest square-free part first (a smaller one means the
+    /// point merged factors), then fewest factors.
+    fn key(&self) -> (std::cmp::Reverse<usize>, usize) {
+        (std::cmp::Reverse(self.rad_degree), self.factors.len())
+    }
+}
 
-/// Factors a square-free `f`, primitive (over Z and in `x`), of degree >= 2
-/// in `x`, with at least one other variable.
-fn factor_squarefree_multi(f: &Poly, x: &str, mult: u32, out: &mut Vec<(Poly, u32)>) {
-    let vars = f.vars().to_vec();
-    let xi = vars.iter().position(|v| v == x).expect("x occurs");
-    let ys: Vec<String> = vars.iter().filter(|v| *v != x).cloned().collect();
-    let n = f.degree(x) as usize;
-    // Evaluation points.
-    let mut rng = SplitMix(0x00c0_ffee ^ (f.num_terms() as u64));
-    let mut images: Vec<Image> = Vec::new();
-    let mut attempts = 0usize;
-    while images.len() < IMAGES && attempts < 200 {
-        attempts += 1;
-        let range = 8 + 4 * (attempts as u64 / 10);
-        let vals: Vec<i64> = (0..vars.len())
+/// Deterministic sequence of evaluation points and their images.
+struct ImageSource {
+    rng: SplitMix,
+    attempts: u64,
+}
+
+impl ImageSource {
+    /// The image of `f` at the next point, `None` if the leading coefficient
+    /// in `x` (index `xi` of `f.vars()`) vanishes there. Values are non-zero
+    /// integers whose range grows slowly with the number of attempts.
+    fn next(&mut self, f: &Poly, xi: usize) -> Option<Image> {
+        self.attempts += 1;
+        let range = 8 + 4 * (self.attempts / 10).min(1 << 20);
+        let nv = f.vars().len();
+        let vals: Vec<i64> = (0..nv)
             .map(|_| {
-                let v = (rng.next() % range) as i64 + 1;
-                if rng.next() & 1 == 1 {
+                let v = (self.rng.next() % range) as i64 + 1;
+                if self.rng.next() & 1 == 1 {
                     -v
                 } else {
                     v
                 }
             })
             .collect();
-        let mut powers: Vec<Vec<Int>> = vec![vec![Int::ONE]; vars.len()];
+        let n = f.terms().iter().map(|t| t.exps[xi]).max().unwrap_or(0) as usize;
+        let mut powers: Vec<Vec<Int>> = vec![vec![Int::ONE]; nv];
         let img = image_int(f, xi, &vals, &mut powers);
         if img.len() != n + 1 || img[n].is_zero() {
-            continue;
+            return None;
         }
-        if !is_squarefree_mod_some_prime(&img) {
+        let factors: Vec<(Vec<Int>, u32)> = if is_squarefree_mod_some_prime(&img) {
+            factor_squarefree(&z_primitive(&img))
+                .into_iter()
+                .map(|u| (u, 1))
+                .collect()
+        } else {
+            factor_univariate(&UPoly::new(img))
+                .1
+                .into_iter()
+                .map(|(u, e)| (u.coeffs().to_vec(), e))
+                .collect()
+        };
+        let rad_degree = factors.iter().map(|(u, _)| u.len() - 1).sum();
+        let point: Vec<i64> = (0..nv).filter(|&j| j != xi).map(|j| vals[j]).collect();
+        Some(Image {
+            point,
+            factors,
+            rad_degree,
+        })
+    }
+}
+
+/// Number of good evaluation points whose images are compared.
+const IMAGES: usize = 3;
+
+/// Factors `f`, primitive (over Z and in `x`), of degree >= 2 in `x`, with
+/// at least one other variable, by lifting the factorization of images.
+fn factor_by_lifting(f: &Poly, x: &str, mult: u32, out: &mut Vec<(Poly, u32)>) {
+    let vars = f.vars().to_vec();
+    let xi = vars.iter().position(|v| v == x).expect("x occurs");
+    let ys: Vec<String> = vars.iter().filter(|v| *v != x).cloned().collect();
+    // Evaluation points. The leading coefficient is a non-zero polynomial,
+    // so good points exist and the search ends.
+    let mut source = ImageSource {
+        rng: SplitMix(0x00c0_ffee ^ (f.num_terms() as u64)),
+        attempts: 0,
+    };
+    let mut images: Vec<Image> = Vec::new();
+    while images.len() < IMAGES && (source.attempts < 100 || images.is_empty()) {
+        let Some(im) = source.next(f, xi) else {
             continue;
-        }
-        let prim = z_primitive(&img);
-        let factors = factor_squarefree(&prim);
-        let point: Vec<i64> = (0..vars.len())
-            .filter(|&j| j != xi)
-            .map(|j| vals[j])
-            .collect();
-        if factors.len() == 1 {
+        };
+        if im.factors.len() == 1 && im.factors[0].1 == 1 {
+            // An irreducible image of full degree: f is irreducible.
             out.push((f.clone(), mult));
             return;
         }
-        images.push(Image { point, factors });
+        images.push(im);
     }
-    if images.is_empty() {
-        // Unreachable for square-free input (almost all points are good);
-        // fall back to the exhaustive path anyway: Yun plus retry is not
-        // possible here, so report f unsplit only after trying harder.
-        out.push((f.clone(), mult));
-        return;
-    }
-    images.sort_by_key(|im| im.factors.len());
+    images.sort_by_key(|im| im.key());
     let lead = f.lead_in(x);
     // Full lift at the best points.
-    for im in images.iter().take(2) {
-        if im.factors.len() != images[0].factors.len() {
-            break;
-        }
-        if let Some(hs) = lift_all(f, x, &ys, &lead, im) {
-            for h in hs {
-                out.push((h, mult));
+    if let Some(best) = images.first() {
+        for im in images.iter().take(2) {
+            if im.key() != best.key() {
+                break;
             }
-            return;
+            if lead.num_terms() > 1 {
+                if let Some(hs) = lift_with_lead_assignment(f, x, &ys, &lead, im) {
+                    for (h, e) in hs {
+                        out.push((h, e * mult));
+                    }
+                    return;
+                }
+            }
+            if let Some(hs) = lift_all(f, x, &ys, &lead, im) {
+                for (h, e) in hs {
+                    out.push((h, e * mult));
+                }
+                return;
+            }
         }
     }
-    // Extraneous image factors: look for a true factor among subsets.
-    let im = &images[0];
+    match images.first() {
+        Some(im) if im.is_squarefree() => split_by_subsets(f, x, &ys, &lead, im, mult, out),
+        _ => {
+            // Repeated factors that the images did not separate: Yun.
+            let parts = square_free(f).1;
+            if parts.len() == 1 && parts[0].1 == 1 {
+                // Square-free after all but no image showed it (unlucky
+                // points): find a square-free image, which exists.
+                loop {
+                    let Some(im) = source.next(f, xi) else {
+                        continue;
+                    };
+                    if !im.is_squarefree() {
+                        continue;
+                    }
+                    if im.factors.len() == 1 {
+                        out.push((f.clone(), mult));
+                    } else {
+                        split_by_subsets(f, x, &ys, &lead, &im, mult, out);
+                    }
+                    return;
+                }
+            }
+            for (g, e) in parts {
+                factor_primitive(&g, mult * e, out);
+            }
+        }
+    }
+}
+
+/// Square-free `f` whose image at `im` has extraneous factors: looks for a
+/// true factor among subsets of the image factors (by increasing size); if
+/// none lifts, `f` is irreducible.
+fn split_by_subsets(
+    f: &Poly,
+    x: &str,
+    ys: &[String],
+    lead: &Poly,
+    im: &Image,
+    mult: u32,
+    out: &mut Vec<(Poly, u32)>,
+) {
     let r = im.factors.len();
     for s in 1..=r / 2 {
         let mut idx: Vec<usize> = (0..s).collect();
         loop {
-            if let Some(h) = lift_split(f, x, &ys, &lead, im, &idx) {
+            if let Some(h) = lift_split(f, x, ys, lead, im, &idx) {
                 let q = f.div_exact(&h).expect("a lifted factor divides");
                 factor_primitive(&h, mult, out);
                 factor_primitive(&normalize(&q), mult, out);
@@ -504,31 +508,165 @@ fn factor_squarefree_multi(f: &Poly, x: &str, mult: u32, out: &mut Vec<(Poly, u3
     out.push((f.clone(), mult));
 }
 
-/// Lifts all image factors at once (lc trick). Returns the irreducible
-/// factors of `f`, or `None` if the image has extraneous factors.
-fn lift_all(f: &Poly, x: &str, ys: &[String], lead: &Poly, im: &Image) -> Option<Vec<Poly>> {
+/// Maximal number of leading-coefficient assignments enumerated.
+const MAX_ASSIGNMENTS: usize = 4096;
+/// Maximal number of assignments passing the divisibility filter that are
+/// lifted.
+const MAX_LC_TRIES: usize = 6;
+
+/// Lifts all image factors with their true leading coefficients, found by
+/// distributing the irreducible factors `q_k^m_k` of `L = lc_x(f)` over the
+/// image factors (`lc(h_i) = prod q_k^n_ik`, `sum_i e_i n_ik = m_k`).
+/// Assignments are filtered by a necessary condition at the evaluation
+/// point: `lc(u_i)` divides `cont(L) * l_i(a)` (the image of `h_i` is an
+/// integer multiple of the primitive `u_i`, and the integer content of
+/// `lc(h_i)` divides `cont(L)`). Lifting `f / cont(L)` then avoids the
+/// growth of the lc trick. `None` if no assignment lifts.
+fn lift_with_lead_assignment(
+    f: &Poly,
+    x: &str,
+    ys: &[String],
+    lead: &Poly,
+    im: &Image,
+) -> Option<Vec<(Poly, u32)>> {
+    let lf = factor(lead);
     let r = im.factors.len();
+    let exps: Vec<u32> = im.factors.iter().map(|(_, e)| *e).collect();
+    let a: Vec<Rat> = im.point.iter().map(|&v| Rat::from(v)).collect();
+    let qa: Vec<Rat> = lf
+        .factors
+        .iter()
+        .map(|(q, _)| eval_all(q, ys, &a))
+        .collect();
+    let cont = lf.unit.abs();
+    // Per irreducible factor of L: all distributions n with sum e_i n_i = m.
+    let mut per_k: Vec<Vec<Vec<u32>>> = Vec::new();
+    for (_, m) in &lf.factors {
+        let mut acc = Vec::new();
+        distributions(&exps, *m, &mut vec![0; r], 0, &mut acc);
+        per_k.push(acc);
+    }
+    let total: usize = per_k
+        .iter()
+        .map(|v| v.len())
+        .try_fold(1usize, |acc, n| acc.checked_mul(n))
+        .unwrap_or(usize::MAX);
+    if total == 0 || total > MAX_ASSIGNMENTS {
+        return None;
+    }
+    let mut choice = vec![0usize; per_k.len()];
+    let mut tries = 0;
+    for _ in 0..total {
+        // l_i(a) for this assignment.
+        let mut la = vec![Rat::ONE; r];
+        for (k, &c) in choice.iter().enumerate() {
+            for (i, &n) in per_k[k][c].iter().enumerate() {
+                if n > 0 {
+                    la[i] = &la[i] * &qa[k].pow(n as i32);
+                }
+            }
+        }
+        let pass = la.iter().zip(&im.factors).all(|(l, (u, _))| {
+            let v = (&cont * l).numer().clone();
+            let lc = u.last().expect("non-zero");
+            !v.is_zero() && v.div_rem(lc).1.is_zero()
+        });
+        if pass {
+            tries += 1;
+            let leads: Vec<Poly> = (0..r)
+                .map(|i| {
+                    let mut l = Poly::one();
+                    for (k, &c) in choice.iter().enumerate() {
+                        let n = per_k[k][c][i];
+                        if n > 0 {
+                            l = &l * &lf.factors[k].0.pow(n);
+                        }
+                    }
+                    l
+                })
+                .collect();
+            let images: Vec<QPoly> = im
+                .factors
+                .iter()
+                .zip(&la)
+                .map(|((u, _), l)| with_lead(u, l))
+                .collect();
+            let big_f = f.scale(&cont.recip());
+            if let Some(gs) = hensel_lift(&big_f, x, ys, &a, images, &exps, &leads) {
+                let hs: Vec<Poly> = gs.iter().map(normalize).collect();
+                let mut prod = Poly::one();
+                for (h, e) in hs.iter().zip(&exps) {
+                    prod = &prod * &h.pow(*e);
+                }
+                if &prod == f {
+                    return Some(hs.into_iter().zip(exps).collect());
+                }
+            }
+            if tries >= MAX_LC_TRIES {
+                return None;
+            }
+        }
+        // Next assignment (mixed radix).
+        for (k, c) in choice.iter_mut().enumerate() {
+            *c += 1;
+            if *c < per_k[k].len() {
+                break;
+            }
+            *c = 0;
+        }
+    }
+    None
+}
+
+/// All `n` (pushed to `acc`) with `sum_i w_i n_i = m`, filling from `i`.
+fn distributions(w: &[u32], m: u32, cur: &mut Vec<u32>, i: usize, acc: &mut Vec<Vec<u32>>) {
+    if acc.len() > MAX_ASSIGNMENTS {
+        return;
+    }
+    if i == w.len() {
+        if m == 0 {
+            acc.push(cur.clone());
+        }
+        return;
+    }
+    let mut n = 0;
+    while n * w[i] <= m {
+        cur[i] = n;
+        distributions(w, m - n * w[i], cur, i + 1, acc);
+        n += 1;
+    }
+    cur[i] = 0;
+}
+
+/// Lifts all image factors at once with their multiplicities (lc trick).
+/// Returns the irreducible factors of `f` with multiplicities, or `None` if
+/// the image has extraneous factors.
+fn lift_all(f: &Poly, x: &str, ys: &[String], lead: &Poly, im: &Image) -> Option<Vec<(Poly, u32)>> {
+    let total: u32 = im.factors.iter().map(|(_, e)| e).sum();
     let a: Vec<Rat> = im.point.iter().map(|&v| Rat::from(v)).collect();
     let la = eval_all(lead, ys, &a);
-    let images: Vec<Vec<Rat>> = im.factors.iter().map(|u| with_lead(u, &la)).collect();
-    let big_f = f * &lead.pow(r as u32 - 1);
-    let gs = hensel_lift(&big_f, x, ys, &a, images, lead)?;
+    let images: Vec<Vec<Rat>> = im.factors.iter().map(|(u, _)| with_lead(u, &la)).collect();
+    let exps: Vec<u32> = im.factors.iter().map(|(_, e)| *e).collect();
+    let big_f = f * &lead.pow(total - 1);
+    let leads = vec![lead.clone(); exps.len()];
+    let gs = hensel_lift(&big_f, x, ys, &a, images, &exps, &leads)?;
     let hs: Vec<Poly> = gs
         .iter()
         .map(|g| normalize(&content_and_pp(g, x).1))
         .collect();
     let mut prod = Poly::one();
-    for h in &hs {
-        prod = &prod * h;
+    for (h, e) in hs.iter().zip(&exps) {
+        prod = &prod * &h.pow(*e);
     }
     if &prod != f {
         return None;
     }
-    Some(hs)
+    Some(hs.into_iter().zip(exps).collect())
 }
 
-/// Lifts the two-factor splitting of the image given by the subset `idx`.
-/// Returns the (normalized) true factor whose image is the subset product.
+/// Lifts the two-factor splitting of a square-free image given by the
+/// subset `idx`. Returns the (normalized) true factor whose image is the
+/// subset product.
 fn lift_split(
     f: &Poly,
     x: &str,
@@ -541,7 +679,7 @@ fn lift_split(
     let la = eval_all(lead, ys, &a);
     let mut u1: Vec<Int> = vec![Int::ONE];
     let mut u2: Vec<Int> = vec![Int::ONE];
-    for (i, u) in im.factors.iter().enumerate() {
+    for (i, (u, _)) in im.factors.iter().enumerate() {
         if idx.contains(&i) {
             u1 = z_mul(&u1, u);
         } else {
@@ -550,7 +688,8 @@ fn lift_split(
     }
     let images = vec![with_lead(&u1, &la), with_lead(&u2, &la)];
     let big_f = f * lead;
-    let gs = hensel_lift(&big_f, x, ys, &a, images, lead)?;
+    let leads = [lead.clone(), lead.clone()];
+    let gs = hensel_lift(&big_f, x, ys, &a, images, &[1, 1], &leads)?;
     let h = normalize(&content_and_pp(&gs[0], x).1);
     if h.degree(x) == 0 || h.degree(x) >= f.degree(x) {
         return None;
@@ -701,8 +840,44 @@ struct Lifter<'a> {
     units: Vec<QPoly>,
     /// `s_i` with `sum s_i prod_{l != i} u_l = 1`.
     bezout: Vec<QPoly>,
+    /// The linear maps `c -> (c s_i) mod u_i` for `deg c < n`, as integer
+    /// matrices over a common denominator: row `k` is the image of `x^k`.
+    maps: Vec<(Vec<Vec<Int>>, Int)>,
     /// Degree bound for each `y`.
     bounds: Vec<u32>,
+}
+
+/// Common denominator `d` and integer numerators of a list of rationals.
+fn over_common_denominator(v: &[Rat]) -> (Vec<Int>, Int) {
+    let mut d = Int::ONE;
+    for c in v {
+        d = d.lcm(c.denom());
+    }
+    let nums = v
+        .iter()
+        .map(|c| c.numer() * &d.div_exact(c.denom()))
+        .collect();
+    (nums, d)
+}
+
+/// The matrix of `c -> (c s) mod u` on polynomials of degree < n.
+fn reduction_map(s: &[Rat], u: &[Rat], n: usize) -> (Vec<Vec<Int>>, Int) {
+    let du = u.len() - 1;
+    let mut rows: Vec<QPoly> = Vec::with_capacity(n);
+    let mut cur = q_divrem(s, u).1;
+    for _ in 0..n {
+        let mut row = cur.clone();
+        row.resize(du, Rat::ZERO);
+        rows.push(row);
+        // cur = (x * cur) mod u
+        let mut shifted = vec![Rat::ZERO];
+        shifted.extend(cur.iter().cloned());
+        cur = q_divrem(&shifted, u).1;
+    }
+    let flat: Vec<Rat> = rows.iter().flatten().cloned().collect();
+    let (nums, d) = over_common_denominator(&flat);
+    let mat = nums.chunks(du.max(1)).map(|c| c.to_vec()).collect();
+    (mat, d)
 }
 
 /// `(y - a)^d`.
@@ -767,11 +942,37 @@ impl Lifter<'_> {
     fn diophant(&self, levels: &[(Vec<Poly>, Vec<Poly>)], m: usize, c: &Poly) -> Vec<Poly> {
         if m == 0 {
             let cq = q_from_poly(c, self.x);
+            let n = self.maps.first().map_or(0, |m| m.0.len());
+            if cq.len() > n {
+                // Not reached while lifting (deg c < n); the general formula.
+                return self
+                    .units
+                    .iter()
+                    .zip(&self.bezout)
+                    .map(|(u, s)| q_to_poly(&q_divrem(&q_mul(&cq, s), u).1, self.x))
+                    .collect();
+            }
+            let (cn, cd) = over_common_denominator(&cq);
             return self
-                .units
+                .maps
                 .iter()
-                .zip(&self.bezout)
-                .map(|(u, s)| q_to_poly(&q_divrem(&q_mul(&cq, s), u).1, self.x))
+                .map(|(mat, d)| {
+                    let du = mat.first().map_or(0, |r| r.len());
+                    let den = d * &cd;
+                    let mut acc = vec![Int::ZERO; du];
+                    for (ck, row) in cn.iter().zip(mat) {
+                        if ck.is_zero() {
+                            continue;
+                        }
+                        for (a, r) in acc.iter_mut().zip(row) {
+                            if !r.is_zero() {
+                                *a = &*a + &(ck * r);
+                            }
+                        }
+                    }
+                    let coeffs: QPoly = acc.into_iter().map(|a| Rat::new(a, den.clone())).collect();
+                    q_to_poly(&coeffs, self.x)
+                })
                 .collect();
         }
         let y = &self.ys[m - 1];
@@ -812,31 +1013,48 @@ fn sum_products(a: &[Poly], b: &[Poly]) -> Poly {
     acc
 }
 
-/// Lifts `F = prod G_i` from the univariate images `images` (leading
-/// coefficients `lead(a)`) to factors with leading coefficient `lead` in
-/// `x`. `None` when no such factorization exists.
+/// `prod ps[i]^es[i]`.
+fn product_pow(ps: &[Poly], es: &[u32]) -> Poly {
+    let mut acc = Poly::one();
+    for (p, &e) in ps.iter().zip(es) {
+        acc = &acc * &p.pow(e);
+    }
+    acc
+}
+
+/// Lifts `F = prod G_i^e_i` from the univariate images `images` (pairwise
+/// coprime, leading coefficients `lead(a)`) to factors with leading
+/// coefficient `lead` in `x`. `None` when no such factorization exists.
+///
+/// With `G_i = g_i + sigma_i t^d + O(t^(d+1))`, `t = y - a`, the degree-`d`
+/// Taylor coefficient of the error is
+/// `prod u_l^(e_l - 1) * sum e_i sigma_i prod_{l != i} u_l` (`u` the images
+/// at `t = 0`), so the usual Diophantine equation is solved after an exact
+/// division by `prod u_l^(e_l - 1)`.
 fn hensel_lift(
     big_f: &Poly,
     x: &str,
     ys: &[String],
     a: &[Rat],
     images: Vec<QPoly>,
-    lead: &Poly,
+    exps: &[u32],
+    leads: &[Poly],
 ) -> Option<Vec<Poly>> {
     let k = ys.len();
     // F_j and L_j: ys[j..] evaluated.
     let mut fs = vec![big_f.clone(); k + 1];
-    let mut ls = vec![lead.clone(); k + 1];
+    let mut ls = vec![leads.to_vec(); k + 1];
     for j in (0..k).rev() {
         fs[j] = fs[j + 1].subs(&ys[j], &a[j]);
-        ls[j] = ls[j + 1].subs(&ys[j], &a[j]);
+        ls[j] = ls[j + 1].iter().map(|l| l.subs(&ys[j], &a[j])).collect();
     }
     // Univariate check and Bezout data.
     let units = images;
     let unit_polys: Vec<Poly> = units.iter().map(|u| q_to_poly(u, x)).collect();
-    if product(&unit_polys) != fs[0] {
+    if product_pow(&unit_polys, exps) != fs[0] {
         return None;
     }
+    let powered = exps.iter().any(|&e| e > 1);
     let bezout: Vec<QPoly> = units
         .iter()
         .enumerate()
@@ -851,6 +1069,12 @@ fn hensel_lift(
         })
         .collect();
     let degs: Vec<u32> = units.iter().map(|u| (u.len() - 1) as u32).collect();
+    let total_degree: usize = degs.iter().map(|&d| d as usize).sum();
+    let maps = bezout
+        .iter()
+        .zip(&units)
+        .map(|(s, u)| reduction_map(s, u, total_degree))
+        .collect();
     let bounds: Vec<u32> = ys.iter().map(|y| big_f.degree(y)).collect();
     let lifter = Lifter {
         x,
@@ -858,6 +1082,7 @@ fn hensel_lift(
         a,
         units,
         bezout,
+        maps,
         bounds,
     };
     let mut g: Vec<Poly> = unit_polys;
@@ -882,31 +1107,45 @@ fn hensel_lift(
             }
         }
         // Impose the leading coefficient.
-        let lj = &ls[j + 1];
-        for (gi, &d) in g.iter_mut().zip(&degs) {
+        for ((gi, &d), lj) in g.iter_mut().zip(&degs).zip(&ls[j + 1]) {
             let cur = gi.lead_in(x);
             *gi = &*gi + &(lj - &cur).mul_var_pow(x, d);
         }
         let y = &ys[j];
         let target = &fs[j + 1];
+        // prod u_l^(e_l - 1) at this level.
+        let repeated = if powered {
+            let reduced: Vec<u32> = exps.iter().map(|e| e - 1).collect();
+            Some(product_pow(&levels[j].0, &reduced))
+        } else {
+            None
+        };
         for d in 1..=lifter.bounds[j] {
-            let e = target - &product(&g);
+            let e = target - &product_pow(&g, exps);
             if e.is_zero() {
                 break;
             }
-            let c = taylor_coeff(&e, y, &a[j], d);
+            let mut c = taylor_coeff(&e, y, &a[j], d);
             if c.is_zero() {
                 continue;
             }
+            if let Some(rep) = &repeated {
+                c = c.div_exact(rep)?;
+            }
             let sigma = lifter.diophant(&levels, j, &c);
             let t = shift_pow(y, &a[j], d);
-            for (gi, si) in g.iter_mut().zip(&sigma) {
+            for ((gi, si), &ei) in g.iter_mut().zip(&sigma).zip(exps) {
                 if !si.is_zero() {
-                    *gi = &*gi + &(si * &t);
+                    let si = if ei > 1 {
+                        si.scale(&Rat::new(Int::ONE, Int::from(ei as i64)))
+                    } else {
+                        si.clone()
+                    };
+                    *gi = &*gi + &(&si * &t);
                 }
             }
         }
-        if &product(&g) != target {
+        if &product_pow(&g, exps) != target {
             return None;
         }
     }
@@ -960,6 +1199,122 @@ mod tests {
     }
 
     #[test]
+    fn rational_input_and_unit() {
+        let f = check(&p("x^2/4 - y^2/9"));
+        assert_eq!(f.unit, "1/36".parse().unwrap());
+        let texts: Vec<String> = f.factors.iter().map(|(g, _)| g.to_string()).collect();
+        assert_eq!(texts, ["3*x + 2*y", "3*x - 2*y"]);
+        let g = check(&p("-(x*y - 1)^3*(x + y)^2*y^4/5"));
+        assert_eq!(g.unit, "-1/5".parse().unwrap());
+        assert_eq!(g.to_string(), "-1/5 * y^4 * (x + y)^2 * (x*y - 1)^3");
+    }
+
+    /// Known irreducibles: linear in some variable with coprime
+    /// coefficients, quadratic forms of rank >= 3, the Klein quartic, ...
+    const IRREDUCIBLE: [&str; 10] = [
+        "x*y + z + 1",
+        "x^2 + y^2 + z^2 + 1",
+        "x^2 - 2*y^2 + 3*z^2",
+        "x^3*y + y^3*z + z^3*x",
+        "x^2 + y^3 + 1",
+        "x^4 + y^4 + z",
+        "x*z^2 - y^2 + 2",
+        "y^2*z^2 + x^2 - 3*x*y*z + 5",
+        "x^3 - 2*y^3",
+        "x*y*z - x - y - z + 7",
+    ];
+
+    #[test]
+    fn random_products_of_known_irreducibles() {
+        let irr: Vec<Poly> = IRREDUCIBLE.iter().map(|s| normalize(&p(s))).collect();
+        for g in &irr {
+            let f = check(g);
+            assert_eq!(f.factors, vec![(g.clone(), 1)], "{g} is irreducible");
+        }
+        let mut rng = SplitMix(2024);
+        for round in 0..24 {
+            let mut f = Poly::constant(Rat::new(Int::from(round as i64 - 11), Int::from(3)));
+            if f.is_zero() {
+                f = Poly::one();
+            }
+            let mut want: Vec<(Poly, u32)> = Vec::new();
+            // Two to four distinct irreducibles with exponents 1..=3.
+            let k = 2 + (rng.next() % 3) as usize;
+            let mut chosen: Vec<usize> = Vec::new();
+            while chosen.len() < k {
+                let i = (rng.next() % irr.len() as u64) as usize;
+                if !chosen.contains(&i) {
+                    chosen.push(i);
+                }
+            }
+            for &i in &chosen {
+                let e = 1 + (rng.next() % 3) as u32;
+                // Keep the products moderate.
+                let e = if irr[i].total_degree() > 3 {
+                    e.min(2)
+                } else {
+                    e
+                };
+                f = &f * &irr[i].pow(e);
+                want.push((irr[i].clone(), e));
+            }
+            let fa = check(&f);
+            want.sort_by(|a, b| cmp_factor(&a.0, &b.0));
+            assert_eq!(fa.factors, want, "round {round}: {f}");
+        }
+    }
+
+    #[test]
+    fn extraneous_image_factors_are_recombined() {
+        // x^2 - y is irreducible but its image at y = 4 splits.
+        let f = p("(x^2 - y)*(x + y + 1)");
+        let ys = vec!["y".to_string()];
+        let lead = f.lead_in("x");
+        let im = Image {
+            point: vec![4],
+            factors: vec![
+                (vec![Int::from(-2), Int::ONE], 1),
+                (vec![Int::from(2), Int::ONE], 1),
+                (vec![Int::from(5), Int::ONE], 1),
+            ],
+            rad_degree: 3,
+        };
+        assert!(lift_all(&f, "x", &ys, &lead, &im).is_none());
+        let mut out = Vec::new();
+        split_by_subsets(&f, "x", &ys, &lead, &im, 2, &mut out);
+        out.sort_by(|a, b| cmp_factor(&a.0, &b.0));
+        assert_eq!(out, vec![(p("x + y + 1"), 2), (p("x^2 - y"), 2)]);
+        // An irreducible polynomial with a split image stays whole.
+        let g = p("x^2 - y");
+        let im = Image {
+            point: vec![4],
+            factors: vec![
+                (vec![Int::from(-2), Int::ONE], 1),
+                (vec![Int::from(2), Int::ONE], 1),
+            ],
+            rad_degree: 2,
+        };
+        let mut out = Vec::new();
+        split_by_subsets(&g, "x", &ys, &g.lead_in("x"), &im, 1, &mut out);
+        assert_eq!(out, vec![(g.clone(), 1)]);
+        // The same polynomials through the public entry point.
+        assert_eq!(check(&f).factors.len(), 2);
+        assert_eq!(check(&g).factors, vec![(g, 1)]);
+    }
+
+    #[test]
+    fn leading_coefficients_are_distributed() {
+        // Non-monomial leading coefficients in every variable, a square.
+        let a = p("(y + z + 1)*x^2 + (y - z)*x + y*z + 2");
+        let b = p("(y*z - 1)*x^2 + (y + 2)*x + z^2 + y");
+        let f = &(&a * &a) * &b;
+        let fa = check(&f);
+        let mut want = vec![(normalize(&b), 1), (normalize(&a), 2)];
+        want.sort_by(|u, v| cmp_factor(&u.0, &v.0));
+        assert_eq!(fa.factors, want);
+    }
+
+    #[test]
     fn bivariate_and_multivariate_products() {
         let cases = [
             ("(x^2 + y^2 + 1)*(x^2 - y)", 2),
@@ -974,11 +1329,6 @@ mod tests {
             assert_eq!(f.factors.len(), count, "{s}: {f}");
         }
     }
-}
-
-#[cfg(test)]
-fn workload_chain(n: usize) -> (Poly, Poly) {
-    workload::chain(n)
 }
 
 #[cfg(test)]
@@ -1113,6 +1463,38 @@ mod workload {
     }
 
     #[test]
+    #[ignore = "writes inputs and factorizations to /tmp/factor_dump for an external check"]
+    fn dump_for_external_check() {
+        std::fs::create_dir_all("/tmp/factor_dump").unwrap();
+        let mut k = 0;
+        for n in 3..=5 {
+            let (num, den) = chain(n);
+            let m = chain_matrix(n);
+            let mut polys = vec![
+                crate::resultant::discriminant(&num, "Omega"),
+                &num.pow(2) * &den,
+            ];
+            for j in 1..n - 1 {
+                let numj = driving_point_num(&m, j);
+                polys.push(crate::resultant::resultant(&numj, &den, "Omega"));
+                polys.push(crate::resultant::discriminant(&numj, "Omega"));
+            }
+            for f in polys {
+                if f.num_terms() > 3000 {
+                    continue;
+                }
+                let fa = factor(&f);
+                let mut txt = format!("{f}\n");
+                for (g, e) in &fa.factors {
+                    txt.push_str(&format!("{e} {g}\n"));
+                }
+                std::fs::write(format!("/tmp/factor_dump/{k}.txt"), txt).unwrap();
+                k += 1;
+            }
+        }
+    }
+
+    #[test]
     fn chain3_factorizations() {
         for (name, terms, k, _) in run(3, false) {
             assert!(k >= 1, "{name} with {terms} terms");
@@ -1124,42 +1506,6 @@ mod workload {
     fn chain_timings() {
         for n in 3..=5 {
             run(n, true);
-        }
-    }
-}
-#[cfg(test)]
-mod prof {
-    use super::*;
-    use std::time::Instant;
-    #[test]
-    #[ignore]
-    fn prof_yun() {
-        let (num, den) = super::workload_chain(5);
-        let (num1, _) = super::workload_chain(4);
-        let f = &(&num.pow(2) * &den) * &num1;
-        let vars = f.vars().to_vec();
-        for x in &vars {
-            println!("{x} deg {}", f.degree(x));
-        }
-        let t = Instant::now();
-        let x = "Omega";
-        let _ = content_and_pp(&f, x);
-        println!("content {:.3}", t.elapsed().as_secs_f64());
-        let t = Instant::now();
-        let sq = proven_squarefree(&f, x);
-        println!("sqcheck {sq} {:.3}", t.elapsed().as_secs_f64());
-        let t = Instant::now();
-        let parts = yun(&f, x);
-        println!("yun {} {:.3}", parts.len(), t.elapsed().as_secs_f64());
-        for (g, _) in &parts {
-            let t = Instant::now();
-            let fa = factor(g);
-            println!(
-                "part {} terms -> {} factors {:.3}",
-                g.num_terms(),
-                fa.factors.len(),
-                t.elapsed().as_secs_f64()
-            );
         }
     }
 }

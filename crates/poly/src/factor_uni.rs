@@ -294,15 +294,6 @@ impl Fp {
         self.p
     }
     #[inline]
-    pub(crate) fn add(&self, a: u64, b: u64) -> u64 {
-        let s = a + b;
-        if s >= self.p {
-            s - self.p
-        } else {
-            s
-        }
-    }
-    #[inline]
     pub(crate) fn sub(&self, a: u64, b: u64) -> u64 {
         if a >= b {
             a - b
@@ -1079,6 +1070,16 @@ mod tests {
         assert_eq!(fs.len(), 3);
         assert_eq!(fs[0].0, c);
         assert!(fs.iter().any(|f| f.0 == a) && fs.iter().any(|f| f.0 == b));
+    }
+
+    #[test]
+    fn swinnerton_dyer_degree_32() {
+        // Splits into factors of degree <= 2 modulo every prime: 16 modular
+        // factors to recombine.
+        let s = swinnerton_dyer(&[2, 3, 5, 7, 11]);
+        assert_eq!(s.degree(), Some(32));
+        let (_, fs) = check(&s);
+        assert_eq!(fs, vec![(s, 1)]);
     }
 
     #[test]

@@ -22,9 +22,15 @@
 //!    handful of cheap image gcds);
 //! 3. when the bounds say the gcd could be one of the operands, exact
 //!    division is tried;
-//! 4. otherwise contents in a main variable (the shared one of least degree)
+//! 4. when the bound for some variable `v` equals the whole `v`-degree of
+//!    one operand, that operand's cofactor is free of `v`, so the gcd is
+//!    `gcd(cont_v a, cont_v b) * pp_v(operand)` (contents recursively, the
+//!    primitive part confirmed by exact division);
+//! 5. otherwise contents in a main variable (the shared one of least degree)
 //!    are split off recursively and the gcd of the primitive parts is the
-//!    primitive part of the last non-zero remainder of the subresultant PRS.
+//!    primitive part of the last non-zero remainder of the subresultant PRS;
+//!    the sequence stops early when a remainder reaches the proven degree
+//!    bound and its primitive part divides both operands.
 //!
 //! Nothing depends on a heuristic succeeding: the modular bounds are only
 //! used as proven bounds, and every shortcut is confirmed by exact division
@@ -320,25 +326,56 @@ fn gcd_core(a: &Poly, b: &Poly) -> Poly {
             return small.clone();
         }
     }
-    let (x, _) = shared
+    // A variable v in which one operand's whole degree may belong to the
+    // gcd: then that operand's cofactor is free of v, so
+    // gcd = gcd(cont_v a, cont_v b) * pp_v(operand), confirmed by division.
+    let cofactor_free = shared
         .iter()
-        .min_by(|(u, _), (v, _)| {
-            (a.degree(u) + b.degree(u))
-                .cmp(&(a.degree(v) + b.degree(v)))
-                .then(var_cmp(u, v))
+        .filter_map(|(v, d)| {
+            let (da, db) = (a.degree(v), b.degree(v));
+            if *d == da || *d == db {
+                Some((da.min(db), v.clone(), *d == da))
+            } else {
+                None
+            }
         })
-        .expect("shared is non-empty")
-        .clone();
+        .min_by(|(d1, v1, _), (d2, v2, _)| d1.cmp(d2).then(var_cmp(v1, v2)));
+    let x = match &cofactor_free {
+        Some((_, v, _)) => v.clone(),
+        None => shared
+            .iter()
+            .min_by(|(u, _), (v, _)| {
+                (a.degree(u) + b.degree(u))
+                    .cmp(&(a.degree(v) + b.degree(v)))
+                    .then(var_cmp(u, v))
+            })
+            .expect("shared is non-empty")
+            .0
+            .clone(),
+    };
     let (ca, pa) = content_and_pp(a, &x);
     let (cb, pb) = content_and_pp(b, &x);
     let gc = gcd_prim(&ca.primitive_part(), &cb.primitive_part());
-    let gp = prs_gcd_primitive(&pa, &pb, &x);
+    if let Some((_, _, from_a)) = cofactor_free {
+        let (small, big) = if from_a { (&pa, &pb) } else { (&pb, &pa) };
+        if big.div_exact(small).is_some() {
+            return (&gc * small).primitive_part();
+        }
+    }
+    let bound = shared.iter().find(|(v, _)| *v == x).map_or(0, |(_, d)| *d);
+    let gp = prs_gcd_primitive(&pa, &pb, &x, bound);
     (&gc * &gp).primitive_part()
 }
 
 /// gcd of two polynomials primitive in `x` (both of positive degree in `x`),
 /// as the primitive part of the last non-zero subresultant PRS remainder.
-fn prs_gcd_primitive(a: &Poly, b: &Poly, x: &str) -> Poly {
+///
+/// `bound` is a proven upper bound for the degree of the gcd in `x` (0 if
+/// unknown): as soon as a remainder has exactly that degree, its primitive
+/// part is tried as the gcd by exact division, which skips the last, most
+/// expensive steps of the sequence when it succeeds (it is then a common
+/// divisor of maximal degree, hence the gcd); otherwise the PRS goes on.
+fn prs_gcd_primitive(a: &Poly, b: &Poly, x: &str, bound: u32) -> Poly {
     let (mut f, mut g) = (a.coeffs_in(x), b.coeffs_in(x));
     if f.len() < g.len() {
         std::mem::swap(&mut f, &mut g);
@@ -362,6 +399,12 @@ fn prs_gcd_primitive(a: &Poly, b: &Poly, x: &str) -> Poly {
                     .expect("subresultant division is exact")
             })
             .collect();
+        if bound > 0 && r.len() == bound as usize + 1 {
+            let cand = primitive_part_in(&Poly::from_coeffs_in(x, &r), x);
+            if a.div_exact(&cand).is_some() && b.div_exact(&cand).is_some() {
+                return cand;
+            }
+        }
         f = std::mem::replace(&mut g, r);
         gg = f.last().expect("non-zero").clone();
         h = match delta {
@@ -816,7 +859,7 @@ mod tests {
                 let (ca_x, pa) = content_and_pp(&a, "x");
                 let (cb_x, pb) = content_and_pp(&b, "x");
                 let prs = if pa.has_var("x") && pb.has_var("x") {
-                    prs_gcd_primitive(&pa, &pb, "x")
+                    prs_gcd_primitive(&pa, &pb, "x", 0)
                 } else {
                     Poly::one()
                 };
@@ -873,6 +916,22 @@ mod tests {
             t.elapsed(),
             sf.len()
         );
+    }
+
+    #[test]
+    fn prs_early_stop_agrees_with_full_sequence() {
+        // gcd of degree 1 in x inside operands of degree 3 and 4 in x.
+        let g = p("x*y + z^2 - 1");
+        let a = &g * &p("x^2*z + y - 3");
+        let b = &g * &p("x^3 - y*z*x + 2");
+        let (_, pa) = content_and_pp(&a, "x");
+        let (_, pb) = content_and_pp(&b, "x");
+        let full = prs_gcd_primitive(&pa, &pb, "x", 0);
+        let early = prs_gcd_primitive(&pa, &pb, "x", 1);
+        assert_eq!(full, g);
+        assert_eq!(early, g);
+        // A bound that is not attained must not change the result.
+        assert_eq!(prs_gcd_primitive(&pa, &pb, "x", 2), g);
     }
 
     #[test]

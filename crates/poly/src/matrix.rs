@@ -14,8 +14,8 @@
 //!   there is no expression swell;
 //! - [`det`]: [`det_minors`] up to size [`MINORS_AUTO_MAX`], Bareiss above.
 //!   (Measured: generic 6x6 matrices, one own variable per entry plus shared ones,
-//!   0.12 s by minors against 69 s by Bareiss; a 10-mass chain `C - Omega M`,
-//!   14 ms against 16 ms.)
+//!   0.1 s by minors against about a minute by Bareiss; a 10-mass chain
+//!   `C - Omega M`, 14 ms against 16 ms.)
 //! - [`det_laplace`]: plain recursive Laplace expansion along the first row,
 //!   `O(n!)`, an independent reference for tests.
 //!
@@ -569,23 +569,24 @@ mod tests {
     #[ignore]
     fn timing_det() {
         use std::time::Instant;
-        for (name, m) in [
-            ("chain 8", chain(8)),
-            ("chain 10", chain(10)),
-            ("generic 5", generic(5)),
-            ("generic 6", generic(6)),
+        for (name, m, bareiss) in [
+            ("chain 8", chain(8), true),
+            ("chain 10", chain(10), true),
+            ("generic 5", generic(5), true),
+            // Bareiss needs about a minute here.
+            ("generic 6", generic(6), false),
         ] {
             let t = Instant::now();
             let a = det_minors(&m).unwrap();
             let t_min = t.elapsed();
-            let t = Instant::now();
-            let b = det_bareiss(&m).unwrap();
-            let t_bar = t.elapsed();
-            assert_eq!(a, b);
-            eprintln!(
-                "{name}: minors {t_min:?}, Bareiss {t_bar:?}, {} terms",
-                a.num_terms()
-            );
+            let mut line = format!("{name}: minors {t_min:?}");
+            if bareiss {
+                let t = Instant::now();
+                let b = det_bareiss(&m).unwrap();
+                line += &format!(", Bareiss {:?}", t.elapsed());
+                assert_eq!(a, b);
+            }
+            eprintln!("{line}, {} terms", a.num_terms());
         }
     }
 

@@ -33,9 +33,10 @@
 //!   instead: `det Bez(a, b) = (-1)^(m(m-1)/2) lc(a)^(m-n) Res(a, b)`, and the
 //!   leading principal minors of the Bezout matrix (highest powers first)
 //!   give every `psc_j`, all from one division-free expansion by minors
-//!   (see [`crate::leading_principal_minors`]). With many parameters this avoids the
-//!   intermediate swell of the remainder sequence (for the 5-mass chain's
-//!   discriminant about 20 times faster). Higher degrees use the chain.
+//!   (see [`crate::leading_principal_minors`]). With many parameters this
+//!   avoids the intermediate swell of the remainder sequence (for the 5-mass
+//!   chain's discriminant about 20 times faster). Higher degrees use the
+//!   chain.
 //!
 //! The tests check both routes against the determinantal definition, the
 //! Sylvester determinant and the product formula over known roots.
@@ -43,7 +44,7 @@
 use crate::gcd::prem_coeffs;
 use crate::poly::Poly;
 
-/// Coefficients of `p` in `var` (lowest first) with the degree, treating
+/// Coefficients of `p` in `var` (lowest first), treating
 /// the zero polynomial as having no coefficients.
 fn coeffs(p: &Poly, var: &str) -> Vec<Poly> {
     p.coeffs_in(var)

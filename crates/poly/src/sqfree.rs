@@ -6,8 +6,10 @@
 //!
 //! 1. the monomial content: each variable `v` dividing `p` exactly `k`
 //!    times gives the factor `(v, k)`;
-//! 2. for the first remaining variable `x`, the primitive part in `x` is
-//!    split by Yun's algorithm (gcds with the derivative, exact divisions);
+//! 2. for the remaining variable `x` of least degree (first in variable
+//!    order on ties), the primitive part in `x` is split by Yun's algorithm
+//!    (gcds with the derivative, exact divisions); if it is linear in `x` it
+//!    is irreducible and kept whole;
 //! 3. the content in `x` (a polynomial in fewer variables) is factored
 //!    recursively.
 //!
@@ -112,10 +114,21 @@ fn sqf_rec(q: &Poly, out: &mut Vec<(Poly, u32)>) {
     if q.is_constant() {
         return;
     }
-    // 2. Yun on the primitive part in the first variable; 3. recurse on the content.
-    let x = q.vars()[0].clone();
+    // 2. Yun on the primitive part in the variable of least degree (first in
+    //    variable order on ties); 3. recurse on the content.
+    let x = q
+        .vars()
+        .iter()
+        .min_by_key(|v| q.degree(v))
+        .expect("non-constant")
+        .clone();
     let (cont, pp) = content_and_pp(&q, &x);
-    out.extend(yun(&pp, &x));
+    if pp.degree(&x) == 1 {
+        // Primitive and linear in x: irreducible.
+        out.push((pp, 1));
+    } else {
+        out.extend(yun(&pp, &x));
+    }
     sqf_rec(&cont.primitive_part(), out);
 }
 
