@@ -2,6 +2,7 @@
 //! and `poly` libraries and formats what they return.
 
 mod algebra;
+mod analyze;
 mod derive;
 mod enumerate;
 mod output;
@@ -70,6 +71,13 @@ enum Command {
         #[arg(long, value_enum, default_value_t = AlgebraFormat::Text)]
         format: AlgebraFormat,
     },
+    /// Which FRF types each model can show, with witnesses and certificates (Tab. 3).
+    Analyze {
+        #[command(flatten)]
+        selection: Selection,
+        #[arg(long, value_enum, default_value_t = TableFormat3::Table)]
+        format: TableFormat3,
+    },
     /// The full study of N masses as one report (default: the paper's 3 masses).
     Study {
         /// Number of masses.
@@ -93,6 +101,14 @@ pub enum TableFormat {
 #[derive(ValueEnum, Clone, Copy, PartialEq, Eq)]
 pub enum DeriveFormat {
     Text,
+    Json,
+    Md,
+    Tex,
+}
+
+#[derive(ValueEnum, Clone, Copy, PartialEq, Eq)]
+pub enum TableFormat3 {
+    Table,
     Json,
     Md,
     Tex,
@@ -172,6 +188,10 @@ fn run(cli: Cli) -> Result<(), String> {
             let models = select(&selection)?;
             let text = derive::run(&models, format, output.into(), damped, abbreviate)?;
             output::emit(None, &text)
+        }
+        Command::Analyze { selection, format } => {
+            let models = select(&selection)?;
+            output::emit(None, &analyze::run(&models, format)?)
         }
         Command::Algebra { masses, format } => output::emit(None, &algebra::run(masses, format)?),
         Command::Study {

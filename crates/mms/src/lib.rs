@@ -41,6 +41,7 @@
 
 #![warn(missing_docs)]
 
+pub mod analysis;
 mod enumerate;
 mod model;
 pub mod render;

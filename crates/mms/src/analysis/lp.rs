@@ -1,0 +1,260 @@
+//! A small exact linear-programming solver (dictionary simplex over Q with
+//! Bland's rule) and its one use: finding a positive combination of sign
+//! conditions that contradicts positivity (a Positivstellensatz-style
+//! certificate with nonnegative multipliers).
+
+use poly::{Poly, Rat};
+use std::collections::BTreeMap;
+
+/// Maximizes `c.x` subject to `rows.x <= rhs`, `x >= 0`, with `rhs >= 0`
+/// (so the origin is feasible). Returns the optimal `x`, or `None` when the
+/// problem is unbounded. Exact: every pivot is rational arithmetic.
+pub(crate) fn maximize(c: &[Rat], rows: &[Vec<Rat>], rhs: &[Rat]) -> Option<Vec<Rat>> {
+    let n = c.len();
+    let m = rows.len();
+    // Dictionary: basic_i = t[i][0] + sum_j t[i][1 + j] * nonbasic_j.
+    // Variables 0..n are the unknowns, n..n+m the slacks.
+    let mut t: Vec<Vec<Rat>> = (0..m)
+        .map(|i| {
+            let mut row = Vec::with_capacity(n + 1);
+            row.push(rhs[i].clone());
+            row.extend(rows[i].iter().map(|a| -a.clone()));
+            row
+        })
+        .collect();
+    let mut z: Vec<Rat> = std::iter::once(Rat::ZERO)
+        .chain(c.iter().cloned())
+        .collect();
+    let mut basic: Vec<usize> = (n..n + m).collect();
+    let mut nonbasic: Vec<usize> = (0..n).collect();
+    // Bland: entering = smallest variable index with positive reduced cost.
+    while let Some(e) = (0..n)
+        .filter(|&j| z[1 + j].signum() > 0)
+        .min_by_key(|&j| nonbasic[j])
+    {
+        let mut leave: Option<(usize, Rat)> = None;
+        for i in 0..m {
+            let a = &t[i][1 + e];
+            if a.signum() < 0 {
+                let ratio = &t[i][0] / &(-a.clone());
+                let better = match &leave {
+                    None => true,
+                    Some((li, lr)) => ratio < *lr || (ratio == *lr && basic[i] < basic[*li]),
+                };
+                if better {
+                    leave = Some((i, ratio));
+                }
+            }
+        }
+        let (l, _) = leave?;
+        pivot(&mut t, &mut z, l, e);
+        std::mem::swap(&mut basic[l], &mut nonbasic[e]);
+    }
+    let mut x = vec![Rat::ZERO; n];
+    for (i, &b) in basic.iter().enumerate() {
+        if b < n {
+            x[b] = t[i][0].clone();
+        }
+    }
+    Some(x)
+}
+
+fn pivot(t: &mut [Vec<Rat>], z: &mut [Rat], l: usize, e: usize) {
+    // Solve row l for the entering variable.
+    let a = t[l][1 + e].clone();
+    let inv = -a.recip();
+    let mut row: Vec<Rat> = t[l].iter().map(|v| v * &inv).collect();
+    row[1 + e] = a.recip();
+    t[l] = row.clone();
+    let substitute = |target: &mut Vec<Rat>| {
+        let f = target[1 + e].clone();
+        if f.is_zero() {
+            return;
+        }
+        for (k, v) in row.iter().enumerate() {
+            if k == 1 + e {
+                target[k] = &f * v;
+            } else if !v.is_zero() {
+                target[k] = &target[k] + &(&f * v);
+            }
+        }
+    };
+    for (i, r) in t.iter_mut().enumerate() {
+        if i != l {
+            substitute(r);
+        }
+    }
+    let mut zz = z.to_vec();
+    substitute(&mut zz);
+    z.clone_from_slice(&zz);
+}
+
+/// All monomials in `vars` of total degree at most `deg`, as polynomials,
+/// in a fixed order (degree, then lexicographic).
+pub(crate) fn monomials(vars: &[String], deg: u32) -> Vec<Poly> {
+    let mut out = vec![Poly::one()];
+    let mut frontier = vec![(Poly::one(), 0usize)];
+    for _ in 0..deg {
+        let mut next = Vec::new();
+        for (m, start) in &frontier {
+            for (k, v) in vars.iter().enumerate().skip(*start) {
+                let p = m * &Poly::var(v);
+                out.push(p.clone());
+                next.push((p, k));
+            }
+        }
+        frontier = next;
+    }
+    out
+}
+
+/// Multipliers `lambda_i` with nonnegative coefficients, at least one of
+/// them on a strict condition nonzero, such that `sum lambda_i * g_i` has no
+/// positive coefficient. With `g_i > 0` (strict) or `g_i >= 0` required on
+/// the positive orthant, that is a contradiction: the left side would be
+/// `> 0`, the right side is `<= 0`. Multiplier monomials up to `max_deg` in
+/// `vars` are tried, lowest degree first.
+pub(crate) fn positive_combination(
+    conditions: &[(Poly, bool)],
+    vars: &[String],
+    max_deg: u32,
+) -> Option<Vec<Poly>> {
+    for deg in 0..=max_deg {
+        let basis = monomials(vars, deg);
+        // Column (i, mu): the polynomial mu * g_i.
+        let mut cols: Vec<(usize, Poly)> = Vec::new();
+        let mut products: Vec<Poly> = Vec::new();
+        for (i, (g, _)) in conditions.iter().enumerate() {
+            for mu in &basis {
+                cols.push((i, mu.clone()));
+                products.push(mu * g);
+            }
+        }
+        // One row per monomial of the products: its coefficient <= 0.
+        let mut index: BTreeMap<String, usize> = BTreeMap::new();
+        let mut entries: Vec<Vec<(usize, Rat)>> = Vec::new();
+        for (j, p) in products.iter().enumerate() {
+            for (mono, coef) in monomial_coefficients(p) {
+                let r = *index.entry(mono).or_insert_with(|| {
+                    entries.push(Vec::new());
+                    entries.len() - 1
+                });
+                entries[r].push((j, coef));
+            }
+        }
+        let n = cols.len();
+        let mut rows: Vec<Vec<Rat>> = entries
+            .iter()
+            .map(|e| {
+                let mut row = vec![Rat::ZERO; n];
+                for (j, c) in e {
+                    row[*j] = c.clone();
+                }
+                row
+            })
+            .collect();
+        let mut rhs = vec![Rat::ZERO; rows.len()];
+        rows.push(vec![Rat::ONE; n]);
+        rhs.push(Rat::ONE);
+        let c: Vec<Rat> = cols
+            .iter()
+            .map(|(i, _)| {
+                if conditions[*i].1 {
+                    Rat::ONE
+                } else {
+                    Rat::ZERO
+                }
+            })
+            .collect();
+        let x = maximize(&c, &rows, &rhs)?;
+        let value: Rat = x
+            .iter()
+            .zip(&c)
+            .fold(Rat::ZERO, |acc, (a, b)| &acc + &(a * b));
+        if value.signum() > 0 {
+            let mut lambdas = vec![Poly::zero(); conditions.len()];
+            for ((i, mu), xi) in cols.iter().zip(&x) {
+                if !xi.is_zero() {
+                    lambdas[*i] = &lambdas[*i] + &mu.scale(xi);
+                }
+            }
+            // Clear denominators for readable certificates.
+            let lambdas = lambdas.iter().map(integral_multiple).collect();
+            return Some(lambdas);
+        }
+    }
+    None
+}
+
+/// The coefficients of `p` keyed by the text of their monomial.
+fn monomial_coefficients(p: &Poly) -> Vec<(String, Rat)> {
+    p.terms()
+        .iter()
+        .map(|t| {
+            let mono: Vec<String> = p
+                .vars()
+                .iter()
+                .zip(&t.exps)
+                .filter(|(_, e)| **e > 0)
+                .map(|(v, e)| format!("{v}^{e}"))
+                .collect();
+            (mono.join("*"), t.coef.clone())
+        })
+        .collect()
+}
+
+/// `p` times a positive rational so that it has integer coefficients.
+fn integral_multiple(p: &Poly) -> Poly {
+    if p.is_zero() {
+        return p.clone();
+    }
+    let (c, pp) = p.primitive();
+    if c.signum() < 0 {
+        -pp
+    } else {
+        pp
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(s: &str) -> Poly {
+        s.parse().unwrap()
+    }
+
+    #[test]
+    fn simplex_solves_a_textbook_problem() {
+        // max 3x + 2y s.t. x + y <= 4, x + 3y <= 6, x <= 3: optimum (3, 1).
+        let r = |v: &[i64]| v.iter().map(|&a| Rat::from(a)).collect::<Vec<_>>();
+        let x = maximize(
+            &r(&[3, 2]),
+            &[r(&[1, 1]), r(&[1, 3]), r(&[1, 0])],
+            &r(&[4, 6, 3]),
+        )
+        .unwrap();
+        assert_eq!(x, r(&[3, 1]));
+    }
+
+    #[test]
+    fn design_note_a2_example_is_found() {
+        // A2 with the zero above both resonances: P1 = c12 m3 - c23 m1 > 0 and
+        // P2 = c23 m1 (m2 - m3) - c12 m3 (m1 + m2) > 0 contradict each other:
+        // (m1 + m2) P1 + P2 = -c23 m1 (m1 + m3).
+        let g1 = p("c12*m3 - c23*m1");
+        let g2 = p("c23*m1*(m2 - m3) - c12*m3*(m1 + m2)");
+        let vars: Vec<String> = ["c12", "c23", "m1", "m2", "m3"].map(String::from).to_vec();
+        let l = positive_combination(&[(g1.clone(), true), (g2.clone(), true)], &vars, 1).unwrap();
+        let combo = &(&l[0] * &g1) + &(&l[1] * &g2);
+        assert!(combo.all_coefs_negative() || combo.is_zero(), "{combo}");
+        assert!(l.iter().all(|x| x.is_zero() || x.all_coefs_positive()));
+    }
+
+    #[test]
+    fn feasible_conditions_give_no_certificate() {
+        let vars: Vec<String> = ["x", "y"].map(String::from).to_vec();
+        let conds = [(p("x - y"), true), (p("2*y - x"), true)]; // y < x < 2y is feasible
+        assert!(positive_combination(&conds, &vars, 2).is_none());
+    }
+}

@@ -1,0 +1,230 @@
+//! Which FRF types a model can show for positive parameters, with proofs.
+//!
+//! [`analyze`] lists every a-priori candidate type ([`candidate_types`]) of
+//! a model's undamped transfer function and decides each one:
+//!
+//! - **possible**, with a *witness*: exact rational parameters whose TF has
+//!   that type, confirmed by exact root isolation ([`frf_type_at`]);
+//! - **impossible**, with a *certificate* ([`Proof`]) that an independent
+//!   checker re-verifies with exact arithmetic;
+//! - **unknown** when neither is found; never dropped.
+//!
+//! ```
+//! use mms::analysis::{analyze, SearchLimits, Status};
+//! let a2 = mms::Model::from_id("A2")?;
+//! let result = analyze(&a2, &SearchLimits::default());
+//! let possible: Vec<String> = result.types.iter()
+//!     .filter(|v| v.status == Status::Possible)
+//!     .map(|v| v.frf_type.to_string())
+//!     .collect();
+//! assert_eq!(possible, ["ARR", "RAR", "R"]); // the paper's Tab. 3
+//! assert!(result.types.iter().all(|v| v.status != Status::Unknown));
+//! # Ok::<(), mms::ModelError>(())
+//! ```
+
+mod frf_type;
+mod lp;
+mod prover;
+
+pub use frf_type::{
+    candidate_types, frf_type_at, frf_type_of, Feature, FrfType, ParseFrfTypeError, Token,
+};
+pub use prover::{
+    ConditionRule, Definiteness, FactorProof, OpenProof, Proof, RegionSample, SearchLimits,
+    SignCase, SignCondition, Substitution,
+};
+
+use crate::model::Model;
+use crate::tf::OMEGA;
+use poly::{Poly, Rat};
+use prover::Prover;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// The verdict on one candidate type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    /// Shown by a witness.
+    Possible,
+    /// Ruled out by a certificate.
+    Impossible,
+    /// Neither witnessed nor refuted by the search.
+    Unknown,
+}
+
+/// One candidate type and its verdict.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TypeVerdict {
+    /// The type.
+    #[serde(rename = "type", serialize_with = "ser_display")]
+    pub frf_type: FrfType,
+    /// Possible, impossible or unknown.
+    pub status: Status,
+    /// Parameters showing the type (possible types).
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "ser_opt_point"
+    )]
+    pub witness: Option<BTreeMap<String, Rat>>,
+    /// The proof that it cannot occur (impossible types).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub certificate: Option<Proof>,
+}
+
+/// A pole-zero cancellation: a factor of `Res(num, den)` that vanishes for
+/// some positive parameters, and the TF reduced on it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Cancellation {
+    /// The condition `factor = 0`.
+    #[serde(serialize_with = "ser_poly")]
+    pub condition: Poly,
+    /// Its parametrization.
+    pub substitution: Substitution,
+    /// The reduced TF on the condition, `(num)/(den)`.
+    pub reduced: String,
+    /// Reduced numerator on the condition.
+    #[serde(serialize_with = "ser_poly")]
+    pub num: Poly,
+    /// Reduced denominator on the condition.
+    #[serde(serialize_with = "ser_poly")]
+    pub den: Poly,
+}
+
+/// The analysis of one model.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ModelAnalysis {
+    /// The paper's ID for 3 masses, else the generic ID.
+    pub id: String,
+    /// The generic ID (`N3-g0-a1.0-s2.0`).
+    pub generic_id: String,
+    /// Number of masses.
+    pub masses: usize,
+    /// The gap.
+    pub gap: usize,
+    /// Actuator `[plus, minus]`.
+    pub actuator: [usize; 2],
+    /// Sensor `[plus, minus]`.
+    pub sensor: [usize; 2],
+    /// Numerator of the undamped TF in `Omega`.
+    #[serde(serialize_with = "ser_poly")]
+    pub numerator: Poly,
+    /// Denominator of the undamped TF in `Omega`.
+    #[serde(serialize_with = "ser_poly")]
+    pub denominator: Poly,
+    /// Every candidate type with its verdict: possible first.
+    pub types: Vec<TypeVerdict>,
+    /// Pole-zero cancellations.
+    pub pzc: Vec<Cancellation>,
+}
+
+impl ModelAnalysis {
+    /// The possible types, in the order of [`ModelAnalysis::types`].
+    pub fn possible(&self) -> Vec<&FrfType> {
+        self.with_status(Status::Possible)
+    }
+
+    /// The types left undecided.
+    pub fn unknown(&self) -> Vec<&FrfType> {
+        self.with_status(Status::Unknown)
+    }
+
+    fn with_status(&self, s: Status) -> Vec<&FrfType> {
+        self.types
+            .iter()
+            .filter(|v| v.status == s)
+            .map(|v| &v.frf_type)
+            .collect()
+    }
+}
+
+/// Decides every candidate FRF type of `model` (see the module docs).
+pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
+    let tf = model.undamped_tf();
+    let mut prover = Prover::new(model, tf.num.clone(), tf.den.clone());
+    prover.search(limits);
+    let top = prover.stratum(&[]);
+    let (a, r) = (top.num.degree(OMEGA), top.den.degree(OMEGA));
+    let mut candidates = candidate_types(a, r);
+    for t in prover.witnesses.keys() {
+        if !candidates.contains(t) {
+            candidates.push(t.clone());
+        }
+    }
+    let mut verdicts = Vec::new();
+    for t in candidates {
+        let proof = if prover.witnesses.contains_key(&t) {
+            None
+        } else {
+            prover.prove(&[], &t, limits)
+        };
+        let witness = prover.witnesses.get(&t).cloned();
+        let status = match (&witness, &proof) {
+            (Some(_), _) => Status::Possible,
+            (None, Some(_)) => Status::Impossible,
+            (None, None) => Status::Unknown,
+        };
+        verdicts.push(TypeVerdict {
+            frf_type: t,
+            status,
+            witness,
+            certificate: if status == Status::Impossible {
+                proof
+            } else {
+                None
+            },
+        });
+    }
+    let rank = |s: Status| match s {
+        Status::Possible => 0,
+        Status::Unknown => 1,
+        Status::Impossible => 2,
+    };
+    verdicts.sort_by_key(|v| rank(v.status)); // stable: keeps candidate order
+    let pzc = top
+        .factors
+        .iter()
+        .filter(|f| f.cancels && f.definite.is_none())
+        .filter_map(|f| {
+            let w = f.wall.clone()?;
+            let s = prover.stratum(std::slice::from_ref(&w));
+            Some(Cancellation {
+                condition: f.poly.clone(),
+                substitution: w,
+                reduced: format!("({})/({})", s.num, s.den),
+                num: s.num.clone(),
+                den: s.den.clone(),
+            })
+        })
+        .collect();
+    ModelAnalysis {
+        id: model.name(),
+        generic_id: model.id(),
+        masses: model.n_masses(),
+        gap: model.gap(),
+        actuator: [model.actuator().plus, model.actuator().minus],
+        sensor: [model.sensor().plus, model.sensor().minus],
+        numerator: tf.num,
+        denominator: tf.den,
+        types: verdicts,
+        pzc,
+    }
+}
+
+fn ser_poly<S: serde::Serializer>(p: &Poly, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&p.to_string())
+}
+
+fn ser_display<T: std::fmt::Display, S: serde::Serializer>(t: &T, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&t.to_string())
+}
+
+fn ser_opt_point<S: serde::Serializer>(
+    p: &Option<BTreeMap<String, Rat>>,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    match p {
+        Some(p) => prover::ser_point(p, s),
+        None => s.serialize_none(),
+    }
+}

@@ -1,0 +1,1327 @@
+//! The search for FRF types: witnesses for the possible ones, certificates
+//! for the impossible ones.
+//!
+//! The parameter space is cut into *strata*. The top stratum is the open
+//! positive orthant of the model's parameters. Its *critical polynomials*
+//! are the leading and trailing coefficients and discriminants (in `Omega`)
+//! of the square-free parts of `num` and `den`, and the resultants of every
+//! pair of parts: off their zero sets the number, multiplicity and order of
+//! the real roots cannot change (roots move continuously and can only meet,
+//! leave the real axis, cross 0 or escape to infinity where one of them
+//! vanishes). Each irreducible factor of a critical polynomial is either
+//! certified to keep one sign on the orthant, or it is a *wall* `alpha*x =
+//! beta` with `alpha, beta > 0`, whose zero set is the graph `x = beta/alpha`
+//! over the orthant of the other parameters: a lower-dimensional stratum,
+//! handled the same way after substituting `x`.
+//!
+//! A type is impossible on a stratum when it is impossible on its open part
+//! (off all walls) and on every wall. The open part is handled by counting
+//! (cancellations, multiplicities, Descartes' rule), by collocation
+//! (interlacing), by connectedness (regions between non-crossing walls each
+//! have one type, read off a sample point) or by sign conditions that the
+//! type imposes on the rational roots, refuted by a positive combination
+//! found by exact linear programming.
+
+use super::frf_type::{frf_type_at, Feature, FrfType};
+use super::lp::positive_combination;
+use crate::model::Model;
+use crate::tf::OMEGA;
+use poly::{discriminant, factor, gcd, resultant, square_free, Poly, Rat};
+use serde::Serialize;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+
+/// `var = beta / alpha`, with `alpha` and `beta` polynomials with positive
+/// coefficients in the remaining parameters (so `var > 0` on their orthant).
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize)]
+pub struct Substitution {
+    /// The parameter that is eliminated.
+    pub var: String,
+    /// Denominator, positive coefficients.
+    #[serde(serialize_with = "ser_poly")]
+    pub alpha: Poly,
+    /// Numerator, positive coefficients.
+    #[serde(serialize_with = "ser_poly")]
+    pub beta: Poly,
+}
+
+/// How a factor is shown to keep one sign on the positive orthant.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "method", rename_all = "snake_case")]
+pub enum Definiteness {
+    /// All coefficients have the same sign.
+    NoSubtraction,
+    /// `(sum of the variables [+ 1])^power * factor` has coefficients of one
+    /// sign (Polya); `affine` when the `+ 1` (homogenization) is used.
+    Polya {
+        /// The exponent.
+        power: u32,
+        /// Whether the multiplier is `(1 + sum of the variables)`.
+        affine: bool,
+    },
+    /// `sign * factor = a*x^2 + b*x + c` in `var` with `a` free of
+    /// subtraction and `4ac - b^2 > 0` (by `inner`), so
+    /// `4a * sign * factor = (2ax + b)^2 + (4ac - b^2) > 0`.
+    CompletedSquare {
+        /// The variable.
+        var: String,
+        /// Why `4ac - b^2 > 0`.
+        inner: Box<Definiteness>,
+    },
+}
+
+/// The role of a critical factor on a wall: why a type cannot occur there,
+/// or the proof on the wall.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum FactorProof {
+    /// The factor keeps the sign `sign` on the stratum.
+    Definite {
+        /// The factor.
+        #[serde(serialize_with = "ser_poly")]
+        factor: Poly,
+        /// +1 or -1.
+        sign: i32,
+        /// The definiteness argument.
+        definiteness: Definiteness,
+    },
+    /// On the wall a pole and a zero cancel (the factor divides a resultant
+    /// of a numerator part and a denominator part), but the type needs as
+    /// many resonances as the stratum has: it cannot occur there.
+    NeedsNoCancellation {
+        /// The factor.
+        #[serde(serialize_with = "ser_poly")]
+        factor: Poly,
+    },
+    /// The type needs a cancellation, and the wall gives none by itself;
+    /// where it meets a cancellation wall, that wall's proof covers it.
+    NeedsCancellation {
+        /// The factor.
+        #[serde(serialize_with = "ser_poly")]
+        factor: Poly,
+    },
+    /// The wall is a stratum of its own, with its own proof.
+    Wall {
+        /// The factor.
+        #[serde(serialize_with = "ser_poly")]
+        factor: Poly,
+        /// The parametrization of its zero set.
+        substitution: Substitution,
+        /// The proof on the wall.
+        proof: Box<Proof>,
+    },
+}
+
+/// A sign condition `sign(poly) > 0` (or `>= 0`) that a type forces.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SignCondition {
+    /// Why the type forces it.
+    pub rule: ConditionRule,
+    /// The condition as derived: `derived > 0` (or `>= 0`).
+    #[serde(serialize_with = "ser_poly")]
+    pub derived: Poly,
+    /// `derived = square^2 * positive * reduced` with `positive` free of
+    /// subtraction, so `reduced > 0` (resp. `>= 0`) follows.
+    #[serde(serialize_with = "ser_poly")]
+    pub square: Poly,
+    /// See `square`.
+    #[serde(serialize_with = "ser_poly")]
+    pub positive: Poly,
+    /// See `square`.
+    #[serde(serialize_with = "ser_poly")]
+    pub reduced: Poly,
+    /// Strict (`> 0`) or not (`>= 0`).
+    pub strict: bool,
+}
+
+/// The rule a [`SignCondition`] comes from. `part` indexes the linear
+/// parts of [`OpenProof::SignConditions`]; `rho` is that part's root
+/// `-b/a` of `a*Omega + b`, and `sa` the sign of `a`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "rule", rename_all = "snake_case")]
+pub enum ConditionRule {
+    /// The part takes a token: `rho > 0`, derived `-b*sa`.
+    RootPositive {
+        /// Linear part index.
+        part: usize,
+    },
+    /// The part is off the positive axis: `rho <= 0`, derived `b*sa`.
+    RootNotPositive {
+        /// Linear part index.
+        part: usize,
+    },
+    /// `rho_lower < rho_upper`: derived `sa_l*sa_u*(b_l*a_u - b_u*a_l)`.
+    RootOrder {
+        /// Part with the lower token.
+        lower: usize,
+        /// Part with the higher token.
+        upper: usize,
+    },
+    /// The sign of the `derivative`-th derivative `q` of the part `other`
+    /// (degree `d`, leading sign `sl`) at `rho`, given that `roots_above`
+    /// of its roots on the positive axis lie above `rho`. Derived:
+    /// `want * sa^((d-k) mod 2) * sum_j q_j (-b)^j a^(d-k-j)` with
+    /// `want = sl*(-1)^roots_above` for `k = 0`, and for `k >= 1` (all roots
+    /// of `other` real, `rho` below or above all of them)
+    /// `want = sl*(-1)^(d-k)` below, `sl` above.
+    SignAt {
+        /// The part of degree >= 2 (unique for its side and multiplicity).
+        #[serde(serialize_with = "ser_poly")]
+        other: Poly,
+        /// Linear part index.
+        part: usize,
+        /// `k`.
+        derivative: u32,
+        /// Roots of `other` above `rho`.
+        roots_above: u32,
+    },
+    /// All roots of `other` are tokens of the type, so real and simple off
+    /// the walls: `disc(other) > 0`.
+    RealRoots {
+        /// The part.
+        #[serde(serialize_with = "ser_poly")]
+        other: Poly,
+    },
+}
+
+/// One way of assigning the rational roots to the tokens of a type, and the
+/// refutation of the conditions it forces.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SignCase {
+    /// For each linear part (in the stratum's order), the token index it
+    /// takes, or `None` for a zero off the positive axis.
+    pub assignment: Vec<Option<usize>>,
+    /// The conditions.
+    pub conditions: Vec<SignCondition>,
+    /// Multipliers with nonnegative coefficients, one per condition:
+    /// `sum multipliers[i] * conditions[i].reduced` has no positive
+    /// coefficient, and a multiplier of a strict condition is nonzero.
+    #[serde(serialize_with = "ser_polys")]
+    pub multipliers: Vec<Poly>,
+}
+
+/// A sample point of a region and the type found there.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RegionSample {
+    /// The full parameter point.
+    #[serde(serialize_with = "ser_point")]
+    pub point: BTreeMap<String, Rat>,
+    /// Its type.
+    #[serde(rename = "type", serialize_with = "ser_display")]
+    pub frf_type: FrfType,
+}
+
+/// Why a type cannot occur on the open part of a stratum.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum OpenProof {
+    /// The type has more resonances than the stratum's denominator degree
+    /// (this covers the walls too: they only lose poles).
+    TooManyResonances {
+        /// Resonances of the type, with multiplicity.
+        resonances: u32,
+        /// Degree of the stratum's denominator.
+        degree: u32,
+    },
+    /// Off the walls no pole cancels, so the number of resonances is the
+    /// denominator degree; the type has fewer.
+    TooFewResonances {
+        /// Resonances of the type, with multiplicity.
+        resonances: u32,
+        /// Degree of the stratum's denominator.
+        degree: u32,
+    },
+    /// Off the walls the roots of each square-free part are simple and the
+    /// parts share no root: the multiplicities of the type do not match.
+    Multiplicity,
+    /// Collocated actuator and sensor: zeros and poles interlace, all
+    /// simple, no zero off the positive axis; the type does not.
+    Interlacing,
+    /// Descartes' rule of signs for the numerator part `part`, whose
+    /// coefficients in `Omega` have definite signs.
+    Descartes {
+        /// The part.
+        #[serde(serialize_with = "ser_poly")]
+        part: Poly,
+        /// Sign changes of its coefficient sequence.
+        sign_changes: u32,
+        /// Positive zeros the type needs from it.
+        needed: u32,
+    },
+    /// Off the walls the stratum falls into connected regions (between
+    /// walls `var = beta_i/alpha_i` that never cross); each has one type.
+    Regions {
+        /// The variable the walls are graphs in (none: no walls).
+        var: Option<String>,
+        /// The walls in increasing order.
+        walls: Vec<Substitution>,
+        /// `walls[i+1] - walls[i]` cross-multiplied: positive coefficients.
+        #[serde(serialize_with = "ser_polys")]
+        gaps: Vec<Poly>,
+        /// One sample per region, in increasing `var`.
+        samples: Vec<RegionSample>,
+    },
+    /// Every assignment of the rational roots to the type's tokens forces
+    /// contradictory sign conditions.
+    SignConditions {
+        /// The linear parts (`Omega` degree 1): numerator first.
+        #[serde(serialize_with = "ser_polys")]
+        linear_parts: Vec<Poly>,
+        /// One case per assignment.
+        cases: Vec<SignCase>,
+    },
+}
+
+/// A certificate that a type cannot occur on a stratum.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Proof {
+    /// The substitutions that define the stratum (empty: the whole orthant).
+    pub stratum: Vec<Substitution>,
+    /// The open part.
+    pub open: OpenProof,
+    /// Every irreducible critical factor of the stratum and its treatment
+    /// (empty for [`OpenProof::TooManyResonances`]).
+    pub factors: Vec<FactorProof>,
+}
+
+/// One stratum with the data the proofs need.
+#[derive(Clone, Debug)]
+pub(crate) struct Stratum {
+    pub subs: Vec<Substitution>,
+    pub vars: Vec<String>,
+    pub num: Poly,
+    pub den: Poly,
+    pub num_parts: Vec<(Poly, u32)>,
+    pub den_parts: Vec<(Poly, u32)>,
+    pub factors: Vec<CriticalFactor>,
+}
+
+#[derive(Clone, Debug)]
+pub(crate) struct CriticalFactor {
+    pub poly: Poly,
+    /// Divides a resultant of a numerator part and a denominator part.
+    pub cancels: bool,
+    /// Divides a leading or trailing coefficient.
+    pub boundary: bool,
+    pub definite: Option<(i32, Definiteness)>,
+    pub wall: Option<Substitution>,
+}
+
+impl Stratum {
+    fn key(&self) -> String {
+        let mut k: Vec<String> = self
+            .subs
+            .iter()
+            .map(|s| format!("{}={}/{}", s.var, s.beta, s.alpha))
+            .collect();
+        k.sort();
+        k.join(";")
+    }
+
+    fn vanishing(&self) -> impl Iterator<Item = &CriticalFactor> {
+        self.factors.iter().filter(|f| f.definite.is_none())
+    }
+
+    fn den_degree(&self) -> u32 {
+        self.den.degree(OMEGA)
+    }
+}
+
+/// Applies `x = beta/alpha` to `p` and clears the denominator with
+/// `alpha^deg_x(p)` (a positive factor).
+pub(crate) fn substitute(p: &Poly, s: &Substitution) -> Poly {
+    let d = p.degree(&s.var);
+    let coeffs = p.coeffs_in(&s.var);
+    let mut acc = Poly::zero();
+    for (k, c) in coeffs.iter().enumerate() {
+        if c.is_zero() {
+            continue;
+        }
+        let term = &(c * &s.beta.pow(k as u32)) * &s.alpha.pow(d - k as u32);
+        acc = &acc + &term;
+    }
+    acc
+}
+
+/// The full parameter point of a stratum point (undoing the substitutions).
+pub(crate) fn full_point(
+    subs: &[Substitution],
+    point: &BTreeMap<String, Rat>,
+) -> BTreeMap<String, Rat> {
+    let mut p = point.clone();
+    for s in subs.iter().rev() {
+        let a = s.alpha.eval(&p).expect("alpha in remaining vars");
+        let b = s.beta.eval(&p).expect("beta in remaining vars");
+        p.insert(s.var.clone(), &b / &a);
+    }
+    p
+}
+
+/// Sign-definiteness on the open positive orthant: no subtraction, or
+/// Polya's multiplier up to power 8.
+pub(crate) fn definiteness(f: &Poly) -> Option<(i32, Definiteness)> {
+    definiteness_rec(f, 2)
+}
+
+fn definiteness_rec(f: &Poly, depth: u32) -> Option<(i32, Definiteness)> {
+    if let Some(d) = polya(f) {
+        return Some(d);
+    }
+    if depth == 0 {
+        return None;
+    }
+    // Complete the square in a variable of degree 2.
+    for sign in [1, -1] {
+        let g = if sign == 1 { f.clone() } else { -f.clone() };
+        for x in g.vars() {
+            if g.degree(x) != 2 {
+                continue;
+            }
+            let c = g.coeffs_in(x);
+            if !c[2].all_coefs_positive() {
+                continue;
+            }
+            let inner = &(&c[2] * &c[0]).scale(&Rat::from(4)) - &(&c[1] * &c[1]);
+            if let Some((1, d)) = definiteness_rec(&inner, depth - 1) {
+                return Some((
+                    sign,
+                    Definiteness::CompletedSquare {
+                        var: x.clone(),
+                        inner: Box::new(d),
+                    },
+                ));
+            }
+        }
+    }
+    None
+}
+
+fn polya(f: &Poly) -> Option<(i32, Definiteness)> {
+    if f.all_coefs_positive() {
+        return Some((1, Definiteness::NoSubtraction));
+    }
+    if f.all_coefs_negative() {
+        return Some((-1, Definiteness::NoSubtraction));
+    }
+    let vars = f.vars().to_vec();
+    let homogeneous = f
+        .terms()
+        .iter()
+        .all(|t| t.exps.iter().sum::<u32>() == f.total_degree());
+    let mut sum = if homogeneous {
+        Poly::zero()
+    } else {
+        Poly::one()
+    };
+    for v in &vars {
+        sum = &sum + &Poly::var(v);
+    }
+    let mut acc = f.clone();
+    for power in 1..=8 {
+        acc = &acc * &sum;
+        if acc.num_terms() > 20_000 {
+            return None;
+        }
+        let affine = !homogeneous;
+        if acc.all_coefs_positive() {
+            return Some((1, Definiteness::Polya { power, affine }));
+        }
+        if acc.all_coefs_negative() {
+            return Some((-1, Definiteness::Polya { power, affine }));
+        }
+    }
+    None
+}
+
+/// `f = alpha*x - beta` with `alpha, beta` free of subtraction and of one
+/// sign, for the variable giving the smallest expressions.
+pub(crate) fn wall_of(f: &Poly, vars: &[String]) -> Option<Substitution> {
+    let mut best: Option<Substitution> = None;
+    for x in vars {
+        if f.degree(x) != 1 {
+            continue;
+        }
+        let c = f.coeffs_in(x);
+        let (a0, a1) = (&c[0], &c[1]);
+        let sub = if a1.all_coefs_positive() && a0.all_coefs_negative() {
+            Substitution {
+                var: x.clone(),
+                alpha: a1.clone(),
+                beta: -a0.clone(),
+            }
+        } else if a1.all_coefs_negative() && a0.all_coefs_positive() {
+            Substitution {
+                var: x.clone(),
+                alpha: -a1.clone(),
+                beta: a0.clone(),
+            }
+        } else {
+            continue;
+        };
+        let size = sub.alpha.num_terms() + sub.beta.num_terms();
+        if best
+            .as_ref()
+            .is_none_or(|b| size < b.alpha.num_terms() + b.beta.num_terms())
+        {
+            best = Some(sub);
+        }
+    }
+    best
+}
+
+fn omega_parts(p: &Poly) -> Vec<(Poly, u32)> {
+    let (_, parts) = square_free(p);
+    parts
+        .into_iter()
+        .filter(|(f, _)| f.degree(OMEGA) >= 1)
+        .collect()
+}
+
+/// Builds a stratum from the model's `num/den` and substitutions.
+pub(crate) fn build_stratum(
+    num0: &Poly,
+    den0: &Poly,
+    params: &[String],
+    subs: Vec<Substitution>,
+) -> Stratum {
+    let mut num = num0.clone();
+    let mut den = den0.clone();
+    for s in &subs {
+        num = substitute(&num, s);
+        den = substitute(&den, s);
+    }
+    let g = gcd(&num, &den);
+    if !g.is_constant() {
+        num = num.div_exact(&g).expect("gcd divides");
+        den = den.div_exact(&g).expect("gcd divides");
+    }
+    let num_parts = omega_parts(&num);
+    let den_parts = omega_parts(&den);
+    let eliminated: BTreeSet<&str> = subs.iter().map(|s| s.var.as_str()).collect();
+    let vars: Vec<String> = params
+        .iter()
+        .filter(|v| !eliminated.contains(v.as_str()))
+        .cloned()
+        .collect();
+    // Critical polynomials, with the roles of their factors.
+    let mut crit: Vec<(Poly, bool, bool)> = Vec::new();
+    let all: Vec<(&Poly, bool)> = num_parts
+        .iter()
+        .map(|(p, _)| (p, true))
+        .chain(den_parts.iter().map(|(p, _)| (p, false)))
+        .collect();
+    for (p, _) in &all {
+        crit.push((p.lead_in(OMEGA), false, true));
+        crit.push((p.subs(OMEGA, &Rat::ZERO), false, true));
+        if p.degree(OMEGA) >= 2 {
+            crit.push((discriminant(p, OMEGA), false, false));
+        }
+    }
+    for i in 0..all.len() {
+        for j in i + 1..all.len() {
+            let cancels = all[i].1 != all[j].1;
+            crit.push((resultant(all[i].0, all[j].0, OMEGA), cancels, false));
+        }
+    }
+    let mut factors: Vec<CriticalFactor> = Vec::new();
+    for (c, cancels, boundary) in crit {
+        for (f, _) in factor(&c).factors {
+            if let Some(existing) = factors.iter_mut().find(|x| x.poly == f) {
+                existing.cancels |= cancels;
+                existing.boundary |= boundary;
+                continue;
+            }
+            let definite = definiteness(&f);
+            let wall = if definite.is_none() {
+                wall_of(&f, &vars)
+            } else {
+                None
+            };
+            factors.push(CriticalFactor {
+                poly: f,
+                cancels,
+                boundary,
+                definite,
+                wall,
+            });
+        }
+    }
+    factors.sort_by(|a, b| {
+        a.poly
+            .total_degree()
+            .cmp(&b.poly.total_degree())
+            .then_with(|| a.poly.to_string().cmp(&b.poly.to_string()))
+    });
+    Stratum {
+        subs,
+        vars,
+        num,
+        den,
+        num_parts,
+        den_parts,
+        factors,
+    }
+}
+
+/// A small deterministic generator (xorshift64*) for sample points.
+pub(crate) struct Sampler(u64);
+
+impl Sampler {
+    pub(crate) fn new(seed: u64) -> Sampler {
+        Sampler(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+
+    fn next(&mut self) -> u64 {
+        let mut x = self.0;
+        x ^= x >> 12;
+        x ^= x << 25;
+        x ^= x >> 27;
+        self.0 = x;
+        x.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+
+    /// A positive rational spread log-uniformly over about `[1/64, 64]`,
+    /// with small numerator and denominator.
+    pub(crate) fn value(&mut self) -> Rat {
+        let e = (self.next() % 13) as i32 - 6;
+        let m = 8 + (self.next() % 8) as i64; // 8..15
+        Rat::new(m.into(), 8.into()) * Rat::from(2).pow(e)
+    }
+
+    pub(crate) fn point(&mut self, vars: &[String]) -> BTreeMap<String, Rat> {
+        vars.iter().map(|v| (v.clone(), self.value())).collect()
+    }
+}
+
+/// The search state of one model.
+pub(crate) struct Prover<'a> {
+    pub model: &'a Model,
+    pub num: Poly,
+    pub den: Poly,
+    pub params: Vec<String>,
+    strata: HashMap<String, Stratum>,
+    pub witnesses: BTreeMap<FrfType, BTreeMap<String, Rat>>,
+    memo: HashMap<(String, String), Option<Proof>>,
+}
+
+/// How far the search goes.
+#[derive(Clone, Debug)]
+pub struct SearchLimits {
+    /// Random samples on the whole orthant.
+    pub samples: usize,
+    /// Random samples on each wall.
+    pub wall_samples: usize,
+    /// Maximal number of nested walls.
+    pub max_depth: usize,
+    /// Maximal multiplier degree in the sign-condition LP.
+    pub multiplier_degree: u32,
+}
+
+impl Default for SearchLimits {
+    fn default() -> Self {
+        SearchLimits {
+            samples: 300,
+            wall_samples: 60,
+            max_depth: 4,
+            multiplier_degree: 2,
+        }
+    }
+}
+
+impl<'a> Prover<'a> {
+    pub(crate) fn new(model: &'a Model, num: Poly, den: Poly) -> Prover<'a> {
+        let params: Vec<String> = model.masses().into_iter().chain(model.springs()).collect();
+        Prover {
+            model,
+            num,
+            den,
+            params,
+            strata: HashMap::new(),
+            witnesses: BTreeMap::new(),
+            memo: HashMap::new(),
+        }
+    }
+
+    pub(crate) fn stratum(&mut self, subs: &[Substitution]) -> Stratum {
+        let probe = Stratum {
+            subs: subs.to_vec(),
+            vars: Vec::new(),
+            num: Poly::zero(),
+            den: Poly::zero(),
+            num_parts: Vec::new(),
+            den_parts: Vec::new(),
+            factors: Vec::new(),
+        };
+        let key = probe.key();
+        if let Some(s) = self.strata.get(&key) {
+            return s.clone();
+        }
+        let s = build_stratum(&self.num, &self.den, &self.params, subs.to_vec());
+        self.strata.insert(key, s.clone());
+        s
+    }
+
+    /// The type of the model at a full parameter point.
+    pub(crate) fn type_at(&self, point: &BTreeMap<String, Rat>) -> Option<FrfType> {
+        frf_type_at(&self.num, &self.den, OMEGA, point)
+    }
+
+    /// Keeps the simplest witness of each type (fewest digits).
+    fn record(&mut self, point: BTreeMap<String, Rat>) {
+        if let Some(t) = self.type_at(&point) {
+            self.offer(t, point);
+        }
+    }
+
+    fn offer(&mut self, t: FrfType, point: BTreeMap<String, Rat>) {
+        let height =
+            |p: &BTreeMap<String, Rat>| -> usize { p.values().map(|v| v.to_string().len()).sum() };
+        match self.witnesses.get(&t) {
+            Some(old) if height(old) <= height(&point) => {}
+            _ => {
+                self.witnesses.insert(t, point);
+            }
+        }
+    }
+
+    /// Samples the orthant and, recursively, every wall.
+    pub(crate) fn search(&mut self, limits: &SearchLimits) {
+        let mut visited = BTreeSet::new();
+        let mut rng = Sampler::new(0x5EED);
+        // The all-ones point first: simple witnesses where they exist.
+        let ones: BTreeMap<String, Rat> =
+            self.params.iter().map(|v| (v.clone(), Rat::ONE)).collect();
+        self.record(ones);
+        self.search_in(&[], limits, 0, &mut visited, &mut rng);
+    }
+
+    fn search_in(
+        &mut self,
+        subs: &[Substitution],
+        limits: &SearchLimits,
+        depth: usize,
+        visited: &mut BTreeSet<String>,
+        rng: &mut Sampler,
+    ) {
+        let s = self.stratum(subs);
+        if !visited.insert(s.key()) {
+            return;
+        }
+        let n = if depth == 0 {
+            limits.samples
+        } else {
+            limits.wall_samples
+        };
+        let ones: BTreeMap<String, Rat> = s.vars.iter().map(|v| (v.clone(), Rat::ONE)).collect();
+        self.record(full_point(subs, &ones));
+        for _ in 0..n {
+            let p = rng.point(&s.vars);
+            self.record(full_point(subs, &p));
+        }
+        if depth >= limits.max_depth {
+            return;
+        }
+        let walls: Vec<Substitution> = s.vanishing().filter_map(|f| f.wall.clone()).collect();
+        for w in walls {
+            let mut next = subs.to_vec();
+            next.push(w);
+            self.search_in(&next, limits, depth + 1, visited, rng);
+        }
+    }
+
+    /// A certificate that `t` occurs nowhere on the stratum `subs`, or `None`.
+    pub(crate) fn prove(
+        &mut self,
+        subs: &[Substitution],
+        t: &FrfType,
+        limits: &SearchLimits,
+    ) -> Option<Proof> {
+        let s = self.stratum(subs);
+        let key = (s.key(), t.to_string());
+        if let Some(p) = self.memo.get(&key) {
+            return p.clone();
+        }
+        let p = self.prove_uncached(&s, t, limits);
+        self.memo.insert(key, p.clone());
+        p
+    }
+
+    fn prove_uncached(&mut self, s: &Stratum, t: &FrfType, limits: &SearchLimits) -> Option<Proof> {
+        let r_s = s.den_degree();
+        let r_t = t.resonances();
+        if r_t > r_s {
+            return Some(Proof {
+                stratum: s.subs.clone(),
+                open: OpenProof::TooManyResonances {
+                    resonances: r_t,
+                    degree: r_s,
+                },
+                factors: Vec::new(),
+            });
+        }
+        let open = self.open_proof(s, t, limits)?;
+        let lc_definite = s
+            .factors
+            .iter()
+            .all(|f| !f.boundary || f.definite.is_some());
+        let mut factors = Vec::new();
+        for f in &s.factors {
+            if let Some((sign, d)) = &f.definite {
+                factors.push(FactorProof::Definite {
+                    factor: f.poly.clone(),
+                    sign: *sign,
+                    definiteness: d.clone(),
+                });
+                continue;
+            }
+            if lc_definite && f.cancels && r_t == r_s {
+                factors.push(FactorProof::NeedsNoCancellation {
+                    factor: f.poly.clone(),
+                });
+                continue;
+            }
+            if lc_definite && !f.cancels && r_t < r_s {
+                factors.push(FactorProof::NeedsCancellation {
+                    factor: f.poly.clone(),
+                });
+                continue;
+            }
+            let w = f.wall.clone()?;
+            if s.subs.len() >= limits.max_depth {
+                return None;
+            }
+            let mut next = s.subs.clone();
+            next.push(w.clone());
+            let proof = self.prove(&next, t, limits)?;
+            factors.push(FactorProof::Wall {
+                factor: f.poly.clone(),
+                substitution: w,
+                proof: Box::new(proof),
+            });
+        }
+        Some(Proof {
+            stratum: s.subs.clone(),
+            open,
+            factors,
+        })
+    }
+
+    fn open_proof(&mut self, s: &Stratum, t: &FrfType, limits: &SearchLimits) -> Option<OpenProof> {
+        let r_s = s.den_degree();
+        let r_t = t.resonances();
+        if r_t < r_s {
+            return Some(OpenProof::TooFewResonances {
+                resonances: r_t,
+                degree: r_s,
+            });
+        }
+        if !multiplicities_fit(s, t) {
+            return Some(OpenProof::Multiplicity);
+        }
+        if self.model.is_collocated() && !t.is_alternating() {
+            return Some(OpenProof::Interlacing);
+        }
+        if let Some(p) = descartes(s, t) {
+            return Some(p);
+        }
+        if let Some((regions, types)) = self.regions(s) {
+            if !types.contains(t) {
+                return Some(regions);
+            }
+            return None;
+        }
+        sign_conditions(s, t, limits)
+    }
+
+    /// The regions of the open part when the walls never cross, with their
+    /// types.
+    fn regions(&mut self, s: &Stratum) -> Option<(OpenProof, Vec<FrfType>)> {
+        let vanishing: Vec<&CriticalFactor> = s.vanishing().collect();
+        let ones: BTreeMap<String, Rat> = s.vars.iter().map(|v| (v.clone(), Rat::ONE)).collect();
+        if vanishing.is_empty() {
+            let point = full_point(&s.subs, &ones);
+            let t = self.type_at(&point)?;
+            let proof = OpenProof::Regions {
+                var: None,
+                walls: Vec::new(),
+                gaps: Vec::new(),
+                samples: vec![RegionSample {
+                    point,
+                    frf_type: t.clone(),
+                }],
+            };
+            return Some((proof, vec![t]));
+        }
+        // All walls in one variable, pairwise ordered everywhere.
+        'var: for x in &s.vars {
+            let mut walls: Vec<Substitution> = Vec::new();
+            for f in &vanishing {
+                match wall_in(&f.poly, x) {
+                    Some(w) => walls.push(w),
+                    None => continue 'var,
+                }
+            }
+            // Order by the sign of the cross difference.
+            let mut order_ok = true;
+            walls.sort_by(|a, b| {
+                let d = &(&a.beta * &b.alpha) - &(&b.beta * &a.alpha); // sign of a - b
+                if d.all_coefs_negative() {
+                    std::cmp::Ordering::Less
+                } else if d.all_coefs_positive() {
+                    std::cmp::Ordering::Greater
+                } else {
+                    order_ok = false;
+                    std::cmp::Ordering::Equal
+                }
+            });
+            if !order_ok {
+                continue;
+            }
+            let mut gaps = Vec::new();
+            for w in walls.windows(2) {
+                let d = &(&w[1].beta * &w[0].alpha) - &(&w[0].beta * &w[1].alpha);
+                if !d.all_coefs_positive() {
+                    continue 'var;
+                }
+                gaps.push(d);
+            }
+            let rest: BTreeMap<String, Rat> = ones
+                .iter()
+                .filter(|(k, _)| *k != x)
+                .map(|(k, v)| (k.clone(), v.clone()))
+                .collect();
+            let values: Vec<Rat> = walls
+                .iter()
+                .map(|w| Some(&w.beta.eval(&rest).ok()? / &w.alpha.eval(&rest).ok()?))
+                .collect::<Option<Vec<Rat>>>()?;
+            let mut xs = vec![&values[0] / &Rat::from(2)];
+            for v in values.windows(2) {
+                xs.push(&(&v[0] + &v[1]) / &Rat::from(2));
+            }
+            xs.push(&values[values.len() - 1] * &Rat::from(2));
+            let mut samples = Vec::new();
+            let mut types = Vec::new();
+            for xv in xs {
+                let mut p = rest.clone();
+                p.insert(x.clone(), xv);
+                let point = full_point(&s.subs, &p);
+                let t = self.type_at(&point)?;
+                self.witnesses
+                    .entry(t.clone())
+                    .or_insert_with(|| point.clone());
+                types.push(t.clone());
+                samples.push(RegionSample { point, frf_type: t });
+            }
+            let proof = OpenProof::Regions {
+                var: Some(x.clone()),
+                walls,
+                gaps,
+                samples,
+            };
+            return Some((proof, types));
+        }
+        None
+    }
+}
+
+/// `f = alpha*x - beta` in the given variable with `alpha, beta` free of
+/// subtraction and of one sign.
+fn wall_in(f: &Poly, x: &str) -> Option<Substitution> {
+    wall_of(f, &[x.to_string()])
+}
+
+/// Whether the multiplicities of `t` can be those of the open part of `s`.
+fn multiplicities_fit(s: &Stratum, t: &FrfType) -> bool {
+    let mut den_need: Vec<u32> = s
+        .den_parts
+        .iter()
+        .flat_map(|(p, m)| std::iter::repeat_n(*m, p.degree(OMEGA) as usize))
+        .collect();
+    let mut den_have: Vec<u32> = t
+        .tokens
+        .iter()
+        .filter(|k| k.feature == Feature::Resonance)
+        .map(|k| k.multiplicity)
+        .collect();
+    den_need.sort();
+    den_have.sort();
+    if den_need != den_have {
+        return false;
+    }
+    let mut num_avail: Vec<u32> = s
+        .num_parts
+        .iter()
+        .flat_map(|(p, m)| std::iter::repeat_n(*m, p.degree(OMEGA) as usize))
+        .collect();
+    let total_avail = num_avail.len();
+    let mut used = 0;
+    for k in t
+        .tokens
+        .iter()
+        .filter(|k| k.feature == Feature::Antiresonance)
+    {
+        match num_avail.iter().position(|m| *m == k.multiplicity) {
+            Some(i) => {
+                num_avail.remove(i);
+                used += 1;
+            }
+            None => return false,
+        }
+    }
+    // Without (nm) every zero is an antiresonance; with it, some is not.
+    if t.nonminimum_phase {
+        used < total_avail
+    } else {
+        used == total_avail
+    }
+}
+
+/// Descartes' rule for a numerator part that alone supplies the type's
+/// antiresonances of its multiplicity.
+fn descartes(s: &Stratum, t: &FrfType) -> Option<OpenProof> {
+    for (p, m) in &s.num_parts {
+        if s.num_parts.iter().filter(|(_, k)| k == m).count() != 1 {
+            continue;
+        }
+        let mut signs = Vec::new();
+        for c in p.coeffs_in(OMEGA).iter().rev() {
+            if c.is_zero() {
+                continue;
+            }
+            if c.all_coefs_positive() {
+                signs.push(1);
+            } else if c.all_coefs_negative() {
+                signs.push(-1);
+            } else {
+                signs.clear();
+                break;
+            }
+        }
+        if signs.is_empty() {
+            continue;
+        }
+        let v = signs.windows(2).filter(|w| w[0] != w[1]).count() as u32;
+        let needed = t
+            .tokens
+            .iter()
+            .filter(|k| k.feature == Feature::Antiresonance && k.multiplicity == *m)
+            .count() as u32;
+        if needed > v || (v - needed) % 2 == 1 {
+            return Some(OpenProof::Descartes {
+                part: p.clone(),
+                sign_changes: v,
+                needed,
+            });
+        }
+    }
+    None
+}
+
+/// Writes `c` as `square^2 * positive * reduced` dropping factors whose
+/// sign is known (even powers, subtraction-free factors).
+pub(crate) fn reduce_condition(c: &Poly) -> (Poly, Poly, Poly) {
+    let f = factor(c);
+    let mut square = Poly::one();
+    let mut positive = Poly::constant(f.unit.abs());
+    let mut reduced = Poly::constant(Rat::from(f.unit.signum() as i64));
+    for (g, e) in &f.factors {
+        let half = e / 2;
+        if half > 0 {
+            square = &square * &g.pow(half);
+        }
+        if e % 2 == 1 {
+            if g.all_coefs_positive() {
+                positive = &positive * g;
+            } else if g.all_coefs_negative() {
+                positive = &positive * &(-g.clone());
+                reduced = -reduced;
+            } else {
+                reduced = &reduced * g;
+            }
+        }
+    }
+    (square, positive, reduced)
+}
+
+struct LinearPart {
+    poly: Poly,
+    numerator: bool,
+    multiplicity: u32,
+}
+
+/// Sign conditions from the rational roots, refuted per assignment.
+fn sign_conditions(s: &Stratum, t: &FrfType, limits: &SearchLimits) -> Option<OpenProof> {
+    let linear: Vec<LinearPart> = s
+        .num_parts
+        .iter()
+        .map(|(p, m)| (p, m, true))
+        .chain(s.den_parts.iter().map(|(p, m)| (p, m, false)))
+        .filter(|(p, _, _)| p.degree(OMEGA) == 1)
+        .map(|(p, m, n)| LinearPart {
+            poly: p.clone(),
+            numerator: n,
+            multiplicity: *m,
+        })
+        .collect();
+    if linear.is_empty() {
+        return None;
+    }
+    let feature = |n: bool| {
+        if n {
+            Feature::Antiresonance
+        } else {
+            Feature::Resonance
+        }
+    };
+    // Enumerate assignments: each linear part to a token of its side and
+    // multiplicity (distinct), or to "off the positive axis" (numerator, nm).
+    let mut assignments: Vec<Vec<Option<usize>>> = vec![Vec::new()];
+    for l in &linear {
+        let mut next = Vec::new();
+        for a in &assignments {
+            for (i, k) in t.tokens.iter().enumerate() {
+                if k.feature == feature(l.numerator)
+                    && k.multiplicity == l.multiplicity
+                    && !a.contains(&Some(i))
+                {
+                    let mut b = a.clone();
+                    b.push(Some(i));
+                    next.push(b);
+                }
+            }
+            if l.numerator && t.nonminimum_phase {
+                let mut b = a.clone();
+                b.push(None);
+                next.push(b);
+            }
+        }
+        assignments = next;
+    }
+    let mut cases = Vec::new();
+    for a in assignments {
+        let conditions = conditions_for(s, t, &linear, &a)?;
+        let reduced: Vec<(Poly, bool)> = conditions
+            .iter()
+            .map(|c| (c.reduced.clone(), c.strict))
+            .collect();
+        let found = positive_combination(&reduced, &s.vars, limits.multiplier_degree);
+        let multipliers = found?;
+        cases.push(SignCase {
+            assignment: a,
+            conditions,
+            multipliers,
+        });
+    }
+    Some(OpenProof::SignConditions {
+        linear_parts: linear.iter().map(|l| l.poly.clone()).collect(),
+        cases,
+    })
+}
+
+fn condition(rule: ConditionRule, derived: Poly, strict: bool) -> SignCondition {
+    let (square, positive, reduced) = reduce_condition(&derived);
+    SignCondition {
+        rule,
+        derived,
+        square,
+        positive,
+        reduced,
+        strict,
+    }
+}
+
+/// The sign of a polynomial that must be definite, or `None`.
+fn sign_of(p: &Poly) -> Option<i32> {
+    if p.all_coefs_positive() {
+        Some(1)
+    } else if p.all_coefs_negative() {
+        Some(-1)
+    } else {
+        None
+    }
+}
+
+/// `q(rho) * a^deg(q)` for the root `rho = -b/a` of `l = a*Omega + b`.
+pub(crate) fn eval_at_root(q: &Poly, l: &Poly) -> Poly {
+    let c = l.coeffs_in(OMEGA);
+    let (b, a) = (&c[0], &c[1]);
+    let d = q.degree(OMEGA);
+    let mut acc = Poly::zero();
+    for (k, qk) in q.coeffs_in(OMEGA).iter().enumerate() {
+        if qk.is_zero() {
+            continue;
+        }
+        let term = &(qk * &(-b.clone()).pow(k as u32)) * &a.pow(d - k as u32);
+        acc = &acc + &term;
+    }
+    acc
+}
+
+/// The conditions one assignment forces; `None` when the assignment is
+/// inconsistent with the parts (then it needs no refutation... but we only
+/// skip what the counting already excludes, so it is treated as unprovable).
+fn conditions_for(
+    s: &Stratum,
+    t: &FrfType,
+    linear: &[LinearPart],
+    a: &[Option<usize>],
+) -> Option<Vec<SignCondition>> {
+    let mut out = Vec::new();
+    let lead = |l: &LinearPart| sign_of(&l.poly.coeffs_in(OMEGA)[1]);
+    for (i, l) in linear.iter().enumerate() {
+        let sa = lead(l)?;
+        let b = l.poly.coeffs_in(OMEGA)[0].clone();
+        match a[i] {
+            Some(_) => {
+                // rho = -b/a > 0
+                let derived = (-b).scale(&Rat::from(sa as i64));
+                out.push(condition(
+                    ConditionRule::RootPositive { part: i },
+                    derived,
+                    true,
+                ));
+            }
+            None => {
+                let derived = b.scale(&Rat::from(sa as i64));
+                out.push(condition(
+                    ConditionRule::RootNotPositive { part: i },
+                    derived,
+                    false,
+                ));
+            }
+        }
+    }
+    // Order between assigned linear parts.
+    for i in 0..linear.len() {
+        for j in 0..linear.len() {
+            let (Some(ti), Some(tj)) = (a[i], a[j]) else {
+                continue;
+            };
+            if ti >= tj {
+                continue;
+            }
+            let (ci, cj) = (
+                linear[i].poly.coeffs_in(OMEGA),
+                linear[j].poly.coeffs_in(OMEGA),
+            );
+            // rho_j - rho_i = (b_i a_j - b_j a_i) / (a_i a_j)
+            let d = &(&ci[0] * &cj[1]) - &(&cj[0] * &ci[1]);
+            let sign = lead(&linear[i])? * lead(&linear[j])?;
+            out.push(condition(
+                ConditionRule::RootOrder { lower: i, upper: j },
+                d.scale(&Rat::from(sign as i64)),
+                true,
+            ));
+        }
+    }
+    // Position of each assigned linear root relative to the one nonlinear
+    // part of each side and multiplicity.
+    let groups: Vec<(&Poly, bool, u32)> = s
+        .num_parts
+        .iter()
+        .map(|(p, m)| (p, true, *m))
+        .chain(s.den_parts.iter().map(|(p, m)| (p, false, *m)))
+        .filter(|(p, _, _)| p.degree(OMEGA) >= 2)
+        .collect();
+    for (o, numerator, m) in &groups {
+        if groups
+            .iter()
+            .filter(|(_, n2, m2)| n2 == numerator && m2 == m)
+            .count()
+            != 1
+        {
+            continue;
+        }
+        let feat = if *numerator {
+            Feature::Antiresonance
+        } else {
+            Feature::Resonance
+        };
+        // The tokens of o: those of its side and multiplicity not taken by
+        // linear parts.
+        let taken: BTreeSet<usize> = a.iter().flatten().copied().collect();
+        let slots: Vec<usize> = t
+            .tokens
+            .iter()
+            .enumerate()
+            .filter(|(i, k)| k.feature == feat && k.multiplicity == *m && !taken.contains(i))
+            .map(|(i, _)| i)
+            .collect();
+        let d = o.degree(OMEGA);
+        if slots.len() as u32 > d {
+            return None;
+        }
+        let real_rooted = slots.len() as u32 == d;
+        if real_rooted {
+            // d real simple roots (off the walls): positive discriminant.
+            out.push(condition(
+                ConditionRule::RealRoots {
+                    other: (*o).clone(),
+                },
+                discriminant(o, OMEGA),
+                true,
+            ));
+        }
+        let Some(slc) = sign_of(&o.lead_in(OMEGA)) else {
+            continue;
+        };
+        for (i, l) in linear.iter().enumerate() {
+            let Some(ti) = a[i] else { continue };
+            let above = slots.iter().filter(|&&k| k > ti).count() as u32;
+            let sa = lead(l)?;
+            let sgn = slc
+                * if above.is_multiple_of(2) { 1 } else { -1 }
+                * if d.is_multiple_of(2) { 1 } else { sa };
+            let derived = eval_at_root(o, &l.poly).scale(&Rat::from(sgn as i64));
+            out.push(condition(
+                ConditionRule::SignAt {
+                    other: (*o).clone(),
+                    part: i,
+                    derivative: 0,
+                    roots_above: above,
+                },
+                derived,
+                true,
+            ));
+            if real_rooted && (above == d || above == 0) {
+                let mut q = (*o).clone();
+                for k in 1..d {
+                    q = q.derivative(OMEGA);
+                    let dk = d - k;
+                    let want = slc * if above == d && dk % 2 == 1 { -1 } else { 1 };
+                    let sgn = want * if dk % 2 == 0 { 1 } else { sa };
+                    let derived = eval_at_root(&q, &l.poly).scale(&Rat::from(sgn as i64));
+                    out.push(condition(
+                        ConditionRule::SignAt {
+                            other: (*o).clone(),
+                            part: i,
+                            derivative: k,
+                            roots_above: above,
+                        },
+                        derived,
+                        true,
+                    ));
+                }
+            }
+        }
+    }
+    Some(out)
+}
+
+fn ser_poly<S: serde::Serializer>(p: &Poly, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&p.to_string())
+}
+
+fn ser_polys<S: serde::Serializer>(p: &[Poly], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_seq(p.iter().map(|x| x.to_string()))
+}
+
+pub(crate) fn ser_point<S: serde::Serializer>(
+    p: &BTreeMap<String, Rat>,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    s.collect_map(p.iter().map(|(k, v)| (k, v.to_string())))
+}
+
+fn ser_display<T: std::fmt::Display, S: serde::Serializer>(t: &T, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&t.to_string())
+}
