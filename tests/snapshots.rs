@@ -56,3 +56,23 @@ fn enumerate_tables() {
         );
     }
 }
+
+/// Tab. 3: the possible types, similar systems and the number of certified
+/// impossible candidates per model.
+#[test]
+fn analyze_three_masses_tab3() {
+    for format in ["table", "md", "tex"] {
+        snap!(
+            format!("analyze_n3_{format}"),
+            mms(&["analyze", "--masses", "3", "--format", format])
+        );
+    }
+}
+
+/// Two verdicts written out: a sign-condition proof the paper gives by hand
+/// (B2 cannot show RAAR, Sec. 4.3.7) and a witness.
+#[test]
+fn prove_derivations() {
+    snap!("prove_b2_raar_md", mms(&["prove", "B2", "RAAR"]));
+    snap!("prove_b2_a2rr_md", mms(&["prove", "B2", "A^2RR"]));
+}

@@ -78,6 +78,17 @@ enum Command {
         #[arg(long, value_enum, default_value_t = TableFormat3::Table)]
         format: TableFormat3,
     },
+    /// Write out the derivation of one verdict: witness or certificate (eqs. 22-31 style).
+    Prove {
+        /// Model ID (paper ID for 3 masses, or generic).
+        #[arg(value_name = "ID")]
+        id: String,
+        /// FRF type, e.g. ARR, A^2RR, "RR (nm)", C.
+        #[arg(value_name = "TYPE")]
+        frf_type: String,
+        #[arg(long, value_enum, default_value_t = ReportFormat::Md)]
+        format: ReportFormat,
+    },
     /// The full study of N masses as one report (default: the paper's 3 masses).
     Study {
         /// Number of masses.
@@ -192,6 +203,29 @@ fn run(cli: Cli) -> Result<(), String> {
         Command::Analyze { selection, format } => {
             let models = select(&selection)?;
             output::emit(None, &analyze::run(&models, format)?)
+        }
+        Command::Prove {
+            id,
+            frf_type,
+            format,
+        } => {
+            let model = mms::Model::from_id(&id).map_err(|e| e.to_string())?;
+            let t: mms::analysis::FrfType = frf_type
+                .parse()
+                .map_err(|e: mms::analysis::ParseFrfTypeError| e.to_string())?;
+            let a = mms::analysis::analyze(&model, &mms::analysis::SearchLimits::default());
+            let fmt = match format {
+                ReportFormat::Md => mms::analysis::ExplainFormat::Markdown,
+                ReportFormat::Tex => mms::analysis::ExplainFormat::Latex,
+            };
+            let text = mms::analysis::explain(&a, &t, fmt).ok_or_else(|| {
+                format!(
+                    "type {t} is not a candidate of {id}: its TF has numerator degree {} and denominator degree {} in Omega",
+                    a.numerator.degree("Omega"),
+                    a.denominator.degree("Omega")
+                )
+            })?;
+            output::emit(None, &text)
         }
         Command::Algebra { masses, format } => output::emit(None, &algebra::run(masses, format)?),
         Command::Study {

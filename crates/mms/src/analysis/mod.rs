@@ -22,10 +22,12 @@
 //! # Ok::<(), mms::ModelError>(())
 //! ```
 
+mod explain;
 mod frf_type;
 mod lp;
 mod prover;
 
+pub use explain::{explain, ExplainFormat};
 pub use frf_type::{
     candidate_types, frf_type_at, frf_type_of, Feature, FrfType, ParseFrfTypeError, Token,
 };

@@ -1,0 +1,337 @@
+//! A verdict written out for a reader: the witness and its roots, or the
+//! certificate as a derivation in the style of the paper's eqs. (22)-(31).
+
+use super::prover::{ConditionRule, Definiteness, FactorProof, OpenProof, Proof, Substitution};
+use super::{FrfType, ModelAnalysis, Status};
+use crate::render::{render_poly, RenderOptions};
+use crate::tf::OMEGA;
+use poly::{real_roots, Poly, Rat, UPoly};
+use std::fmt::Write;
+
+/// Markdown (inline LaTeX) or a LaTeX fragment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExplainFormat {
+    /// Markdown with `$...$` math.
+    Markdown,
+    /// LaTeX.
+    Latex,
+}
+
+struct W {
+    latex: bool,
+    out: String,
+}
+
+impl W {
+    fn poly(&self, p: &Poly) -> String {
+        if self.latex {
+            format!("${}$", render_poly(p, OMEGA, &RenderOptions::latex()))
+        } else {
+            render_poly(p, OMEGA, &RenderOptions::markdown())
+        }
+    }
+
+    fn heading(&mut self, level: usize, s: &str) {
+        if self.latex {
+            let cmd = ["section", "subsection", "subsubsection", "paragraph"][level.min(3)];
+            let _ = writeln!(self.out, "\\{cmd}*{{{s}}}\n");
+        } else {
+            let _ = writeln!(self.out, "{} {s}\n", "#".repeat(level + 1));
+        }
+    }
+
+    fn para(&mut self, s: &str) {
+        let _ = writeln!(self.out, "{s}\n");
+    }
+
+    fn item(&mut self, depth: usize, s: &str) {
+        if self.latex {
+            let _ = writeln!(
+                self.out,
+                "{}\\textbullet\\ {s}\\\\",
+                "\\quad ".repeat(depth)
+            );
+        } else {
+            let _ = writeln!(self.out, "{}- {s}", "  ".repeat(depth));
+        }
+    }
+
+    fn sub(&self, s: &Substitution) -> String {
+        let p = &Poly::var(&s.var) * &s.alpha;
+        format!("{} = {}", self.poly(&p), self.poly(&s.beta))
+    }
+}
+
+/// Writes out the verdict on `t` for `analysis`' model; `None` when `t` is
+/// not among its candidate types.
+///
+/// ```
+/// use mms::analysis::{analyze, explain, ExplainFormat, SearchLimits};
+/// let a = analyze(&mms::Model::from_id("A2")?, &SearchLimits::default());
+/// let text = explain(&a, &"RRA".parse().unwrap(), ExplainFormat::Markdown).unwrap();
+/// assert!(text.contains("impossible"));
+/// assert!(text.contains("multipliers"));
+/// # Ok::<(), mms::ModelError>(())
+/// ```
+pub fn explain(analysis: &ModelAnalysis, t: &FrfType, format: ExplainFormat) -> Option<String> {
+    let v = analysis.types.iter().find(|v| &v.frf_type == t)?;
+    let mut w = W {
+        latex: format == ExplainFormat::Latex,
+        out: String::new(),
+    };
+    w.heading(0, &format!("Model {}: FRF type {}", analysis.id, t));
+    let (num, den) = (w.poly(&analysis.numerator), w.poly(&analysis.denominator));
+    w.para(&format!(
+        "Masses {}, gap {}, actuator {}-{}, sensor {}-{}. Undamped TF in Omega = w^2: numerator {num}, denominator {den}.",
+        analysis.masses,
+        analysis.gap,
+        analysis.actuator[0],
+        analysis.actuator[1],
+        analysis.sensor[0],
+        analysis.sensor[1],
+    ));
+    match v.status {
+        Status::Possible => {
+            let p = v.witness.as_ref()?;
+            w.para(&format!(
+                "Verdict: **possible**. Witness (exact): {}.",
+                point_text(p)
+            ));
+            let mut n = analysis.numerator.clone();
+            let mut d = analysis.denominator.clone();
+            for (k, x) in p {
+                n = n.subs(k, x);
+                d = d.subs(k, x);
+            }
+            let nu = UPoly::from_poly(&n, OMEGA).map(|x| x.1);
+            let du = UPoly::from_poly(&d, OMEGA).map(|x| x.1);
+            if let (Some(nu), Some(du)) = (nu, du) {
+                let g = nu.gcd(&du);
+                if !g.is_constant() {
+                    w.para(&format!(
+                        "Pole-zero cancellation: num and den share {}.",
+                        w.poly(&g.to_poly(OMEGA))
+                    ));
+                }
+                let roots = |u: &UPoly| -> String {
+                    let r: Vec<String> = real_roots(u)
+                        .iter()
+                        .map(|x| format!("{:.6}", x.to_f64()))
+                        .collect();
+                    if r.is_empty() {
+                        "none".into()
+                    } else {
+                        r.join(", ")
+                    }
+                };
+                w.para(&format!(
+                    "Real zeros of num (isolated exactly, shown rounded): {}; real zeros of den: {}.",
+                    roots(&nu),
+                    roots(&du)
+                ));
+            }
+        }
+        Status::Impossible => {
+            w.para("Verdict: **impossible** on the whole positive orthant. The proof cuts the parameter space into strata; on each, the open part (off its walls) and every wall are covered.");
+            proof(&mut w, v.certificate.as_ref()?, 1);
+        }
+        Status::Unknown => {
+            w.para("Verdict: **unknown**: neither a witness nor a certificate was found.");
+        }
+    }
+    Some(w.out)
+}
+
+fn point_text(p: &std::collections::BTreeMap<String, Rat>) -> String {
+    p.iter()
+        .map(|(k, v)| format!("{k} = {v}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn proof(w: &mut W, p: &Proof, level: usize) {
+    let where_ = if p.stratum.is_empty() {
+        "the open positive orthant".to_string()
+    } else {
+        let subs: Vec<String> = p.stratum.iter().map(|s| w.sub(s)).collect();
+        format!("the wall {}", subs.join(", "))
+    };
+    w.heading(level, &format!("On {where_}"));
+    open(w, &p.open);
+    if !p.factors.is_empty() {
+        w.para("Critical factors (leading and trailing coefficients, discriminants, resultants of the parts):");
+        for f in &p.factors {
+            match f {
+                FactorProof::Definite {
+                    factor,
+                    sign,
+                    definiteness,
+                } => {
+                    let s = format!(
+                        "{} {} 0 for all positive parameters: {}",
+                        w.poly(factor),
+                        if *sign > 0 { ">" } else { "<" },
+                        definite_text(definiteness)
+                    );
+                    w.item(0, &s);
+                }
+                FactorProof::NeedsNoCancellation { factor } => {
+                    let s = format!(
+                        "{} = 0 cancels a pole, but the type needs every pole: not there.",
+                        w.poly(factor)
+                    );
+                    w.item(0, &s);
+                }
+                FactorProof::NeedsCancellation { factor } => {
+                    let s = format!(
+                        "{} = 0 cancels no pole, but the type needs a cancellation: covered by the cancellation walls.",
+                        w.poly(factor)
+                    );
+                    w.item(0, &s);
+                }
+                FactorProof::Wall {
+                    factor,
+                    substitution,
+                    ..
+                } => {
+                    let s = format!(
+                        "{} = 0 is the wall {}: see below.",
+                        w.poly(factor),
+                        w.sub(substitution)
+                    );
+                    w.item(0, &s);
+                }
+            }
+        }
+        w.out.push('\n');
+        for f in &p.factors {
+            if let FactorProof::Wall { proof: child, .. } = f {
+                proof(w, child, level + 1);
+            }
+        }
+    }
+}
+
+fn definite_text(d: &Definiteness) -> String {
+    match d {
+        Definiteness::NoSubtraction => "no subtraction (all coefficients of one sign)".into(),
+        Definiteness::Polya { power, affine } => format!(
+            "Polya: multiplied by ({}sum of the variables)^{power} all coefficients have one sign",
+            if *affine { "1 + " } else { "" }
+        ),
+        Definiteness::CompletedSquare { var, inner } => format!(
+            "completing the square in {var}: 4a*f = (2a*{var} + b)^2 + (4ac - b^2) with 4ac - b^2 > 0 by {}",
+            definite_text(inner)
+        ),
+    }
+}
+
+fn open(w: &mut W, o: &OpenProof) {
+    match o {
+        OpenProof::TooManyResonances { resonances, degree } => w.para(&format!(
+            "The type has {resonances} resonances, the denominator only degree {degree} here (and less on any wall)."
+        )),
+        OpenProof::TooFewResonances { resonances, degree } => w.para(&format!(
+            "Off the walls no pole cancels, so there are {degree} resonances; the type has {resonances}."
+        )),
+        OpenProof::Multiplicity => w.para(
+            "Off the walls the roots of each square-free part are simple and the parts share none: the type's multiplicities (or its zeros off the positive axis) do not match.",
+        ),
+        OpenProof::Interlacing => w.para(
+            "Actuator and sensor are collocated: the receptance is a sum of modal terms with positive residues, so zeros and poles interlace and all are simple, with no zero off the positive axis. The type is not of that form.",
+        ),
+        OpenProof::Descartes {
+            part,
+            sign_changes,
+            needed,
+        } => {
+            let s = format!(
+                "Descartes' rule of signs: the coefficients of {} in Omega have definite signs with {sign_changes} sign changes, so its number of positive zeros is {sign_changes} minus an even number; the type needs {needed}.",
+                w.poly(part)
+            );
+            w.para(&s)
+        }
+        OpenProof::Regions {
+            var,
+            walls,
+            samples,
+            ..
+        } => {
+            match var {
+                None => w.para("No critical factor can vanish: the open part is connected and every root keeps its multiplicity, sign and order on it, so the type is the same everywhere, that of the sample:"),
+                Some(x) => {
+                    let ws: Vec<String> = walls.iter().map(|s| w.sub(s)).collect();
+                    w.para(&format!(
+                        "The only walls are {} (graphs over the other parameters that never cross), so the open part consists of {} connected regions in {x}, each with one type:",
+                        ws.join(", "),
+                        samples.len()
+                    ));
+                }
+            }
+            for s in samples {
+                w.item(0, &format!("{} at {}", s.frf_type, point_text(&s.point)));
+            }
+            w.out.push('\n');
+        }
+        OpenProof::SignConditions {
+            linear_parts,
+            cases,
+        } => {
+            let lp: Vec<String> = linear_parts.iter().map(|p| w.poly(p)).collect();
+            w.para(&format!(
+                "The rational roots are those of {}. Each way of placing them among the type's tokens forces sign conditions that contradict positivity:",
+                lp.join(", ")
+            ));
+            for c in cases {
+                let a: Vec<String> = c
+                    .assignment
+                    .iter()
+                    .map(|x| match x {
+                        Some(i) => format!("token {}", i + 1),
+                        None => "off the positive axis".into(),
+                    })
+                    .collect();
+                w.item(0, &format!("Placement: {}.", a.join(", ")));
+                let mut combo = Poly::zero();
+                for (cond, lambda) in c.conditions.iter().zip(&c.multipliers) {
+                    let rel = if cond.strict { ">" } else { ">=" };
+                    let why = rule_text(&cond.rule);
+                    let s = format!("{} {rel} 0 ({why})", w.poly(&cond.reduced));
+                    w.item(1, &s);
+                    combo = &combo + &(lambda * &cond.reduced);
+                }
+                let ms: Vec<String> = c.multipliers.iter().map(|m| w.poly(m)).collect();
+                let s = format!(
+                    "With the multipliers {} the combination is {}, which has no positive coefficient: a contradiction.",
+                    ms.join(", "),
+                    w.poly(&combo)
+                );
+                w.item(1, &s);
+            }
+            w.out.push('\n');
+        }
+    }
+}
+
+fn rule_text(r: &ConditionRule) -> String {
+    match r {
+        ConditionRule::RootPositive { part } => format!("root {} is positive", part + 1),
+        ConditionRule::RootNotPositive { part } => format!("root {} is not positive", part + 1),
+        ConditionRule::RootOrder { lower, upper } => {
+            format!("root {} below root {}", lower + 1, upper + 1)
+        }
+        ConditionRule::SignAt {
+            part,
+            derivative,
+            roots_above,
+            ..
+        } => {
+            if *derivative == 0 {
+                format!("sign at root {}: {roots_above} roots above it", part + 1)
+            } else {
+                format!("sign of derivative {derivative} at root {}", part + 1)
+            }
+        }
+        ConditionRule::RealRoots { .. } => "real simple roots: positive discriminant".into(),
+    }
+}
