@@ -11,6 +11,7 @@ use std::fmt::Write;
 /// Analyses of `models`, and for every possible type the other models (of
 /// `peers`, analysed too) that can show it.
 pub struct Table {
+    pub models: Vec<Model>,
     pub analyses: Vec<ModelAnalysis>,
     /// (model id, type) -> ids of the other models with that type possible.
     pub similar: BTreeMap<(String, String), Vec<String>>,
@@ -41,7 +42,11 @@ pub fn table(models: &[Model], peers: &[Model]) -> Table {
             similar.insert((a.id.clone(), t.to_string()), others);
         }
     }
-    Table { analyses, similar }
+    Table {
+        models: models.to_vec(),
+        analyses,
+        similar,
+    }
 }
 
 fn status_count(a: &ModelAnalysis, s: Status) -> usize {
@@ -81,6 +86,11 @@ pub fn render(t: &Table, format: TableFormat3) -> Result<String, String> {
                         })
                         .collect();
                     v["similar"] = json!(similar);
+                    if let Some(m) = t.models.iter().find(|m| m.id() == a.generic_id) {
+                        let idf = mms::identifiability(m);
+                        v["determinable_parameters"] = json!(idf.determinable_parameters);
+                        v["moment_invariants"] = json!(idf.nonconstant_invariants);
+                    }
                     Ok(v)
                 })
                 .collect::<Result<_, String>>()?;

@@ -16,7 +16,9 @@
 //!   functions: undamped in `Omega = omega^2 = -s^2` ([`UndampedTf`],
 //!   [`OmegaTf`]) and damped in `s` ([`DampedTf`]), for position, velocity
 //!   or acceleration output ([`Output`]);
-//! - paper-style rendering as text, LaTeX or Markdown ([`render`]).
+//! - paper-style rendering as text, LaTeX or Markdown ([`render`]);
+//! - moment invariants, determinable parameters (Tab. 5) and structural
+//!   equivalence of models ([`mod@identifiability`], [`structural_equivalences`]).
 //!
 //! The library does no terminal I/O; errors are typed ([`ModelError`]).
 //!
@@ -43,6 +45,7 @@
 
 pub mod analysis;
 mod enumerate;
+pub mod identifiability;
 mod model;
 pub mod render;
 mod tf;
@@ -50,6 +53,12 @@ mod tf;
 pub use crate::enumerate::{
     basic_models, counts, degradation_free_models, equivalence_classes, redundancy_report,
     rule3_models, Counts, RedundancyReport, Symmetry,
+};
+pub use crate::identifiability::{
+    identical_transfer_functions, identifiability, identifiability_with, mirror_renaming,
+    moment_invariants, structural_equivalences, Equivalence, EquivalenceGroup, EquivalenceReason,
+    Identifiability, MomentInvariant, ParameterRenaming, RankCertificate, RankOptions,
+    ScalingSymmetry, TfPart,
 };
 pub use crate::model::{
     damper_name, mass_name, spring_name, Model, ModelError, Port, MAX_MASSES, PAPER_IDS,

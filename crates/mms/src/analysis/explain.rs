@@ -31,7 +31,47 @@ impl W {
         }
     }
 
+    /// Escapes LaTeX specials outside `$...$` and turns `**x**` bold.
+    fn text(&self, s: &str) -> String {
+        if !self.latex {
+            return s.to_string();
+        }
+        let mut out = String::new();
+        for (i, seg) in s.split('$').enumerate() {
+            if i > 0 {
+                out.push('$');
+            }
+            if i % 2 == 1 {
+                out.push_str(seg);
+                continue;
+            }
+            let mut bold = false;
+            let parts: Vec<&str> = seg.split("**").collect();
+            for (j, p) in parts.iter().enumerate() {
+                if j > 0 {
+                    out.push_str(if bold { "}" } else { "\\textbf{" });
+                    bold = !bold;
+                }
+                for c in p.chars() {
+                    match c {
+                        '^' => out.push_str("\\^{}"),
+                        '_' | '&' | '%' | '#' => {
+                            out.push('\\');
+                            out.push(c);
+                        }
+                        _ => out.push(c),
+                    }
+                }
+            }
+            if bold {
+                out.push('}');
+            }
+        }
+        out
+    }
+
     fn heading(&mut self, level: usize, s: &str) {
+        let s = &self.text(s);
         if self.latex {
             let cmd = ["section", "subsection", "subsubsection", "paragraph"][level.min(3)];
             let _ = writeln!(self.out, "\\{cmd}*{{{s}}}\n");
@@ -41,10 +81,12 @@ impl W {
     }
 
     fn para(&mut self, s: &str) {
+        let s = self.text(s);
         let _ = writeln!(self.out, "{s}\n");
     }
 
     fn item(&mut self, depth: usize, s: &str) {
+        let s = &self.text(s);
         if self.latex {
             let _ = writeln!(
                 self.out,
@@ -67,8 +109,9 @@ impl W {
 ///
 /// ```
 /// use mms::analysis::{analyze, explain, ExplainFormat, SearchLimits};
-/// let a = analyze(&mms::Model::from_id("A2")?, &SearchLimits::default());
-/// let text = explain(&a, &"RRA".parse().unwrap(), ExplainFormat::Markdown).unwrap();
+/// // B2 cannot show RAAR (the paper's Sec. 4.3.7), by sign conditions.
+/// let a = analyze(&mms::Model::from_id("B2")?, &SearchLimits::default());
+/// let text = explain(&a, &"RAAR".parse().unwrap(), ExplainFormat::Markdown).unwrap();
 /// assert!(text.contains("impossible"));
 /// assert!(text.contains("multipliers"));
 /// # Ok::<(), mms::ModelError>(())
@@ -114,9 +157,19 @@ pub fn explain(analysis: &ModelAnalysis, t: &FrfType, format: ExplainFormat) -> 
                     ));
                 }
                 let roots = |u: &UPoly| -> String {
+                    let width = Rat::new(1.into(), 1_000_000_000_i64.into());
                     let r: Vec<String> = real_roots(u)
-                        .iter()
-                        .map(|x| format!("{:.6}", x.to_f64()))
+                        .into_iter()
+                        .map(|mut x| {
+                            // Shrink the isolating interval so the rounding is honest.
+                            let _ = x.refine(u, &width);
+                            let m = if x.multiplicity > 1 {
+                                format!(" (x{})", x.multiplicity)
+                            } else {
+                                String::new()
+                            };
+                            format!("{:.6}{m}", x.to_f64())
+                        })
                         .collect();
                     if r.is_empty() {
                         "none".into()
