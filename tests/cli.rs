@@ -146,3 +146,51 @@ fn study_writes_the_report_atomically() {
     assert!(!bad.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn check_accepts_analyze_output_and_rejects_tampering() {
+    let dir = std::env::temp_dir().join(format!("mms-check-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut v = json(&["analyze", "--masses", "3", "--format", "json"]);
+    let good = dir.join("n3.json");
+    std::fs::write(&good, v.to_string()).unwrap();
+    let (code, out, err) = mms(&["check", good.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.is_empty(), "{err}");
+    assert!(
+        out.starts_with("checked 25 witnesses and ") && out.ends_with(" certificates: all valid\n"),
+        "{out}"
+    );
+
+    // Flip the sign of the first definite factor of the first certificate.
+    let verdict = v["models"][0]["types"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|t| t["status"] == "impossible")
+        .unwrap();
+    let factor = &mut verdict["certificate"]["factors"][0];
+    assert_eq!(factor["kind"], "definite");
+    factor["sign"] = serde_json::json!(-factor["sign"].as_i64().unwrap());
+    let bad = dir.join("tampered.json");
+    std::fs::write(&bad, v.to_string()).unwrap();
+    let (code, out, err) = mms(&["check", bad.to_str().unwrap()]);
+    assert_eq!(code, 2, "{out}");
+    assert!(out.is_empty(), "{out}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    let prefix = format!("mms: error: {}: model A1, type ", bad.display());
+    assert!(err.starts_with(&prefix), "{err}");
+    assert!(err.contains("definite: no_subtraction"), "{err}");
+
+    // Unreadable and malformed files: exit 2 naming the file.
+    let missing = dir.join("missing.json");
+    let (code, _, err) = mms(&["check", missing.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains(missing.to_str().unwrap()), "{err}");
+    std::fs::write(&bad, "{\"models\": [").unwrap();
+    let (code, _, err) = mms(&["check", bad.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("not valid JSON"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -3,6 +3,7 @@
 
 mod algebra;
 mod analyze;
+mod check;
 mod derive;
 mod enumerate;
 mod output;
@@ -88,6 +89,13 @@ enum Command {
         frf_type: String,
         #[arg(long, value_enum, default_value_t = ReportFormat::Md)]
         format: ReportFormat,
+    },
+    /// Re-verify every witness and certificate of an `analyze --format json`
+    /// file with the independent exact checker.
+    Check {
+        /// The JSON file written by `mms analyze --format json`.
+        #[arg(value_name = "FILE")]
+        file: PathBuf,
     },
     /// The full study of N masses as one report (default: the paper's 3 masses).
     Study {
@@ -227,6 +235,7 @@ fn run(cli: Cli) -> Result<(), String> {
             })?;
             output::emit(None, &text)
         }
+        Command::Check { file } => output::emit(None, &check::run(&file)?),
         Command::Algebra { masses, format } => output::emit(None, &algebra::run(masses, format)?),
         Command::Study {
             masses,

@@ -18,7 +18,9 @@
 //!   or acceleration output ([`Output`]);
 //! - paper-style rendering as text, LaTeX or Markdown ([`render`]);
 //! - moment invariants, determinable parameters (Tab. 5) and structural
-//!   equivalence of models ([`mod@identifiability`], [`structural_equivalences`]).
+//!   equivalence of models ([`mod@identifiability`], [`structural_equivalences`]);
+//! - FRF-type analysis with witnesses and certificates ([`analysis`]), and
+//!   an independent exact checker of its output ([`check`]).
 //!
 //! The library does no terminal I/O; errors are typed ([`ModelError`]).
 //!
@@ -44,6 +46,7 @@
 #![warn(missing_docs)]
 
 pub mod analysis;
+pub mod check;
 mod enumerate;
 pub mod identifiability;
 mod model;

@@ -3,7 +3,7 @@
 //! conditions that contradicts positivity (a Positivstellensatz-style
 //! certificate with nonnegative multipliers).
 
-use poly::{Poly, Rat};
+use poly::{Int, Poly, Rat};
 use std::collections::BTreeMap;
 
 /// Maximizes `c.x` subject to `rows.x <= rhs`, `x >= 0`, with `rhs >= 0`
@@ -178,9 +178,10 @@ pub(crate) fn positive_combination(
                     lambdas[*i] = &lambdas[*i] + &mu.scale(xi);
                 }
             }
-            // Clear denominators for readable certificates.
-            let lambdas = lambdas.iter().map(integral_multiple).collect();
-            return Some(lambdas);
+            // Clear denominators for readable certificates, with one common
+            // factor: scaling the multipliers separately would change the
+            // combination.
+            return Some(integral_multiples(&lambdas));
         }
     }
     None
@@ -203,17 +204,20 @@ fn monomial_coefficients(p: &Poly) -> Vec<(String, Rat)> {
         .collect()
 }
 
-/// `p` times a positive rational so that it has integer coefficients.
-fn integral_multiple(p: &Poly) -> Poly {
-    if p.is_zero() {
-        return p.clone();
+/// `ps` times one positive rational so that all their coefficients are
+/// integers without a common factor.
+fn integral_multiples(ps: &[Poly]) -> Vec<Poly> {
+    let mut den = Int::ONE;
+    let mut num = Int::ZERO;
+    for t in ps.iter().flat_map(|p| p.terms()) {
+        den = den.lcm(t.coef.denom());
+        num = num.gcd(t.coef.numer());
     }
-    let (c, pp) = p.primitive();
-    if c.signum() < 0 {
-        -pp
-    } else {
-        pp
+    if num.is_zero() {
+        return ps.to_vec();
     }
+    let scale = Rat::new(den, num);
+    ps.iter().map(|p| p.scale(&scale)).collect()
 }
 
 #[cfg(test)]
@@ -249,6 +253,19 @@ mod tests {
         let combo = &(&l[0] * &g1) + &(&l[1] * &g2);
         assert!(combo.all_coefs_negative() || combo.is_zero(), "{combo}");
         assert!(l.iter().all(|x| x.is_zero() || x.all_coefs_positive()));
+    }
+
+    #[test]
+    fn multipliers_are_cleared_with_one_common_factor() {
+        // Clearing each multiplier on its own would give [1, x]: a different
+        // combination.
+        let r = |s: &str| s.parse::<Rat>().unwrap();
+        let ps = [
+            Poly::constant(r("1/2")),
+            p("x").scale(&r("3/4")),
+            Poly::zero(),
+        ];
+        assert_eq!(integral_multiples(&ps), [p("2"), p("3*x"), Poly::zero()]);
     }
 
     #[test]

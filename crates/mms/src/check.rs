@@ -1,0 +1,1737 @@
+//! An independent checker for the output of `mms analyze --format json`.
+//!
+//! The checker re-verifies every verdict of such a file with exact
+//! arithmetic. It shares nothing with the prover of [`crate::analysis`] but
+//! the `poly` crate's arithmetic and the model's structure ([`Model`]): it
+//! reads the JSON itself, re-derives the transfer function from the mass and
+//! stiffness matrices, classifies FRF types with its own code and recomputes
+//! every stratum, critical polynomial and sign condition a certificate
+//! relies on. A bug in the prover cannot hide in the check.
+//!
+//! Per model it verifies:
+//!
+//! 1. the transfer function: the file's `numerator` and `denominator` equal
+//!    `c^T adj(K - Omega*M) b` and `det(K - Omega*M) / Omega` up to nonzero
+//!    rational constants (the file's polynomials are used from then on);
+//! 2. every *possible* type: its witness assigns a positive rational to
+//!    exactly the model's undamped parameters, and the reduced transfer
+//!    function there has that type (exact real-root isolation);
+//! 3. every *impossible* type: its certificate, a tree of proofs over
+//!    strata (see [`crate::analysis::Proof`] for the format): the stratum's
+//!    substitutions, the coverage of its critical polynomials (leading
+//!    coefficients, values at `Omega = 0`, resultants computed here as
+//!    Sylvester determinants) by the listed factors, each factor's proof
+//!    (sign-definiteness, cancellation counting, or a wall with its own
+//!    proof, checked recursively) and the proof for the open part (counting,
+//!    multiplicities, interlacing, Descartes' rule, connected regions with
+//!    sample points, or refuted sign conditions).
+//!
+//! The checker relies on two theorems it cannot check by computation: the
+//! roots of the denominator are real and positive for all positive
+//! parameters (eigenvalues of a symmetric definite pencil), and the zeros
+//! and poles of a collocated model interlace.
+//!
+//! ```
+//! use mms::analysis::{analyze, SearchLimits};
+//! use mms::check::{check_file, CheckError};
+//!
+//! let a2 = mms::Model::from_id("A2")?;
+//! let analysis = analyze(&a2, &SearchLimits::default());
+//! let mut file = serde_json::json!({ "models": [analysis] });
+//! let report = check_file(&file.to_string())?;
+//! assert_eq!(report.witnesses, 3); // ARR, RAR and R
+//! assert_eq!(report.to_string(), "checked 3 witnesses and 5 certificates: all valid");
+//!
+//! // A witness moved off the cancellation wall no longer shows type R.
+//! let verdict = &mut file["models"][0]["types"][2];
+//! assert_eq!(verdict["type"], "R");
+//! verdict["witness"]["m1"] = "17/3".into();
+//! let err = check_file(&file.to_string()).unwrap_err();
+//! assert!(matches!(err, CheckError::Type { .. }));
+//! assert!(err.to_string().starts_with("model A2, type R: witness"), "{err}");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use crate::model::{Model, Port};
+use poly::{adjugate, det, gcd, interleave_roots, square_free, sylvester_matrix, Poly, Rat, UPoly};
+use serde_json::Value;
+use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
+use std::fmt;
+use std::rc::Rc;
+
+/// The frequency variable `Omega = omega^2` of the undamped transfer function.
+const OMEGA: &str = "Omega";
+
+/// Deepest nesting of `completed_square` definiteness arguments accepted.
+const MAX_DEFINITENESS_DEPTH: usize = 16;
+
+/// Largest Polya exponent accepted (the multiplied polynomial grows fast).
+const MAX_POLYA_POWER: u64 = 64;
+
+/// What a successful check covered.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct CheckReport {
+    /// Models checked (each with its transfer function).
+    pub models: usize,
+    /// Witnesses of possible types checked.
+    pub witnesses: usize,
+    /// Certificates of impossible types checked.
+    pub certificates: usize,
+    /// Proofs checked inside the certificates, nested wall proofs included.
+    pub proofs: usize,
+    /// Types the file leaves unknown (nothing to check).
+    pub unknown: usize,
+}
+
+impl CheckReport {
+    fn add(&mut self, other: &CheckReport) {
+        self.models += other.models;
+        self.witnesses += other.witnesses;
+        self.certificates += other.certificates;
+        self.proofs += other.proofs;
+        self.unknown += other.unknown;
+    }
+}
+
+impl fmt::Display for CheckReport {
+    /// `checked 25 witnesses and 193 certificates: all valid`, with the
+    /// number of unknown types appended when there are any.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "checked {} witnesses and {} certificates: all valid",
+            self.witnesses, self.certificates
+        )?;
+        if self.unknown > 0 {
+            write!(f, " ({} types left unknown)", self.unknown)?;
+        }
+        Ok(())
+    }
+}
+
+/// Why a file is rejected. The message is one line and names the model,
+/// the type and the failing step.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum CheckError {
+    /// The text is not JSON.
+    #[error("not valid JSON: {0}")]
+    Json(String),
+    /// The JSON lacks a key or has a value of the wrong kind outside a model.
+    #[error("{path}: {problem}")]
+    Malformed {
+        /// Where, e.g. `models[2]`.
+        path: String,
+        /// What is wrong.
+        problem: String,
+    },
+    /// A model-level step failed (model structure, transfer function).
+    #[error("model {model}: {step}")]
+    Model {
+        /// The model's ID.
+        model: String,
+        /// The failing step.
+        step: String,
+    },
+    /// The verdict on one type failed its check.
+    #[error("model {model}, type {frf_type}: {step}")]
+    Type {
+        /// The model's ID.
+        model: String,
+        /// The type as written in the file.
+        frf_type: String,
+        /// The failing step.
+        step: String,
+    },
+}
+
+/// Checks a whole file: `{"models": [...]}` as written by
+/// `mms analyze --format json`. See the [module docs](self).
+pub fn check_file(text: &str) -> Result<CheckReport, CheckError> {
+    let v: Value = serde_json::from_str(text).map_err(|e| CheckError::Json(e.to_string()))?;
+    let models = v
+        .get("models")
+        .ok_or_else(|| CheckError::Malformed {
+            path: "file".into(),
+            problem: "missing key \"models\"".into(),
+        })?
+        .as_array()
+        .ok_or_else(|| CheckError::Malformed {
+            path: "models".into(),
+            problem: "expected an array".into(),
+        })?;
+    let mut report = CheckReport::default();
+    for (i, m) in models.iter().enumerate() {
+        report.add(&check_model_at(m, &format!("models[{i}]"))?);
+    }
+    Ok(report)
+}
+
+/// Checks one model object of such a file (an element of its `models`
+/// array: the serialized [`crate::analysis::ModelAnalysis`]).
+pub fn check_analysis(model: &Value) -> Result<CheckReport, CheckError> {
+    check_model_at(model, "model")
+}
+
+// ---------------------------------------------------------------------------
+// JSON access
+
+fn field<'a>(v: &'a Value, key: &str, path: &str) -> Result<&'a Value, String> {
+    if !v.is_object() {
+        return Err(format!("{path}: expected an object"));
+    }
+    v.get(key)
+        .ok_or_else(|| format!("{path}: missing key \"{key}\""))
+}
+
+fn str_field<'a>(v: &'a Value, key: &str, path: &str) -> Result<&'a str, String> {
+    field(v, key, path)?
+        .as_str()
+        .ok_or_else(|| format!("{path}.{key}: expected a string"))
+}
+
+fn arr_field<'a>(v: &'a Value, key: &str, path: &str) -> Result<&'a Vec<Value>, String> {
+    field(v, key, path)?
+        .as_array()
+        .ok_or_else(|| format!("{path}.{key}: expected an array"))
+}
+
+fn uint_field(v: &Value, key: &str, path: &str) -> Result<u64, String> {
+    field(v, key, path)?
+        .as_u64()
+        .ok_or_else(|| format!("{path}.{key}: expected a nonnegative integer"))
+}
+
+fn int_field(v: &Value, key: &str, path: &str) -> Result<i64, String> {
+    field(v, key, path)?
+        .as_i64()
+        .ok_or_else(|| format!("{path}.{key}: expected an integer"))
+}
+
+fn bool_field(v: &Value, key: &str, path: &str) -> Result<bool, String> {
+    field(v, key, path)?
+        .as_bool()
+        .ok_or_else(|| format!("{path}.{key}: expected true or false"))
+}
+
+fn poly_value(v: &Value, path: &str) -> Result<Poly, String> {
+    let s = v
+        .as_str()
+        .ok_or_else(|| format!("{path}: expected a polynomial as a string"))?;
+    s.parse::<Poly>()
+        .map_err(|e| format!("{path}: not a polynomial ({e}): {s:?}"))
+}
+
+fn poly_field(v: &Value, key: &str, path: &str) -> Result<Poly, String> {
+    poly_value(field(v, key, path)?, &format!("{path}.{key}"))
+}
+
+fn polys_field(v: &Value, key: &str, path: &str) -> Result<Vec<Poly>, String> {
+    arr_field(v, key, path)?
+        .iter()
+        .enumerate()
+        .map(|(i, x)| poly_value(x, &format!("{path}.{key}[{i}]")))
+        .collect()
+}
+
+fn index(i: u64) -> usize {
+    usize::try_from(i).unwrap_or(usize::MAX)
+}
+
+// ---------------------------------------------------------------------------
+// Polynomial helpers
+
+/// `p = c * q` for a nonzero rational `c` (both nonzero).
+fn proportional(p: &Poly, q: &Poly) -> bool {
+    if p.is_zero() || q.is_zero() {
+        return false;
+    }
+    p.scale(&p.leading_coef().recip()) == q.scale(&q.leading_coef().recip())
+}
+
+/// The constant `c` with `p = c * q`, if there is one.
+fn ratio(p: &Poly, q: &Poly) -> Option<Rat> {
+    if !proportional(p, q) {
+        return None;
+    }
+    Some(&p.leading_coef() / &q.leading_coef())
+}
+
+/// +1 / -1 when every coefficient is positive / negative, else `None`.
+fn fixed_sign(p: &Poly) -> Option<i64> {
+    if p.all_coefs_positive() {
+        Some(1)
+    } else if p.all_coefs_negative() {
+        Some(-1)
+    } else {
+        None
+    }
+}
+
+/// No coefficient is negative (the zero polynomial included).
+fn nonnegative_coefs(p: &Poly) -> bool {
+    p.terms().iter().all(|t| t.coef.signum() >= 0)
+}
+
+/// The resultant in `Omega`, as the determinant of the Sylvester matrix.
+fn sylvester_resultant(a: &Poly, b: &Poly) -> Poly {
+    det(&sylvester_matrix(a, b, OMEGA))
+}
+
+/// The discriminant in `Omega` of `p` (degree `d >= 2`):
+/// `(-1)^(d(d-1)/2) Res(p, p') / lc(p)`.
+fn discriminant_of(p: &Poly) -> Result<Poly, String> {
+    let d = p.degree(OMEGA);
+    let res = sylvester_resultant(p, &p.derivative(OMEGA));
+    let lc = p.lead_in(OMEGA);
+    let q = res
+        .div_exact(&lc)
+        .ok_or_else(|| format!("the leading coefficient of {p} does not divide Res(p, p')"))?;
+    Ok(if (d * (d - 1) / 2) % 2 == 1 { -q } else { q })
+}
+
+/// `x = beta/alpha`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct Sub {
+    var: String,
+    alpha: Poly,
+    beta: Poly,
+}
+
+impl fmt::Display for Sub {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} = ({})/({})", self.var, self.beta, self.alpha)
+    }
+}
+
+impl Sub {
+    fn parse(v: &Value, path: &str) -> Result<Sub, String> {
+        Ok(Sub {
+            var: str_field(v, "var", path)?.to_string(),
+            alpha: poly_field(v, "alpha", path)?,
+            beta: poly_field(v, "beta", path)?,
+        })
+    }
+
+    /// `p(var = beta/alpha) * alpha^deg_var(p)`.
+    fn apply(&self, p: &Poly) -> Poly {
+        let d = p.degree(&self.var);
+        let mut out = Poly::zero();
+        for (k, c) in p.coeffs_in(&self.var).iter().enumerate() {
+            if c.is_zero() {
+                continue;
+            }
+            let k = k as u32;
+            out = &out + &(&(c * &self.beta.pow(k)) * &self.alpha.pow(d - k));
+        }
+        out
+    }
+
+    /// `alpha*var - beta`.
+    fn wall_poly(&self) -> Poly {
+        &(&self.alpha * &Poly::var(&self.var)) - &self.beta
+    }
+}
+
+fn subs_key(subs: &[Sub]) -> String {
+    subs.iter()
+        .map(|s| s.to_string())
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+fn subs_text(subs: &[Sub]) -> String {
+    format!("[{}]", subs_key(subs))
+}
+
+// ---------------------------------------------------------------------------
+// FRF types
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Tok {
+    /// Antiresonance (a zero of the numerator); else a resonance.
+    zero: bool,
+    mult: u32,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct Ty {
+    toks: Vec<Tok>,
+    nm: bool,
+}
+
+impl Ty {
+    fn parse(s: &str) -> Result<Ty, String> {
+        let bad = || format!("not an FRF type: {s:?}");
+        let (body, nm) = match s.strip_suffix(" (nm)") {
+            Some(b) => (b, true),
+            None => (s, false),
+        };
+        if body == "C" {
+            return Ok(Ty {
+                toks: Vec::new(),
+                nm,
+            });
+        }
+        if body.is_empty() {
+            return Err(bad());
+        }
+        let b = body.as_bytes();
+        let mut toks = Vec::new();
+        let mut i = 0;
+        while i < b.len() {
+            let zero = match b[i] {
+                b'A' => true,
+                b'R' => false,
+                _ => return Err(bad()),
+            };
+            i += 1;
+            let mut mult = 1;
+            if i < b.len() && b[i] == b'^' {
+                i += 1;
+                let start = i;
+                while i < b.len() && b[i].is_ascii_digit() {
+                    i += 1;
+                }
+                mult = body[start..i].parse::<u32>().map_err(|_| bad())?;
+                if mult < 2 {
+                    return Err(bad());
+                }
+            }
+            toks.push(Tok { zero, mult });
+        }
+        Ok(Ty { toks, nm })
+    }
+
+    fn resonances(&self) -> u32 {
+        self.toks.iter().filter(|t| !t.zero).map(|t| t.mult).sum()
+    }
+
+    fn alternating(&self) -> bool {
+        !self.nm
+            && self.toks.iter().all(|t| t.mult == 1)
+            && self.toks.windows(2).all(|w| w[0].zero != w[1].zero)
+    }
+}
+
+impl fmt::Display for Ty {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.toks.is_empty() {
+            f.write_str("C")?;
+        }
+        for t in &self.toks {
+            f.write_str(if t.zero { "A" } else { "R" })?;
+            if t.mult > 1 {
+                write!(f, "^{}", t.mult)?;
+            }
+        }
+        if self.nm {
+            f.write_str(" (nm)")?;
+        }
+        Ok(())
+    }
+}
+
+/// The type of `num/den` at a full parameter point: substitute, cancel the
+/// common factor, isolate the real roots exactly.
+fn classify(num: &Poly, den: &Poly, point: &BTreeMap<String, Rat>) -> Result<Ty, String> {
+    let at = |p: &Poly, what: &str| -> Result<UPoly, String> {
+        let mut q = p.clone();
+        for (name, value) in point {
+            q = q.subs(name, value);
+        }
+        match UPoly::from_poly(&q, OMEGA) {
+            Some((_, u)) if !u.is_zero() => Ok(u),
+            Some(_) => Err(format!("the {what} vanishes identically at the point")),
+            None => Err(format!("the {what} still depends on {:?}", q.vars())),
+        }
+    };
+    let n = at(num, "numerator")?;
+    let d = at(den, "denominator")?;
+    let g = n.gcd(&d);
+    let n = n
+        .div_exact(&g)
+        .ok_or("the gcd does not divide the numerator")?;
+    let d = d
+        .div_exact(&g)
+        .ok_or("the gcd does not divide the denominator")?;
+    let mut toks = Vec::new();
+    let mut positive_zeros = 0u32;
+    for r in interleave_roots(&[n.clone(), d.clone()]) {
+        if !r.is_positive() {
+            continue;
+        }
+        let (mn, md) = (r.multiplicities[0], r.multiplicities[1]);
+        match (mn > 0, md > 0) {
+            (true, false) => {
+                positive_zeros += mn;
+                toks.push(Tok {
+                    zero: true,
+                    mult: mn,
+                });
+            }
+            (false, true) => toks.push(Tok {
+                zero: false,
+                mult: md,
+            }),
+            _ => return Err("a root shared by the reduced numerator and denominator".into()),
+        }
+    }
+    let nm = n.degree().unwrap_or(0) as u64 > positive_zeros as u64;
+    Ok(Ty { toks, nm })
+}
+
+/// A point assigning a positive rational to exactly `params`.
+fn parse_point(v: &Value, params: &[String], path: &str) -> Result<BTreeMap<String, Rat>, String> {
+    let obj = v
+        .as_object()
+        .ok_or_else(|| format!("{path}: expected an object of parameter values"))?;
+    let mut point = BTreeMap::new();
+    for (k, x) in obj {
+        if !params.contains(k) {
+            return Err(format!(
+                "{path}: {k} is not an undamped parameter of the model"
+            ));
+        }
+        let r: Rat = match x {
+            Value::String(s) => s
+                .parse()
+                .map_err(|e| format!("{path}.{k}: not a rational ({e}): {s:?}"))?,
+            Value::Number(n) => Rat::from(
+                n.as_i64()
+                    .ok_or_else(|| format!("{path}.{k}: not an integer or a rational string"))?,
+            ),
+            _ => return Err(format!("{path}.{k}: expected a rational")),
+        };
+        if r.signum() <= 0 {
+            return Err(format!("{path}: {k} = {r} is not positive"));
+        }
+        point.insert(k.clone(), r);
+    }
+    for p in params {
+        if !point.contains_key(p) {
+            return Err(format!("{path}: no value for {p}"));
+        }
+    }
+    Ok(point)
+}
+
+// ---------------------------------------------------------------------------
+// Strata
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Role {
+    /// Leading coefficient or value at `Omega = 0` of a part.
+    Boundary,
+    /// Resultant of a numerator part and a denominator part.
+    Cancel,
+    /// Discriminant-like or same-side resultant.
+    Other,
+}
+
+#[derive(Clone, Debug)]
+struct Critical {
+    poly: Poly,
+    role: Role,
+    what: String,
+}
+
+#[derive(Clone, Debug)]
+struct Part {
+    poly: Poly,
+    mult: u32,
+    num: bool,
+}
+
+#[derive(Debug)]
+struct Stratum {
+    subs: Vec<Sub>,
+    vars: Vec<String>,
+    den_degree: u32,
+    parts: Vec<Part>,
+    critical: Vec<Critical>,
+}
+
+impl Stratum {
+    fn build(num0: &Poly, den0: &Poly, params: &[String], subs: &[Sub]) -> Result<Stratum, String> {
+        let mut eliminated: BTreeSet<&str> = BTreeSet::new();
+        let (mut num, mut den) = (num0.clone(), den0.clone());
+        for s in subs {
+            if !params.contains(&s.var) {
+                return Err(format!("substitution {s}: {} is not a parameter", s.var));
+            }
+            if !eliminated.insert(s.var.as_str()) {
+                return Err(format!("substitution {s}: {} is eliminated twice", s.var));
+            }
+            for (name, p) in [("alpha", &s.alpha), ("beta", &s.beta)] {
+                if !p.all_coefs_positive() {
+                    return Err(format!(
+                        "substitution {s}: {name} = {p} does not have all coefficients positive"
+                    ));
+                }
+                if let Some(v) = p
+                    .vars()
+                    .iter()
+                    .find(|v| !params.contains(v) || eliminated.contains(v.as_str()))
+                {
+                    return Err(format!(
+                        "substitution {s}: {name} involves {v}, which is not a remaining parameter"
+                    ));
+                }
+            }
+            num = s.apply(&num);
+            den = s.apply(&den);
+        }
+        if num.is_zero() || den.is_zero() {
+            return Err("the numerator or denominator vanishes on the stratum".into());
+        }
+        let g = gcd(&num, &den);
+        if !g.is_constant() {
+            num = num
+                .div_exact(&g)
+                .ok_or("the gcd does not divide the numerator")?;
+            den = den
+                .div_exact(&g)
+                .ok_or("the gcd does not divide the denominator")?;
+        }
+        let vars: Vec<String> = params
+            .iter()
+            .filter(|p| !eliminated.contains(p.as_str()))
+            .cloned()
+            .collect();
+        let mut parts = Vec::new();
+        for (p, is_num) in [(&num, true), (&den, false)] {
+            let (unit, factors) = square_free(p);
+            // The decomposition must multiply back to `p`.
+            let back = factors
+                .iter()
+                .fold(Poly::constant(unit), |acc, (f, k)| &acc * &f.pow(*k));
+            if &back != p {
+                return Err(format!(
+                    "the square-free decomposition of {p} does not multiply back"
+                ));
+            }
+            for (f, mult) in factors {
+                if f.degree(OMEGA) >= 1 {
+                    parts.push(Part {
+                        poly: f,
+                        mult,
+                        num: is_num,
+                    });
+                }
+            }
+        }
+        let side = |p: &Part| if p.num { "numerator" } else { "denominator" };
+        let mut critical = Vec::new();
+        for p in &parts {
+            let c = p.poly.coeffs_in(OMEGA);
+            critical.push(Critical {
+                poly: c.last().cloned().unwrap_or_else(Poly::zero),
+                role: Role::Boundary,
+                what: format!("the leading coefficient of {} part {}", side(p), p.poly),
+            });
+            critical.push(Critical {
+                poly: c[0].clone(),
+                role: Role::Boundary,
+                what: format!("the value at Omega = 0 of {} part {}", side(p), p.poly),
+            });
+            if p.poly.degree(OMEGA) >= 2 {
+                critical.push(Critical {
+                    poly: sylvester_resultant(&p.poly, &p.poly.derivative(OMEGA)),
+                    role: Role::Other,
+                    what: format!("Res(p, dp/dOmega) of {} part {}", side(p), p.poly),
+                });
+            }
+        }
+        for i in 0..parts.len() {
+            for j in i + 1..parts.len() {
+                let (a, b) = (&parts[i], &parts[j]);
+                critical.push(Critical {
+                    poly: sylvester_resultant(&a.poly, &b.poly),
+                    role: if a.num != b.num {
+                        Role::Cancel
+                    } else {
+                        Role::Other
+                    },
+                    what: format!("the resultant of parts {} and {}", a.poly, b.poly),
+                });
+            }
+        }
+        Ok(Stratum {
+            subs: subs.to_vec(),
+            vars,
+            den_degree: den.degree(OMEGA),
+            parts,
+            critical,
+        })
+    }
+
+    fn linear_parts(&self) -> Vec<&Part> {
+        // Numerator parts come first in `parts`, each side in square-free order.
+        self.parts
+            .iter()
+            .filter(|p| p.poly.degree(OMEGA) == 1)
+            .collect()
+    }
+
+    /// The part of degree >= 2 proportional to `other`, unique for its side
+    /// and multiplicity.
+    fn unique_nonlinear(&self, other: &Poly) -> Result<&Part, String> {
+        let part = self
+            .parts
+            .iter()
+            .find(|p| p.poly.degree(OMEGA) >= 2 && proportional(&p.poly, other))
+            .ok_or_else(|| format!("{other} is not a part of degree >= 2 of the stratum"))?;
+        let same = self
+            .parts
+            .iter()
+            .filter(|p| p.poly.degree(OMEGA) >= 2 && p.num == part.num && p.mult == part.mult)
+            .count();
+        if same != 1 {
+            return Err(format!(
+                "{other} is not the only part of degree >= 2 of its side and multiplicity"
+            ));
+        }
+        Ok(part)
+    }
+}
+
+// ---------------------------------------------------------------------------
+// The checker of one model
+
+/// A factor of a certificate's list, with its roles on the stratum.
+struct Entry<'a> {
+    poly: Poly,
+    kind: &'a str,
+    v: &'a Value,
+    path: String,
+    cancels: bool,
+    boundary: bool,
+}
+
+struct ModelChecker {
+    params: Vec<String>,
+    collocated: bool,
+    num: Poly,
+    den: Poly,
+    strata: HashMap<String, Rc<Stratum>>,
+    definite_ok: HashSet<String>,
+    proofs: usize,
+}
+
+fn check_model_at(m: &Value, path: &str) -> Result<CheckReport, CheckError> {
+    let id = m
+        .get("id")
+        .and_then(Value::as_str)
+        .ok_or_else(|| CheckError::Malformed {
+            path: path.to_string(),
+            problem: "missing key \"id\" (a string)".into(),
+        })?
+        .to_string();
+    let model_err = |step: String| CheckError::Model {
+        model: id.clone(),
+        step,
+    };
+    let model = read_model(m, path).map_err(model_err)?;
+    let num = poly_field(m, "numerator", path).map_err(model_err)?;
+    let den = poly_field(m, "denominator", path).map_err(model_err)?;
+    verify_tf(&model, &num, &den).map_err(model_err)?;
+    let mut checker = ModelChecker {
+        params: model.undamped_parameters(),
+        collocated: model.actuator() == model.sensor(),
+        num,
+        den,
+        strata: HashMap::new(),
+        definite_ok: HashSet::new(),
+        proofs: 0,
+    };
+    let mut report = CheckReport {
+        models: 1,
+        ..CheckReport::default()
+    };
+    let types = arr_field(m, "types", path).map_err(model_err)?;
+    for (j, verdict) in types.iter().enumerate() {
+        let vpath = format!("types[{j}]");
+        let name = str_field(verdict, "type", &vpath).map_err(model_err)?;
+        let type_err = |step: String| CheckError::Type {
+            model: id.clone(),
+            frf_type: name.to_string(),
+            step,
+        };
+        let t = Ty::parse(name).map_err(type_err)?;
+        match str_field(verdict, "status", &vpath).map_err(type_err)? {
+            "possible" => {
+                let w = field(verdict, "witness", &vpath).map_err(type_err)?;
+                checker.check_witness(w, &t).map_err(type_err)?;
+                report.witnesses += 1;
+            }
+            "impossible" => {
+                let c = field(verdict, "certificate", &vpath).map_err(type_err)?;
+                checker
+                    .check_proof(c, &[], &t, "certificate", "")
+                    .map_err(type_err)?;
+                report.certificates += 1;
+            }
+            "unknown" => report.unknown += 1,
+            other => {
+                return Err(type_err(format!(
+                    "{vpath}.status: unknown status {other:?}"
+                )))
+            }
+        }
+    }
+    report.proofs = checker.proofs;
+    Ok(report)
+}
+
+fn read_model(m: &Value, path: &str) -> Result<Model, String> {
+    let n = uint_field(m, "masses", path)?;
+    let gap = uint_field(m, "gap", path)?;
+    let port = |key: &str| -> Result<Port, String> {
+        let a = arr_field(m, key, path)?;
+        let pair: Vec<u64> = a.iter().filter_map(Value::as_u64).collect();
+        if a.len() != 2 || pair.len() != 2 {
+            return Err(format!("{path}.{key}: expected [plus, minus]"));
+        }
+        Ok(Port::new(index(pair[0]), index(pair[1])))
+    };
+    let model = Model::new(index(n), index(gap), port("actuator")?, port("sensor")?)
+        .map_err(|e| format!("not a valid model: {e}"))?;
+    let generic = str_field(m, "generic_id", path)?;
+    if generic != model.id() {
+        return Err(format!(
+            "generic_id {generic} does not match the structure {}",
+            model.id()
+        ));
+    }
+    Ok(model)
+}
+
+/// The file's `num/den` against `c^T adj(K - Omega*M) b` and
+/// `det(K - Omega*M) / Omega`.
+fn verify_tf(model: &Model, num: &Poly, den: &Poly) -> Result<(), String> {
+    let om = Poly::var(OMEGA);
+    let mass = model.mass_matrix();
+    let stiff = model.stiffness_matrix();
+    let pencil: Vec<Vec<Poly>> = stiff
+        .iter()
+        .zip(&mass)
+        .map(|(kr, mr)| kr.iter().zip(mr).map(|(k, m)| k - &(&om * m)).collect())
+        .collect();
+    let d = det(&pencil);
+    let den_check = d
+        .div_exact(&om)
+        .filter(|q| (q * &om) == d)
+        .ok_or("det(K - Omega*M) has no factor Omega")?;
+    let adj = adjugate(&pencil);
+    let (c, b) = (model.output_vector(), model.input_vector());
+    let mut num_check = Poly::zero();
+    for (i, ci) in c.iter().enumerate() {
+        for (j, bj) in b.iter().enumerate() {
+            if *ci != 0 && *bj != 0 {
+                num_check = &num_check + &adj[i][j].scale(&Rat::from(ci * bj));
+            }
+        }
+    }
+    if num_check.is_zero() || !proportional(num, &num_check) {
+        return Err(format!(
+            "transfer function: the numerator {num} is not a constant multiple of c^T adj(K - Omega*M) b = {num_check}"
+        ));
+    }
+    if !proportional(den, &den_check) {
+        return Err(format!(
+            "transfer function: the denominator {den} is not a constant multiple of det(K - Omega*M)/Omega = {den_check}"
+        ));
+    }
+    Ok(())
+}
+
+impl ModelChecker {
+    fn check_witness(&self, w: &Value, t: &Ty) -> Result<(), String> {
+        let point = parse_point(w, &self.params, "witness")?;
+        let got = classify(&self.num, &self.den, &point).map_err(|e| format!("witness: {e}"))?;
+        if &got != t {
+            return Err(format!("witness: the type there is {got}, not {t}"));
+        }
+        Ok(())
+    }
+
+    fn stratum(&mut self, subs: &[Sub]) -> Result<Rc<Stratum>, String> {
+        let key = subs_key(subs);
+        if let Some(s) = self.strata.get(&key) {
+            return Ok(s.clone());
+        }
+        let s = Rc::new(Stratum::build(&self.num, &self.den, &self.params, subs)?);
+        self.strata.insert(key, s.clone());
+        Ok(s)
+    }
+
+    /// Checks the proof `p` that `t` does not occur on the stratum `expect`.
+    /// `jp` is the JSON path of `p`, `ctx` the prefix naming the wall.
+    fn check_proof(
+        &mut self,
+        p: &Value,
+        expect: &[Sub],
+        t: &Ty,
+        jp: &str,
+        ctx: &str,
+    ) -> Result<(), String> {
+        self.proofs += 1;
+        let err = |e: String| format!("{ctx}{e}");
+        let subs: Vec<Sub> = arr_field(p, "stratum", jp)
+            .map_err(err)?
+            .iter()
+            .enumerate()
+            .map(|(i, v)| Sub::parse(v, &format!("{jp}.stratum[{i}]")))
+            .collect::<Result<_, _>>()
+            .map_err(err)?;
+        if subs != expect {
+            return Err(err(format!(
+                "the stratum is {}, expected {}",
+                subs_text(&subs),
+                subs_text(expect)
+            )));
+        }
+        let s = self
+            .stratum(&subs)
+            .map_err(|e| err(format!("stratum: {e}")))?;
+        let open = field(p, "open", jp).map_err(err)?;
+        let open_jp = format!("{jp}.open");
+        let kind = str_field(open, "kind", &open_jp).map_err(err)?;
+
+        // The factors and their roles.
+        let list = arr_field(p, "factors", jp).map_err(err)?;
+        let mut entries = Vec::with_capacity(list.len());
+        for (i, v) in list.iter().enumerate() {
+            let path = format!("{jp}.factors[{i}]");
+            let poly = poly_field(v, "factor", &path).map_err(err)?;
+            let fkind = str_field(v, "kind", &path).map_err(err)?;
+            if poly.is_constant() {
+                return Err(err(format!("factor {i}: {poly} is constant")));
+            }
+            if let Some(x) = poly.vars().iter().find(|x| !s.vars.contains(x)) {
+                return Err(err(format!(
+                    "factor {i}: {poly} involves {x}, which is not a parameter of the stratum"
+                )));
+            }
+            let divides = |role: Role| {
+                s.critical
+                    .iter()
+                    .filter(|c| c.role == role)
+                    .any(|c| !c.poly.is_zero() && c.poly.div_exact(&poly).is_some())
+            };
+            entries.push(Entry {
+                cancels: divides(Role::Cancel),
+                boundary: divides(Role::Boundary),
+                poly,
+                kind: fkind,
+                v,
+                path,
+            });
+        }
+
+        // Coverage of the critical polynomials (not needed when the type
+        // has more resonances than the stratum has poles anywhere).
+        if kind != "too_many_resonances" {
+            let factors: Vec<&Poly> = entries.iter().map(|e| &e.poly).collect();
+            for c in &s.critical {
+                if c.poly.is_zero() {
+                    return Err(err(format!("critical polynomial: {} is zero", c.what)));
+                }
+                let mut rest = c.poly.clone();
+                loop {
+                    let mut divided = false;
+                    for f in &factors {
+                        while let Some(q) = rest.div_exact(f) {
+                            rest = q;
+                            divided = true;
+                        }
+                    }
+                    if !divided {
+                        break;
+                    }
+                }
+                if !rest.is_constant() || rest.is_zero() {
+                    return Err(err(format!(
+                        "critical polynomial: {} is not covered by the factors (left {rest})",
+                        c.what
+                    )));
+                }
+            }
+        }
+
+        self.check_open(open, &open_jp, kind, &s, &entries, t)
+            .map_err(err)?;
+
+        let boundary_definite = entries.iter().all(|e| !e.boundary || e.kind == "definite");
+        let r_t = t.resonances();
+        for (i, e) in entries.iter().enumerate() {
+            let step = |m: String| err(format!("factor {i} ({}) {}: {m}", e.poly, e.kind));
+            match e.kind {
+                "definite" => {
+                    let sign = int_field(e.v, "sign", &e.path).map_err(step)?;
+                    let d = field(e.v, "definiteness", &e.path).map_err(step)?;
+                    self.check_definite(&e.poly, sign, d, &format!("{}.definiteness", e.path))
+                        .map_err(step)?;
+                }
+                "needs_no_cancellation" => {
+                    if !e.cancels {
+                        return Err(step(
+                            "the factor divides no resultant of a numerator part and a denominator part"
+                                .into(),
+                        ));
+                    }
+                    if r_t != s.den_degree {
+                        return Err(step(format!(
+                            "the type has {r_t} resonances, the stratum's denominator degree {}",
+                            s.den_degree
+                        )));
+                    }
+                    if !boundary_definite {
+                        return Err(step("a boundary factor has no definite proof".into()));
+                    }
+                }
+                "needs_cancellation" => {
+                    if e.cancels {
+                        return Err(step(
+                            "the factor divides a resultant of a numerator part and a denominator part"
+                                .into(),
+                        ));
+                    }
+                    if r_t >= s.den_degree {
+                        return Err(step(format!(
+                            "the type has {r_t} resonances, not fewer than the stratum's denominator degree {}",
+                            s.den_degree
+                        )));
+                    }
+                    if !boundary_definite {
+                        return Err(step("a boundary factor has no definite proof".into()));
+                    }
+                }
+                "wall" => {
+                    let sub = Sub::parse(
+                        field(e.v, "substitution", &e.path).map_err(step)?,
+                        &format!("{}.substitution", e.path),
+                    )
+                    .map_err(step)?;
+                    if !s.vars.contains(&sub.var) {
+                        return Err(step(format!(
+                            "{} is not a remaining parameter of the stratum",
+                            sub.var
+                        )));
+                    }
+                    if !proportional(&e.poly, &sub.wall_poly()) {
+                        return Err(step(format!(
+                            "the factor is not a constant multiple of {}",
+                            sub.wall_poly()
+                        )));
+                    }
+                    let child = field(e.v, "proof", &e.path).map_err(step)?;
+                    let mut next = s.subs.clone();
+                    next.push(sub.clone());
+                    self.check_proof(
+                        child,
+                        &next,
+                        t,
+                        &format!("{}.proof", e.path),
+                        &format!("{ctx}on wall {sub}: "),
+                    )?;
+                }
+                other => return Err(step(format!("unknown kind {other:?}"))),
+            }
+        }
+        Ok(())
+    }
+
+    /// `sign * f > 0` on the positive orthant, by the claimed argument.
+    fn check_definite(&mut self, f: &Poly, sign: i64, d: &Value, jp: &str) -> Result<(), String> {
+        if sign != 1 && sign != -1 {
+            return Err(format!("sign {sign} is not +1 or -1"));
+        }
+        let g = if sign == 1 { f.clone() } else { -f.clone() };
+        let key = format!("{g}|{d}");
+        if self.definite_ok.contains(&key) {
+            return Ok(());
+        }
+        positive_by(&g, d, jp, 0)?;
+        self.definite_ok.insert(key);
+        Ok(())
+    }
+
+    fn check_open(
+        &mut self,
+        open: &Value,
+        jp: &str,
+        kind: &str,
+        s: &Stratum,
+        entries: &[Entry],
+        t: &Ty,
+    ) -> Result<(), String> {
+        let r_t = t.resonances();
+        let counts = |name: &str| -> Result<(), String> {
+            let res = uint_field(open, "resonances", jp)?;
+            let deg = uint_field(open, "degree", jp)?;
+            if res != r_t as u64 || deg != s.den_degree as u64 {
+                return Err(format!(
+                    "{name}: the file says {res} resonances and degree {deg}, but the type has {r_t} and the stratum's denominator degree {}",
+                    s.den_degree
+                ));
+            }
+            Ok(())
+        };
+        match kind {
+            "too_many_resonances" => {
+                counts(kind)?;
+                if r_t <= s.den_degree {
+                    return Err(format!(
+                        "too_many_resonances: the type has {r_t} resonances, the stratum's denominator degree is {}",
+                        s.den_degree
+                    ));
+                }
+                Ok(())
+            }
+            "too_few_resonances" => {
+                counts(kind)?;
+                if r_t >= s.den_degree {
+                    return Err(format!(
+                        "too_few_resonances: the type has {r_t} resonances, the stratum's denominator degree is {}",
+                        s.den_degree
+                    ));
+                }
+                Ok(())
+            }
+            "multiplicity" => {
+                if multiplicities_fit(s, t) {
+                    return Err(
+                        "multiplicity: the type's multiplicities fit the stratum's parts".into(),
+                    );
+                }
+                Ok(())
+            }
+            "interlacing" => {
+                if !self.collocated {
+                    return Err("interlacing: the model is not collocated".into());
+                }
+                if t.alternating() {
+                    return Err("interlacing: the type is alternating".into());
+                }
+                Ok(())
+            }
+            "descartes" => check_descartes(open, jp, s, t),
+            "regions" => self.check_regions(open, jp, s, entries, t),
+            "sign_conditions" => check_sign_conditions(open, jp, s, t),
+            other => Err(format!("open: unknown kind {other:?}")),
+        }
+    }
+
+    fn check_regions(
+        &mut self,
+        open: &Value,
+        jp: &str,
+        s: &Stratum,
+        entries: &[Entry],
+        t: &Ty,
+    ) -> Result<(), String> {
+        let walls: Vec<Sub> = arr_field(open, "walls", jp)?
+            .iter()
+            .enumerate()
+            .map(|(i, v)| Sub::parse(v, &format!("{jp}.walls[{i}]")))
+            .collect::<Result<_, _>>()?;
+        let gaps = polys_field(open, "gaps", jp)?;
+        let samples = arr_field(open, "samples", jp)?;
+        let var = field(open, "var", jp)?;
+        let x = match var {
+            Value::Null => {
+                if !walls.is_empty() || !gaps.is_empty() {
+                    return Err("regions: walls without a variable".into());
+                }
+                if let Some(e) = entries.iter().find(|e| e.kind != "definite") {
+                    return Err(format!(
+                        "regions: factor {} has no definite proof, but there are no walls",
+                        e.poly
+                    ));
+                }
+                None
+            }
+            Value::String(x) => Some(x.as_str()),
+            _ => return Err(format!("{jp}.var: expected a string or null")),
+        };
+        if let Some(x) = x {
+            if !s.vars.contains(&x.to_string()) {
+                return Err(format!("regions: {x} is not a parameter of the stratum"));
+            }
+            for (i, w) in walls.iter().enumerate() {
+                if w.var != x {
+                    return Err(format!("regions: wall {i} ({w}) is not in {x}"));
+                }
+                for (name, p) in [("alpha", &w.alpha), ("beta", &w.beta)] {
+                    if !p.all_coefs_positive() {
+                        return Err(format!(
+                            "regions: wall {i} ({w}): {name} does not have all coefficients positive"
+                        ));
+                    }
+                    if let Some(v) = p.vars().iter().find(|v| *v == x || !s.vars.contains(v)) {
+                        return Err(format!("regions: wall {i} ({w}): {name} involves {v}"));
+                    }
+                }
+            }
+            // The non-definite factors are exactly the walls.
+            let mut used = vec![false; walls.len()];
+            for e in entries.iter().filter(|e| e.kind != "definite") {
+                let hit = (0..walls.len())
+                    .find(|&i| !used[i] && proportional(&e.poly, &walls[i].wall_poly()))
+                    .ok_or_else(|| {
+                        format!(
+                            "regions: factor {} has no definite proof and is no wall",
+                            e.poly
+                        )
+                    })?;
+                used[hit] = true;
+            }
+            if let Some(i) = used.iter().position(|u| !u) {
+                return Err(format!(
+                    "regions: wall {i} ({}) is not a factor without a definite proof",
+                    walls[i]
+                ));
+            }
+            if gaps.len() + 1 != walls.len().max(1) {
+                return Err(format!(
+                    "regions: {} gaps for {} walls",
+                    gaps.len(),
+                    walls.len()
+                ));
+            }
+            for (i, w) in walls.windows(2).enumerate() {
+                let gap = &(&w[1].beta * &w[0].alpha) - &(&w[0].beta * &w[1].alpha);
+                if gap != gaps[i] {
+                    return Err(format!("regions: gap {i} is {}, expected {gap}", gaps[i]));
+                }
+                if !gap.all_coefs_positive() {
+                    return Err(format!(
+                        "regions: gap {i} ({gap}) does not have all coefficients positive"
+                    ));
+                }
+            }
+        }
+        if samples.len() != walls.len() + 1 {
+            return Err(format!(
+                "regions: {} samples for {} walls",
+                samples.len(),
+                walls.len()
+            ));
+        }
+        for (j, sample) in samples.iter().enumerate() {
+            let sp = format!("{jp}.samples[{j}]");
+            let step = |m: String| format!("regions: sample {j}: {m}");
+            let point = parse_point(
+                field(sample, "point", &sp)?,
+                &self.params,
+                &format!("{sp}.point"),
+            )
+            .map_err(step)?;
+            let eval = |p: &Poly| {
+                p.eval(&point)
+                    .map_err(|v| step(format!("no value for {v}")))
+            };
+            for sub in &s.subs {
+                let (a, b) = (eval(&sub.alpha)?, eval(&sub.beta)?);
+                if &point[&sub.var] * &a != b {
+                    return Err(step(format!(
+                        "the point is not on the stratum: {sub} fails"
+                    )));
+                }
+            }
+            if let Some(x) = x {
+                let xv = &point[x];
+                let value =
+                    |w: &Sub| -> Result<Rat, String> { Ok(&eval(&w.beta)? / &eval(&w.alpha)?) };
+                if j > 0 {
+                    let lo = value(&walls[j - 1])?;
+                    if *xv <= lo {
+                        return Err(step(format!(
+                            "{x} = {xv} is not above wall {} ({lo})",
+                            j - 1
+                        )));
+                    }
+                }
+                if j < walls.len() {
+                    let hi = value(&walls[j])?;
+                    if *xv >= hi {
+                        return Err(step(format!("{x} = {xv} is not below wall {j} ({hi})")));
+                    }
+                }
+            }
+            let got = classify(&self.num, &self.den, &point).map_err(step)?;
+            let claimed = Ty::parse(str_field(sample, "type", &sp)?).map_err(step)?;
+            if got != claimed {
+                return Err(step(format!(
+                    "the type there is {got}, the file says {claimed}"
+                )));
+            }
+            if &got == t {
+                return Err(step(format!("the type there is {t} itself")));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `g > 0` on the open positive orthant by the argument `d`.
+fn positive_by(g: &Poly, d: &Value, jp: &str, depth: usize) -> Result<(), String> {
+    if depth > MAX_DEFINITENESS_DEPTH {
+        return Err("definiteness nested too deeply".into());
+    }
+    match str_field(d, "method", jp)? {
+        "no_subtraction" => {
+            if !g.all_coefs_positive() {
+                return Err(format!(
+                    "no_subtraction: {g} does not have all coefficients positive"
+                ));
+            }
+        }
+        "polya" => {
+            let power = uint_field(d, "power", jp)?;
+            let affine = bool_field(d, "affine", jp)?;
+            if power > MAX_POLYA_POWER {
+                return Err(format!("polya: power {power} is too large"));
+            }
+            let mut sum = if affine { Poly::one() } else { Poly::zero() };
+            for v in g.vars() {
+                sum = &sum + &Poly::var(v);
+            }
+            let product = &sum.pow(power as u32) * g;
+            if !product.all_coefs_positive() {
+                return Err(format!(
+                    "polya: ({sum})^{power} * ({g}) does not have all coefficients positive"
+                ));
+            }
+        }
+        "completed_square" => {
+            let var = str_field(d, "var", jp)?;
+            if g.degree(var) != 2 {
+                return Err(format!("completed_square: {g} is not of degree 2 in {var}"));
+            }
+            let c = g.coeffs_in(var);
+            if !c[2].all_coefs_positive() {
+                return Err(format!(
+                    "completed_square: the coefficient {} of {var}^2 does not have all coefficients positive",
+                    c[2]
+                ));
+            }
+            let inner = &(&c[2] * &c[0]).scale(&Rat::from(4)) - &(&c[1] * &c[1]);
+            positive_by(
+                &inner,
+                field(d, "inner", jp)?,
+                &format!("{jp}.inner"),
+                depth + 1,
+            )?;
+        }
+        other => return Err(format!("unknown definiteness method {other:?}")),
+    }
+    Ok(())
+}
+
+/// Whether the multiplicities of `t` can be those of the open part of `s`.
+fn multiplicities_fit(s: &Stratum, t: &Ty) -> bool {
+    let side = |num: bool| -> Vec<u32> {
+        let mut v: Vec<u32> = s
+            .parts
+            .iter()
+            .filter(|p| p.num == num)
+            .flat_map(|p| std::iter::repeat_n(p.mult, p.poly.degree(OMEGA) as usize))
+            .collect();
+        v.sort_unstable();
+        v
+    };
+    let mut have: Vec<u32> = t.toks.iter().filter(|k| !k.zero).map(|k| k.mult).collect();
+    have.sort_unstable();
+    if have != side(false) {
+        return false;
+    }
+    let mut avail = side(true);
+    let total = avail.len();
+    for k in t.toks.iter().filter(|k| k.zero) {
+        match avail.iter().position(|m| *m == k.mult) {
+            Some(i) => {
+                avail.remove(i);
+            }
+            None => return false,
+        }
+    }
+    let used = total - avail.len();
+    if t.nm {
+        used < total
+    } else {
+        used == total
+    }
+}
+
+fn check_descartes(open: &Value, jp: &str, s: &Stratum, t: &Ty) -> Result<(), String> {
+    let given = poly_field(open, "part", jp)?;
+    let part = s
+        .parts
+        .iter()
+        .find(|p| p.num && proportional(&p.poly, &given))
+        .ok_or_else(|| format!("descartes: {given} is not a numerator part of the stratum"))?;
+    if s.parts
+        .iter()
+        .filter(|p| p.num && p.mult == part.mult)
+        .count()
+        != 1
+    {
+        return Err(format!(
+            "descartes: {given} is not the only numerator part of multiplicity {}",
+            part.mult
+        ));
+    }
+    let mut signs = Vec::new();
+    for (k, c) in part.poly.coeffs_in(OMEGA).iter().enumerate() {
+        if c.is_zero() {
+            continue;
+        }
+        signs.push(fixed_sign(c).ok_or_else(|| {
+            format!("descartes: the coefficient of Omega^{k} ({c}) has no fixed sign")
+        })?);
+    }
+    let v = signs.windows(2).filter(|w| w[0] != w[1]).count() as u64;
+    let needed = t
+        .toks
+        .iter()
+        .filter(|k| k.zero && k.mult == part.mult)
+        .count() as u64;
+    let (fv, fneeded) = (
+        uint_field(open, "sign_changes", jp)?,
+        uint_field(open, "needed", jp)?,
+    );
+    if fv != v || fneeded != needed {
+        return Err(format!(
+            "descartes: the file says {fv} sign changes and {fneeded} needed, recomputed {v} and {needed}"
+        ));
+    }
+    if needed <= v && (v - needed).is_multiple_of(2) {
+        return Err(format!(
+            "descartes: {needed} positive zeros are consistent with {v} sign changes"
+        ));
+    }
+    Ok(())
+}
+
+/// The linear parts' data for the sign conditions: `(b, a, sign of a)` of
+/// `a*Omega + b`, side and multiplicity.
+struct Linear {
+    a: Poly,
+    b: Poly,
+    sa: i64,
+    num: bool,
+    mult: u32,
+}
+
+/// Every assignment of the linear parts to the tokens of `t`.
+fn assignments(lin: &[Linear], t: &Ty) -> Vec<Vec<Option<usize>>> {
+    let mut acc: Vec<Vec<Option<usize>>> = vec![Vec::new()];
+    for l in lin {
+        let mut next = Vec::new();
+        for a in &acc {
+            for (i, k) in t.toks.iter().enumerate() {
+                if k.zero == l.num && k.mult == l.mult && !a.contains(&Some(i)) {
+                    let mut b = a.clone();
+                    b.push(Some(i));
+                    next.push(b);
+                }
+            }
+            if l.num && t.nm {
+                let mut b = a.clone();
+                b.push(None);
+                next.push(b);
+            }
+        }
+        acc = next;
+    }
+    acc
+}
+
+fn assignment_text(a: &[Option<usize>]) -> String {
+    let items: Vec<String> = a
+        .iter()
+        .map(|x| x.map_or("null".to_string(), |i| i.to_string()))
+        .collect();
+    format!("[{}]", items.join(", "))
+}
+
+fn check_sign_conditions(open: &Value, jp: &str, s: &Stratum, t: &Ty) -> Result<(), String> {
+    let given = polys_field(open, "linear_parts", jp)?;
+    let parts = s.linear_parts();
+    let recomputed: Vec<&Poly> = parts.iter().map(|p| &p.poly).collect();
+    if given.len() != parts.len() || given.iter().zip(&recomputed).any(|(g, r)| g != *r) {
+        return Err(format!(
+            "sign_conditions: linear_parts {:?}, recomputed {:?}",
+            given.iter().map(|p| p.to_string()).collect::<Vec<_>>(),
+            recomputed.iter().map(|p| p.to_string()).collect::<Vec<_>>()
+        ));
+    }
+    if t.resonances() != s.den_degree {
+        return Err(format!(
+            "sign_conditions: the type has {} resonances, the stratum's denominator degree is {}",
+            t.resonances(),
+            s.den_degree
+        ));
+    }
+    let mut lin = Vec::new();
+    for p in &parts {
+        let c = p.poly.coeffs_in(OMEGA);
+        let sa = fixed_sign(&c[1]).ok_or_else(|| {
+            format!(
+                "sign_conditions: the leading coefficient of linear part {} has no fixed sign",
+                p.poly
+            )
+        })?;
+        lin.push(Linear {
+            a: c[1].clone(),
+            b: c[0].clone(),
+            sa,
+            num: p.num,
+            mult: p.mult,
+        });
+    }
+    let expected = assignments(&lin, t);
+    let cases = arr_field(open, "cases", jp)?;
+    let mut seen: Vec<Vec<Option<usize>>> = Vec::new();
+    for (ci, case) in cases.iter().enumerate() {
+        let cp = format!("{jp}.cases[{ci}]");
+        let a: Vec<Option<usize>> = arr_field(case, "assignment", &cp)?
+            .iter()
+            .map(|x| match x {
+                Value::Null => Ok(None),
+                _ => x
+                    .as_u64()
+                    .map(|i| Some(index(i)))
+                    .ok_or_else(|| format!("{cp}.assignment: expected token indices or null")),
+            })
+            .collect::<Result<_, _>>()?;
+        let name = assignment_text(&a);
+        if !expected.contains(&a) {
+            return Err(format!("sign_conditions case {name}: not an assignment of the linear parts to the type's tokens"));
+        }
+        if seen.contains(&a) {
+            return Err(format!("sign_conditions case {name}: listed twice"));
+        }
+        check_case(case, &cp, s, t, &lin, &a)
+            .map_err(|e| format!("sign_conditions case {name}: {e}"))?;
+        seen.push(a);
+    }
+    if let Some(missing) = expected.iter().find(|a| !seen.contains(a)) {
+        return Err(format!(
+            "sign_conditions: the assignment {} has no case",
+            assignment_text(missing)
+        ));
+    }
+    Ok(())
+}
+
+fn check_case(
+    case: &Value,
+    cp: &str,
+    s: &Stratum,
+    t: &Ty,
+    lin: &[Linear],
+    a: &[Option<usize>],
+) -> Result<(), String> {
+    let conditions = arr_field(case, "conditions", cp)?;
+    let multipliers = polys_field(case, "multipliers", cp)?;
+    if multipliers.len() != conditions.len() {
+        return Err(format!(
+            "{} multipliers for {} conditions",
+            multipliers.len(),
+            conditions.len()
+        ));
+    }
+    let taken: BTreeSet<usize> = a.iter().flatten().copied().collect();
+    let mut reduced_all = Vec::new();
+    let mut strict_all = Vec::new();
+    for (i, c) in conditions.iter().enumerate() {
+        let path = format!("{cp}.conditions[{i}]");
+        let step = |m: String| format!("condition {i}: {m}");
+        let rule = field(c, "rule", &path).map_err(step)?;
+        let rp = format!("{path}.rule");
+        let kind = str_field(rule, "rule", &rp).map_err(step)?;
+        let strict = bool_field(c, "strict", &path).map_err(step)?;
+        let derived = poly_field(c, "derived", &path).map_err(step)?;
+        let square = poly_field(c, "square", &path).map_err(step)?;
+        let positive = poly_field(c, "positive", &path).map_err(step)?;
+        let reduced = poly_field(c, "reduced", &path).map_err(step)?;
+        let part = |key: &str| -> Result<usize, String> {
+            let i = index(uint_field(rule, key, &rp)?);
+            if i >= lin.len() {
+                return Err(format!("{rp}.{key}: no linear part {i}"));
+            }
+            Ok(i)
+        };
+        let assigned = |i: usize| -> Result<usize, String> {
+            a[i].ok_or_else(|| format!("linear part {i} takes no token in this case"))
+        };
+        let expect: Poly = match kind {
+            "root_positive" => {
+                let p = part("part").map_err(step)?;
+                assigned(p).map_err(step)?;
+                (-lin[p].b.clone()).scale(&Rat::from(lin[p].sa))
+            }
+            "root_not_positive" => {
+                let p = part("part").map_err(step)?;
+                if a[p].is_some() {
+                    return Err(step(format!("linear part {p} takes a token in this case")));
+                }
+                if strict {
+                    return Err(step("root_not_positive cannot be strict".into()));
+                }
+                lin[p].b.scale(&Rat::from(lin[p].sa))
+            }
+            "root_order" => {
+                let (l, u) = (part("lower").map_err(step)?, part("upper").map_err(step)?);
+                let (tl, tu) = (assigned(l).map_err(step)?, assigned(u).map_err(step)?);
+                if tl >= tu {
+                    return Err(step(format!(
+                        "part {l} takes token {tl}, not below token {tu} of part {u}"
+                    )));
+                }
+                let (pl, pu) = (&lin[l], &lin[u]);
+                (&(&pl.b * &pu.a) - &(&pu.b * &pl.a)).scale(&Rat::from(pl.sa * pu.sa))
+            }
+            "sign_at" => {
+                let other = poly_field(rule, "other", &rp).map_err(step)?;
+                let p = part("part").map_err(step)?;
+                let k = uint_field(rule, "derivative", &rp).map_err(step)?;
+                let above_claim = uint_field(rule, "roots_above", &rp).map_err(step)?;
+                let ti = assigned(p).map_err(step)?;
+                let op = s.unique_nonlinear(&other).map_err(step)?;
+                let d = other.degree(OMEGA) as u64;
+                if k >= d {
+                    return Err(step(format!(
+                        "derivative {k} of a polynomial of degree {d}"
+                    )));
+                }
+                let slots: Vec<usize> = (0..t.toks.len())
+                    .filter(|i| {
+                        t.toks[*i].zero == op.num
+                            && t.toks[*i].mult == op.mult
+                            && !taken.contains(i)
+                    })
+                    .collect();
+                let above = slots.iter().filter(|&&j| j > ti).count() as u64;
+                if above != above_claim {
+                    return Err(step(format!(
+                        "roots_above is {above_claim}, the type gives {above}"
+                    )));
+                }
+                let sl = fixed_sign(&other.lead_in(OMEGA)).ok_or_else(|| {
+                    step(format!(
+                        "the leading coefficient of {other} has no fixed sign"
+                    ))
+                })?;
+                let want = if k == 0 {
+                    sl * if above.is_multiple_of(2) { 1 } else { -1 }
+                } else {
+                    if slots.len() as u64 != d {
+                        return Err(step(format!(
+                            "derivative {k}: not all {d} roots of {other} are tokens"
+                        )));
+                    }
+                    if above == d {
+                        sl * if (d - k).is_multiple_of(2) { 1 } else { -1 }
+                    } else if above == 0 {
+                        sl
+                    } else {
+                        return Err(step(format!(
+                            "derivative {k}: the root is neither below nor above all roots of {other}"
+                        )));
+                    }
+                };
+                let mut q = other.clone();
+                for _ in 0..k {
+                    q = q.derivative(OMEGA);
+                }
+                let e = (d - k) as u32;
+                let l = &lin[p];
+                let minus_b = -l.b.clone();
+                let mut value = Poly::zero();
+                for (j, qj) in q.coeffs_in(OMEGA).iter().enumerate() {
+                    if qj.is_zero() {
+                        continue;
+                    }
+                    let j = j as u32;
+                    value = &value + &(&(qj * &minus_b.pow(j)) * &l.a.pow(e - j));
+                }
+                let sgn = want * if e.is_multiple_of(2) { 1 } else { l.sa };
+                value.scale(&Rat::from(sgn))
+            }
+            "real_roots" => {
+                let other = poly_field(rule, "other", &rp).map_err(step)?;
+                let op = s.unique_nonlinear(&other).map_err(step)?;
+                let d = other.degree(OMEGA) as usize;
+                let slots = (0..t.toks.len())
+                    .filter(|i| {
+                        t.toks[*i].zero == op.num
+                            && t.toks[*i].mult == op.mult
+                            && !taken.contains(i)
+                    })
+                    .count();
+                if slots != d {
+                    return Err(step(format!(
+                        "real_roots: {slots} tokens for the {d} roots of {other}"
+                    )));
+                }
+                let disc = discriminant_of(&other).map_err(step)?;
+                match ratio(&derived, &disc) {
+                    Some(c) if c.signum() > 0 => derived.clone(),
+                    _ => {
+                        return Err(step(format!(
+                        "derived {derived} is not a positive multiple of the discriminant {disc}"
+                    )))
+                    }
+                }
+            }
+            other => return Err(step(format!("unknown rule {other:?}"))),
+        };
+        if derived != expect {
+            return Err(step(format!(
+                "{kind}: derived is {derived}, the rule gives {expect}"
+            )));
+        }
+        if square.is_zero() {
+            return Err(step("square is zero".into()));
+        }
+        if !positive.all_coefs_positive() {
+            return Err(step(format!(
+                "positive = {positive} does not have all coefficients positive"
+            )));
+        }
+        if &(&(&square * &square) * &positive) * &reduced != derived {
+            return Err(step("derived != square^2 * positive * reduced".into()));
+        }
+        reduced_all.push(reduced);
+        strict_all.push(strict);
+    }
+    let mut combination = Poly::zero();
+    let mut strict_used = false;
+    for (i, m) in multipliers.iter().enumerate() {
+        if !nonnegative_coefs(m) {
+            return Err(format!("multiplier {i} ({m}) has a negative coefficient"));
+        }
+        if let Some(v) = m.vars().iter().find(|v| !s.vars.contains(v)) {
+            return Err(format!(
+                "multiplier {i} ({m}) involves {v}, which is not a parameter of the stratum"
+            ));
+        }
+        if !m.is_zero() && strict_all[i] {
+            strict_used = true;
+        }
+        combination = &combination + &(m * &reduced_all[i]);
+    }
+    if !strict_used {
+        return Err("no strict condition has a nonzero multiplier".into());
+    }
+    if combination.terms().iter().any(|t| t.coef.signum() > 0) {
+        return Err(format!(
+            "combination has a positive coefficient: {combination}"
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,410 @@
+//! The independent checker ([`mms::check`]) against the analysis of the
+//! paper's eleven models: it accepts the prover's output, and rejects
+//! tampered witnesses and certificates, naming the failing step.
+
+use mms::analysis::{analyze, SearchLimits};
+use mms::check::{check_analysis, check_file, CheckError, CheckReport};
+use mms::{Model, PAPER_IDS};
+use serde_json::{json, Value};
+use std::sync::OnceLock;
+
+/// `{"models": [...]}` for the eleven paper models, serialized like
+/// `mms analyze --format json` does.
+fn paper_file() -> &'static Value {
+    static FILE: OnceLock<Value> = OnceLock::new();
+    FILE.get_or_init(|| {
+        let limits = SearchLimits::default();
+        let models: Vec<Value> = PAPER_IDS
+            .iter()
+            .map(|(id, ..)| {
+                let m = Model::from_id(id).unwrap();
+                serde_json::to_value(analyze(&m, &limits)).unwrap()
+            })
+            .collect();
+        json!({ "models": models })
+    })
+}
+
+fn check(v: &Value) -> Result<CheckReport, CheckError> {
+    check_file(&v.to_string())
+}
+
+/// The JSON pointer of model `id`.
+fn model_ptr(id: &str) -> String {
+    let i = paper_file()["models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|m| m["id"] == id)
+        .unwrap_or_else(|| panic!("no model {id}"));
+    format!("/models/{i}")
+}
+
+/// The JSON pointer of the verdict on type `t` of model `id`.
+fn verdict_ptr(id: &str, t: &str) -> String {
+    let m = model_ptr(id);
+    let j = paper_file().pointer(&m).unwrap()["types"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|v| v["type"] == t)
+        .unwrap_or_else(|| panic!("model {id} has no type {t}"));
+    format!("{m}/types/{j}")
+}
+
+/// Pointers of every proof node (certificates and nested wall proofs).
+fn proof_ptrs() -> Vec<String> {
+    fn walk(p: &Value, ptr: String, out: &mut Vec<String>) {
+        for (i, f) in p["factors"].as_array().unwrap().iter().enumerate() {
+            if f["kind"] == "wall" {
+                walk(&f["proof"], format!("{ptr}/factors/{i}/proof"), out);
+            }
+        }
+        out.push(ptr);
+    }
+    let mut out = Vec::new();
+    for (i, m) in paper_file()["models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+    {
+        for (j, v) in m["types"].as_array().unwrap().iter().enumerate() {
+            if v["status"] == "impossible" {
+                walk(
+                    &v["certificate"],
+                    format!("/models/{i}/types/{j}/certificate"),
+                    &mut out,
+                );
+            }
+        }
+    }
+    out
+}
+
+/// The first proof node whose open part has the given kind.
+fn first_open(kind: &str) -> String {
+    proof_ptrs()
+        .into_iter()
+        .find(|p| paper_file().pointer(p).unwrap()["open"]["kind"] == kind)
+        .unwrap_or_else(|| panic!("no {kind} proof"))
+}
+
+/// Applies `f` to a copy of the paper file at `ptr` and checks it.
+fn tampered(ptr: &str, f: impl FnOnce(&mut Value)) -> CheckError {
+    let mut v = paper_file().clone();
+    f(v.pointer_mut(ptr).unwrap_or_else(|| panic!("no {ptr}")));
+    match check(&v) {
+        Ok(r) => panic!("tampering at {ptr} was accepted: {r}"),
+        Err(e) => e,
+    }
+}
+
+fn status_count(status: &str) -> usize {
+    paper_file()["models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|m| m["types"].as_array().unwrap())
+        .filter(|v| v["status"] == status)
+        .count()
+}
+
+fn type_step(e: &CheckError) -> (&str, &str, &str) {
+    match e {
+        CheckError::Type {
+            model,
+            frf_type,
+            step,
+        } => (model, frf_type, step),
+        other => panic!("expected a type-level error, got {other:?}"),
+    }
+}
+
+#[test]
+fn accepts_all_paper_models() {
+    let r = check(paper_file()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(r.models, 11);
+    assert_eq!(r.witnesses, status_count("possible"));
+    assert_eq!(r.certificates, status_count("impossible"));
+    assert_eq!(r.unknown, 0);
+    assert_eq!(r.witnesses, 25);
+    assert!(r.proofs >= r.certificates);
+    assert_eq!(
+        r.to_string(),
+        format!(
+            "checked 25 witnesses and {} certificates: all valid",
+            r.certificates
+        )
+    );
+}
+
+#[test]
+fn check_analysis_takes_one_model() {
+    let b2 = paper_file().pointer(&model_ptr("B2")).unwrap();
+    let r = check_analysis(b2).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(r.models, 1);
+    assert_eq!(r.witnesses, 9);
+}
+
+#[test]
+fn wrong_witness_is_rejected() {
+    // A2's R lives on the cancellation wall c12*m3 = c23*m1; moving m1
+    // off it brings the antiresonance back.
+    let e = tampered(&verdict_ptr("A2", "R"), |v| {
+        v["witness"]["m1"] = "17/3".into();
+    });
+    let (model, t, step) = type_step(&e);
+    assert_eq!((model, t), ("A2", "R"));
+    assert!(step.starts_with("witness: the type there is"), "{e}");
+    // A witness must give every undamped parameter, and only those.
+    let e = tampered(&verdict_ptr("A2", "ARR"), |v| {
+        v["witness"].as_object_mut().unwrap().remove("c23");
+    });
+    assert!(e.to_string().contains("no value for c23"), "{e}");
+    let e = tampered(&verdict_ptr("A2", "ARR"), |v| {
+        v["witness"]["d12"] = "1".into();
+    });
+    assert!(
+        e.to_string().contains("d12 is not an undamped parameter"),
+        "{e}"
+    );
+    let e = tampered(&verdict_ptr("A2", "ARR"), |v| {
+        v["witness"]["m2"] = "-1".into();
+    });
+    assert!(e.to_string().contains("is not positive"), "{e}");
+}
+
+#[test]
+fn flipped_multiplier_is_rejected() {
+    let ptr = first_open("sign_conditions");
+    let e = tampered(&ptr, |p| {
+        let case = &mut p["open"]["cases"][0];
+        let i = case["multipliers"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .position(|m| m != "0")
+            .unwrap();
+        let m: poly::Poly = case["multipliers"][i].as_str().unwrap().parse().unwrap();
+        case["multipliers"][i] = (-m).to_string().into();
+    });
+    let (_, _, step) = type_step(&e);
+    assert!(step.starts_with("sign_conditions case ["), "{e}");
+    assert!(step.contains("has a negative coefficient"), "{e}");
+}
+
+#[test]
+fn weakened_combination_is_rejected() {
+    // Dropping one multiplier of a tight combination leaves a positive
+    // coefficient (the bug once in the prover's rescaling of multipliers).
+    let ptr = first_open("sign_conditions");
+    let e = tampered(&ptr, |p| {
+        let case = &mut p["open"]["cases"][0];
+        let i = case["multipliers"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .position(|m| m != "0")
+            .unwrap();
+        case["multipliers"][i] = "0".into();
+    });
+    let (_, _, step) = type_step(&e);
+    assert!(
+        step.contains("combination has a positive coefficient")
+            || step.contains("no strict condition has a nonzero multiplier"),
+        "{e}"
+    );
+}
+
+#[test]
+fn tampered_condition_is_rejected() {
+    let ptr = first_open("sign_conditions");
+    let e = tampered(&ptr, |p| {
+        let c = &mut p["open"]["cases"][0]["conditions"][0];
+        c["derived"] = "c1 + 1".into();
+    });
+    assert!(
+        e.to_string().contains("derived is c1 + 1, the rule gives"),
+        "{e}"
+    );
+    // An assignment left out.
+    let e = tampered(&ptr, |p| {
+        p["open"]["cases"].as_array_mut().unwrap().pop();
+    });
+    assert!(e.to_string().contains("has no case"), "{e}");
+}
+
+#[test]
+fn altered_definiteness_sign_is_rejected() {
+    let ptr = verdict_ptr("A1", "AARR");
+    let e = tampered(&ptr, |v| {
+        let f = &mut v["certificate"]["factors"][0];
+        assert_eq!(f["kind"], "definite");
+        f["sign"] = json!(-1);
+    });
+    let (model, t, step) = type_step(&e);
+    assert_eq!((model, t), ("A1", "AARR"));
+    assert!(
+        step.starts_with("factor 0 (c12) definite: no_subtraction"),
+        "{e}"
+    );
+    // A completed square whose inner argument does not hold.
+    let e = tampered(&ptr, |v| {
+        let factors = v["certificate"]["factors"].as_array_mut().unwrap();
+        let f = factors
+            .iter_mut()
+            .find(|f| f["definiteness"]["method"] == "completed_square")
+            .unwrap();
+        f["definiteness"]["var"] = "m1".into();
+    });
+    assert!(
+        e.to_string().contains("completed_square: ")
+            && e.to_string().contains("not of degree 2 in m1"),
+        "{e}"
+    );
+}
+
+#[test]
+fn dropped_factor_is_rejected() {
+    let e = tampered(&verdict_ptr("A1", "AARR"), |v| {
+        v["certificate"]["factors"]
+            .as_array_mut()
+            .unwrap()
+            .remove(0);
+    });
+    let (_, _, step) = type_step(&e);
+    assert!(step.starts_with("critical polynomial: "), "{e}");
+    assert!(step.contains("is not covered by the factors"), "{e}");
+}
+
+#[test]
+fn certificate_for_a_possible_type_is_rejected() {
+    // Every certificate of every model, relabelled as one of the model's
+    // possible types, must fail: otherwise the checker would accept a
+    // proof of something false.
+    let file = paper_file();
+    for m in file["models"].as_array().unwrap() {
+        let types = m["types"].as_array().unwrap();
+        let possible: Vec<&Value> = types.iter().filter(|v| v["status"] == "possible").collect();
+        for v in types.iter().filter(|v| v["status"] == "impossible") {
+            for p in &possible {
+                let mut model = m.clone();
+                let mut forged = v.clone();
+                forged["type"] = p["type"].clone();
+                model["types"] = json!([forged]);
+                let r = check_analysis(&model);
+                assert!(
+                    r.is_err(),
+                    "model {}: the certificate of {} was accepted for {}",
+                    m["id"],
+                    v["type"],
+                    p["type"]
+                );
+            }
+        }
+    }
+    // The brief's example: A2's certificates do not prove ARR impossible.
+    let e = tampered(&verdict_ptr("A2", "RRA"), |v| v["type"] = "ARR".into());
+    let (model, t, _) = type_step(&e);
+    assert_eq!((model, t), ("A2", "ARR"));
+}
+
+#[test]
+fn regions_samples_are_recomputed() {
+    let ptr = first_open("regions");
+    let e = tampered(&ptr, |p| p["open"]["samples"][0]["type"] = "RARA".into());
+    assert!(
+        e.to_string()
+            .contains("regions: sample 0: the type there is"),
+        "{e}"
+    );
+    // A sample moved across its wall.
+    let ptr = proof_ptrs()
+        .into_iter()
+        .find(|p| paper_file().pointer(p).unwrap()["open"]["var"].is_string())
+        .unwrap();
+    let e = tampered(&ptr, |p| {
+        let x = p["open"]["var"].as_str().unwrap().to_string();
+        p["open"]["samples"][0]["point"][x] = "1000000".into();
+    });
+    assert!(e.to_string().contains("is not below wall 0"), "{e}");
+}
+
+#[test]
+fn descartes_counts_are_recomputed() {
+    let ptr = first_open("descartes");
+    let e = tampered(&ptr, |p| {
+        let v = p["open"]["sign_changes"].as_u64().unwrap();
+        p["open"]["sign_changes"] = json!(v + 2);
+    });
+    assert!(e.to_string().contains("descartes: the file says"), "{e}");
+}
+
+#[test]
+fn wall_substitution_must_match_its_factor() {
+    let ptr = proof_ptrs()
+        .into_iter()
+        .find(|p| p.ends_with("/proof"))
+        .expect("a nested wall proof");
+    let parent = ptr.trim_end_matches("/proof").to_string();
+    let e = tampered(&parent, |f| {
+        let beta: poly::Poly = f["substitution"]["beta"].as_str().unwrap().parse().unwrap();
+        f["substitution"]["beta"] = (&beta + &poly::Poly::int(1)).to_string().into();
+    });
+    assert!(
+        e.to_string().contains("is not a constant multiple of"),
+        "{e}"
+    );
+    // A wall proof for a different stratum.
+    let e = tampered(&ptr, |p| p["stratum"] = json!([]));
+    assert!(e.to_string().contains("the stratum is [], expected"), "{e}");
+}
+
+#[test]
+fn transfer_function_is_rederived() {
+    let e = tampered(&model_ptr("A2"), |m| {
+        m["numerator"] = "-Omega*c12*m2 + c12*c23".into();
+    });
+    match &e {
+        CheckError::Model { model, step } => {
+            assert_eq!(model, "A2");
+            assert!(step.starts_with("transfer function: the numerator"), "{e}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // A constant factor, a sign in particular, is fine.
+    let mut v = paper_file().clone();
+    let m = v.pointer_mut(&model_ptr("A2")).unwrap();
+    let den: poly::Poly = m["denominator"].as_str().unwrap().parse().unwrap();
+    m["denominator"] = den.scale(&poly::Rat::from(-3)).to_string().into();
+    check(&v).unwrap_or_else(|e| panic!("{e}"));
+}
+
+#[test]
+fn malformed_input_names_the_key() {
+    assert!(matches!(check_file("{"), Err(CheckError::Json(_))));
+    let e = check_file("{}").unwrap_err();
+    assert_eq!(e.to_string(), "file: missing key \"models\"");
+    let e = tampered(&verdict_ptr("A1", "AARR"), |v| {
+        v.as_object_mut().unwrap().remove("certificate");
+    });
+    assert!(e.to_string().contains("missing key \"certificate\""), "{e}");
+    let e = tampered(&verdict_ptr("A1", "AARR"), |v| {
+        v["certificate"]["open"]
+            .as_object_mut()
+            .unwrap()
+            .remove("kind");
+    });
+    assert!(
+        e.to_string()
+            .contains("certificate.open: missing key \"kind\""),
+        "{e}"
+    );
+    let e = tampered(&model_ptr("A1"), |m| {
+        m.as_object_mut().unwrap().remove("denominator");
+    });
+    assert!(e.to_string().contains("missing key \"denominator\""), "{e}");
+    let e = tampered(&verdict_ptr("A1", "AARR"), |v| v["type"] = "AXR".into());
+    assert!(e.to_string().contains("not an FRF type"), "{e}");
+}
