@@ -76,3 +76,23 @@ fn prove_derivations() {
     snap!("prove_b2_raar_md", mms(&["prove", "B2", "RAAR"]));
     snap!("prove_b2_a2rr_md", mms(&["prove", "B2", "A^2RR"]));
 }
+
+/// The generated reports in docs/ are what the README's main command
+/// produces today (regenerate with `mms study --out docs/study-3-masses.md`
+/// and `--format tex --out docs/study-3-masses.tex`).
+#[test]
+fn committed_study_reports_are_current() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/");
+    let md = std::fs::read_to_string(format!("{root}study-3-masses.md"))
+        .expect("docs/study-3-masses.md");
+    assert!(
+        md == mms(&["study"]),
+        "docs/study-3-masses.md is stale: regenerate it"
+    );
+    let tex = std::fs::read_to_string(format!("{root}study-3-masses.tex"))
+        .expect("docs/study-3-masses.tex");
+    assert!(
+        tex == mms(&["study", "--format", "tex"]),
+        "docs/study-3-masses.tex is stale: regenerate it"
+    );
+}

@@ -49,6 +49,18 @@ pub fn table(models: &[Model], peers: &[Model]) -> Table {
     }
 }
 
+/// Tab. 5 of a model: determinable parameters and non-constant moment
+/// invariants.
+fn tab5(t: &Table, a: &ModelAnalysis) -> (usize, usize) {
+    let m = t
+        .models
+        .iter()
+        .find(|m| m.id() == a.generic_id)
+        .expect("analysed model");
+    let idf = mms::identifiability(m);
+    (idf.determinable_parameters, idf.nonconstant_invariants)
+}
+
 fn status_count(a: &ModelAnalysis, s: Status) -> usize {
     a.types.iter().filter(|v| v.status == s).count()
 }
@@ -101,19 +113,28 @@ pub fn render(t: &Table, format: TableFormat3) -> Result<String, String> {
         TableFormat3::Table => {
             let _ = writeln!(
                 s,
-                "{:<16} {:<44} {:<40} {:>10} {:>7}",
-                "ID", "Possible FRF types", "Pot. similar systems", "impossible", "unknown"
+                "{:<16} {:<44} {:<40} {:>10} {:>7} {:>12} {:>8}",
+                "ID",
+                "Possible FRF types",
+                "Pot. similar systems",
+                "impossible",
+                "unknown",
+                "determinable",
+                "moments"
             );
             for a in &t.analyses {
                 let types: Vec<String> = a.possible().iter().map(|t| t.to_string()).collect();
+                let (det, mom) = tab5(t, a);
                 let _ = writeln!(
                     s,
-                    "{:<16} {:<44} {:<40} {:>10} {:>7}",
+                    "{:<16} {:<44} {:<40} {:>10} {:>7} {:>12} {:>8}",
                     a.id,
                     types.join(", "),
                     similar_cell(t, a, "; "),
                     status_count(a, Status::Impossible),
-                    status_count(a, Status::Unknown)
+                    status_count(a, Status::Unknown),
+                    det,
+                    mom
                 );
             }
             for a in &t.analyses {
@@ -123,14 +144,15 @@ pub fn render(t: &Table, format: TableFormat3) -> Result<String, String> {
             }
         }
         TableFormat3::Md => {
-            s.push_str("| ID | Possible FRF types | Pot. similar systems | Impossible (certified) | Unknown |\n");
-            s.push_str("|---|---|---|---|---|\n");
+            s.push_str("| ID | Possible FRF types | Pot. similar systems | Impossible (certified) | Unknown | Determinable parameters | Non-constant moment invariants |\n");
+            s.push_str("|---|---|---|---|---|---|---|\n");
             for a in &t.analyses {
                 let types: Vec<String> = a.possible().iter().map(|t| format!("`{t}`")).collect();
                 let unknown: Vec<String> = a.unknown().iter().map(|t| format!("`{t}`")).collect();
+                let (det, mom) = tab5(t, a);
                 let _ = writeln!(
                     s,
-                    "| {} | {} | {} | {} | {} |",
+                    "| {} | {} | {} | {} | {} | {det} | {mom} |",
                     a.id,
                     types.join(", "),
                     similar_cell(t, a, "; "),
