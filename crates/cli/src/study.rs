@@ -7,15 +7,6 @@ use mms::render::{render_poly, RenderOptions};
 use poly::Poly;
 use std::fmt::Write;
 
-/// Tab. 1 of the paper as printed (N = 1..5): basic, degradation-free, rule (3).
-const PAPER_TAB1: [(usize, usize, usize, usize); 5] = [
-    (1, 1, 1, 1),
-    (2, 8, 5, 3),
-    (3, 34, 17, 11),
-    (4, 104, 50, 29),
-    (5, 259, 129, 73),
-];
-
 struct Doc {
     tex: bool,
     s: String,
@@ -125,42 +116,6 @@ fn factored_latex(p: &Poly, opts: &RenderOptions) -> String {
     format!("{sign}{}", parts.join(r" \cdot "))
 }
 
-/// The paper's Tab. 3 ("Possible FRF types"), as printed.
-const PAPER_TAB3: [(&str, &[&str]); 11] = [
-    ("A1", &["ARAR"]),
-    ("A2", &["ARR", "RAR", "R"]),
-    ("A3", &["RR"]),
-    ("A4", &["ARAR", "AR"]),
-    ("A5", &["ARR", "RAR", "R"]),
-    ("B1", &["ARAR", "AR"]),
-    (
-        "B2",
-        &[
-            "RRAA", "AARR", "RA", "ARRA", "RR (nm)", "AR", "A^2RR", "RRA^2", "C",
-        ],
-    ),
-    ("C1", &["ARAR"]),
-    ("C2", &["ARRA"]),
-    ("C3", &["ARAR"]),
-    ("C4", &["ARRA"]),
-];
-
-/// The paper's Tab. 5: (ID, determinable parameters, non-constant moment
-/// invariants), as printed.
-const PAPER_TAB5: [(&str, usize, usize); 11] = [
-    ("A1", 5, 5),
-    ("A2", 4, 4),
-    ("A3", 3, 3),
-    ("A4", 5, 5),
-    ("A5", 4, 4),
-    ("B1", 5, 5),
-    ("B2", 4, 5),
-    ("C1", 5, 5),
-    ("C2", 4, 5),
-    ("C3", 5, 5),
-    ("C4", 4, 5),
-];
-
 /// Pushes the headings of an explanation two levels down (Markdown) or
 /// keeps LaTeX sectioning one level down.
 fn demote(text: &str, tex: bool) -> String {
@@ -217,7 +172,7 @@ pub fn run(n: usize, format: ReportFormat) -> Result<String, String> {
          pairs (actuator and sensor swapped) merged as well.",
     );
     let mut rows = Vec::new();
-    for &(k, pb, pd, p3) in &PAPER_TAB1 {
+    for &(k, pb, pd, p3) in &mms::paper::TAB1 {
         let c = mms::counts(k).map_err(|e| e.to_string())?;
         let mark = |ours: usize, paper: usize| {
             if ours == paper {
@@ -344,7 +299,7 @@ pub fn run(n: usize, format: ReportFormat) -> Result<String, String> {
                 }
             })
             .collect();
-        let paper = PAPER_TAB3
+        let paper = mms::paper::TAB3
             .iter()
             .find(|(id, _)| *id == a.id)
             .map(|(_, t)| *t);
@@ -447,7 +402,9 @@ pub fn run(n: usize, format: ReportFormat) -> Result<String, String> {
     let mut rows = Vec::new();
     for m in &models {
         let idf = mms::identifiability(m);
-        let paper = PAPER_TAB5.iter().find(|(id, ..)| Some(*id) == m.paper_id());
+        let paper = mms::paper::TAB5
+            .iter()
+            .find(|(id, ..)| Some(*id) == m.paper_id());
         let mark = |ours: usize, theirs: Option<usize>| match theirs {
             Some(p) if p != ours => format!("{ours} (paper: {p})"),
             _ => ours.to_string(),

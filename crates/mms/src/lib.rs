@@ -50,6 +50,7 @@ pub mod check;
 mod enumerate;
 pub mod identifiability;
 mod model;
+pub mod paper;
 pub mod render;
 mod tf;
 

@@ -6,29 +6,9 @@ use mms::Model;
 use poly::{Poly, Rat};
 use std::collections::BTreeMap;
 
-/// Tab. 3 of the paper, as printed ("Possible FRF types").
-const TAB3: [(&str, &[&str]); 11] = [
-    ("A1", &["ARAR"]),
-    ("A2", &["ARR", "RAR", "R"]),
-    ("A3", &["RR"]),
-    ("A4", &["ARAR", "AR"]),
-    ("A5", &["ARR", "RAR", "R"]),
-    ("B1", &["ARAR", "AR"]),
-    (
-        "B2",
-        &[
-            "RRAA", "AARR", "RA", "ARRA", "RR (nm)", "AR", "A^2RR", "RRA^2", "C",
-        ],
-    ),
-    ("C1", &["ARAR"]),
-    ("C2", &["ARRA"]),
-    ("C3", &["ARAR"]),
-    ("C4", &["ARRA"]),
-];
-
 #[test]
 fn tab3_is_reproduced_with_every_candidate_decided() {
-    for (id, printed) in TAB3 {
+    for (id, printed) in mms::paper::TAB3 {
         let a = analyze(&Model::from_id(id).unwrap(), &SearchLimits::default());
         let mut got: Vec<String> = a.possible().iter().map(|t| t.to_string()).collect();
         let mut want: Vec<String> = printed.iter().map(|s| s.to_string()).collect();
@@ -50,7 +30,7 @@ fn tab3_is_reproduced_with_every_candidate_decided() {
 /// the same type, read off Tab. 3 by type.
 #[test]
 fn similar_systems_match_the_paper() {
-    let all: Vec<_> = TAB3
+    let all: Vec<_> = mms::paper::TAB3
         .iter()
         .map(|(id, _)| {
             (
@@ -79,7 +59,7 @@ fn similar_systems_match_the_paper() {
 /// order for the generic types of 3 masses.
 #[test]
 fn generic_witnesses_agree_with_floating_point_roots() {
-    for (id, _) in TAB3 {
+    for (id, _) in mms::paper::TAB3 {
         let a = analyze(&Model::from_id(id).unwrap(), &SearchLimits::default());
         for v in a.types.iter().filter(|v| v.status == Status::Possible) {
             let t = &v.frf_type;

@@ -14,25 +14,9 @@ fn model(id: &str) -> Model {
     Model::from_id(id).unwrap()
 }
 
-/// Tab. 5 of the paper: (ID, determinable parameters, not identically
-/// constant moment invariants), 5 parameters each.
-const TAB5: [(&str, usize, usize); 11] = [
-    ("A1", 5, 5),
-    ("A2", 4, 4),
-    ("A3", 3, 3),
-    ("A4", 5, 5),
-    ("A5", 4, 4),
-    ("B1", 5, 5),
-    ("B2", 4, 5),
-    ("C1", 5, 5),
-    ("C2", 4, 5),
-    ("C3", 5, 5),
-    ("C4", 4, 5),
-];
-
 #[test]
 fn tab5_is_reproduced_and_proven() {
-    for (id, determinable, invariants) in TAB5 {
+    for (id, determinable, invariants) in mms::paper::TAB5 {
         let r = identifiability(&model(id));
         assert_eq!(r.parameters.len(), 5, "{id}");
         assert_eq!(r.nonconstant_invariants, invariants, "{id}");
@@ -57,7 +41,7 @@ fn tab5_sampled_rank_agrees_without_symbolic_elimination() {
         symbolic_work_limit: 0,
         ..RankOptions::default()
     };
-    for (id, determinable, invariants) in TAB5 {
+    for (id, determinable, invariants) in mms::paper::TAB5 {
         let r = identifiability_with(&model(id), &sampled_only);
         assert_eq!(r.determinable_parameters, determinable, "{id}");
         if determinable < invariants {
@@ -97,7 +81,7 @@ fn reversed(tf: &UndampedTf) -> UndampedTf {
 fn normalizing_by_the_constant_denominator_coefficient_counts_the_same() {
     // The paper normalizes "the first denominator coefficient"; whichever
     // end that is, the count of non-constant invariants is the same.
-    for (id, _, invariants) in TAB5 {
+    for (id, _, invariants) in mms::paper::TAB5 {
         let tf = model(id).undamped_tf();
         let inv = moment_invariants(&reversed(&tf));
         let nonconstant = inv.iter().filter(|i| !i.is_constant()).count();
