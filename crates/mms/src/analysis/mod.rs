@@ -93,6 +93,20 @@ pub struct Cancellation {
     pub den: Poly,
 }
 
+/// A critical factor of the whole orthant and what the engine knows of it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CriticalFactor {
+    /// The irreducible factor.
+    #[serde(serialize_with = "ser_poly")]
+    pub factor: Poly,
+    /// It divides a resultant of a numerator and a denominator part (a
+    /// pole-zero cancellation where it vanishes).
+    pub cancels: bool,
+    /// `definite` (keeps one sign), `wall` (vanishes on a graph
+    /// `alpha*x = beta`) or `undetermined` (neither shown).
+    pub status: &'static str,
+}
+
 /// The analysis of one model.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ModelAnalysis {
@@ -118,6 +132,8 @@ pub struct ModelAnalysis {
     pub types: Vec<TypeVerdict>,
     /// Pole-zero cancellations.
     pub pzc: Vec<Cancellation>,
+    /// The critical factors of the orthant.
+    pub critical: Vec<CriticalFactor>,
 }
 
 impl ModelAnalysis {
@@ -199,7 +215,23 @@ pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
             })
         })
         .collect();
+    let critical = top
+        .factors
+        .iter()
+        .map(|f| CriticalFactor {
+            factor: f.poly.clone(),
+            cancels: f.cancels,
+            status: if f.definite.is_some() {
+                "definite"
+            } else if f.wall.is_some() {
+                "wall"
+            } else {
+                "undetermined"
+            },
+        })
+        .collect();
     ModelAnalysis {
+        critical,
         id: model.name(),
         generic_id: model.id(),
         masses: model.n_masses(),
