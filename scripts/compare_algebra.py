@@ -16,6 +16,7 @@ Set up once with scripts/setup-venv.sh (python-flint, sympy).
 
 import argparse
 import json
+import re
 import subprocess
 import sys
 import time
@@ -31,7 +32,19 @@ def run_json(cmd):
 
 def as_flint(ctx, names, text):
     gens = dict(zip(names, ctx.gens()))
-    return eval(text.replace("^", "**"), {"__builtins__": {}}, gens)
+    env = {"__builtins__": {}}
+    if "(" in text:
+        return eval(text.replace("^", "**"), env, gens)
+    # An expanded sum (the form mms prints): term by term, since one eval of
+    # tens of thousands of terms exceeds Python's recursion limit.
+    parts = re.split(r" ([+-]) ", text.replace("^", "**"))
+    terms = [eval(parts[0], env, gens)]
+    for sign, term in zip(parts[1::2], parts[2::2]):
+        t = eval(term, env, gens)
+        terms.append(t if sign == "+" else -t)
+    while len(terms) > 1:  # pairwise sums: linear merges of balanced sizes
+        terms = [sum(terms[i:i + 2][1:], terms[i]) for i in range(0, len(terms), 2)]
+    return terms[0]
 
 
 def flint_pipeline(num, den, var, idx):

@@ -10,6 +10,13 @@
 //!    least exponent, giving factors such as `m1` or `c12`);
 //! 2. recursively, for a primitive `f`:
 //!    - one variable: [`crate::factor_univariate`];
+//!    - multi-homogeneous (in any set of gradings, found by linear
+//!      algebra on the exponents): one variable per grading is set to 1,
+//!      the smaller polynomial is factored and its factors are
+//!      homogenized back (a bijection on irreducible factors, see
+//!      `crate::homog`). The polynomials of `mms` are homogeneous in the
+//!      springs and in the masses, so this removes lifting levels and turns
+//!      many small inputs univariate;
 //!    - degree 1 in some variable `x`: `f = a x + b` is irreducible once its
 //!      content `gcd(a, b)` is split off (the content is factored
 //!      recursively). This is the common case for the multilinear
@@ -32,9 +39,15 @@
 //!    leading coefficients come from distributing the irreducible factors
 //!    of `L = lc_x(f)` (factored recursively, fewer variables) over the
 //!    image factors, filtered by a divisibility condition at the point;
-//!    if no distribution lifts, the lc trick is used: `L^(E-1) f` is lifted
-//!    with every factor given the leading coefficient `L`. A lift is
-//!    accepted only if the product is exactly right; the factors are then
+//!    when several distributions pass, each is first tried by cheap
+//!    bivariate lifts (all variables but one at the point), which reject
+//!    a misplaced factor of `L` without a full lift. The variables of `L`
+//!    are lifted first, and for large inputs a point with zeros (same
+//!    image factorization pattern) is tried first, which keeps the Taylor
+//!    expansions sparse. If no distribution lifts, the lc trick is used:
+//!    `L^(E-1) f` is lifted with every factor given the leading
+//!    coefficient `L`. A lift is accepted only if the product is exactly
+//!    right (checked level by level inside the lift); the factors are then
 //!    the primitive parts in `x`, each irreducible because its image is;
 //! 5. if the lift fails for a square-free image (extraneous factors),
 //!    subsets of the image factors are lifted as two-factor splittings
@@ -50,6 +63,7 @@ use crate::factor_uni::{
     factor_squarefree, factor_univariate, is_squarefree_mod_some_prime, z_primitive, SplitMix,
 };
 use crate::gcd::content_and_pp;
+use crate::homog::Dehom;
 use crate::int::Int;
 use crate::poly::{Poly, Term};
 use crate::rat::Rat;
@@ -185,27 +199,16 @@ fn cmp_factor(a: &Poly, b: &Poly) -> Ordering {
 /// Pushes `v^(k * mult)` for every variable `v^k` dividing `q` and returns
 /// the quotient.
 fn split_monomial_content(q: &Poly, mult: u32, out: &mut Vec<(Poly, u32)>) -> Poly {
-    let vars = q.vars();
-    let mins: Vec<u32> = (0..vars.len())
-        .map(|i| q.terms().iter().map(|t| t.exps[i]).min().unwrap_or(0))
-        .collect();
+    let mins = q.monomial_content();
     if mins.iter().all(|&m| m == 0) {
         return q.clone();
     }
-    for (v, &m) in vars.iter().zip(&mins) {
+    for (v, &m) in q.vars().iter().zip(&mins) {
         if m > 0 {
             out.push((Poly::var(v), m * mult));
         }
     }
-    let terms = q
-        .terms()
-        .iter()
-        .map(|t| Term {
-            exps: t.exps.iter().zip(&mins).map(|(e, m)| e - m).collect(),
-            coef: t.coef.clone(),
-        })
-        .collect();
-    Poly::from_terms(vars, terms)
+    q.div_monomial(&mins)
 }
 
 /// Integer primitive part with positive leading coefficient.
@@ -235,6 +238,22 @@ fn factor_primitive(f: &Poly, mult: u32, out: &mut Vec<(Poly, u32)>) {
             out.push((g.to_poly(x), e * mult));
         }
         return;
+    }
+    // Multi-homogeneous: factor with fewer variables (see crate::homog).
+    if let Some(d) = Dehom::of(f) {
+        let g = d.dehomogenize(f);
+        let mut parts = Vec::new();
+        factor_primitive(&normalize(&g), mult, &mut parts);
+        let homs: Option<Vec<(Poly, u32)>> = parts
+            .into_iter()
+            .map(|(a, e)| d.homogenize(&a).map(|h| (normalize(&h), e)))
+            .collect();
+        if let Some(hs) = homs {
+            out.extend(hs);
+            return;
+        }
+        // Not reached (factors of a graded polynomial are graded) unless
+        // the weights overflow: factor without the gradings.
     }
     // Degree and number of leading terms per variable.
     let mut deg = vec![0u32; vars.len()];
@@ -341,7 +360,7 @@ impl ImageSource {
     /// The image of `f` at the next point, `None` if the leading coefficient
     /// in `x` (index `xi` of `f.vars()`) vanishes there. Values are non-zero
     /// integers whose range grows slowly with the number of attempts.
-    fn next(&mut self, f: &Poly, xi: usize) -> Option<Image> {
+    fn next(&mut self, f: &Poly, xi: usize, ys_idx: &[usize]) -> Option<Image> {
         self.attempts += 1;
         let range = 8 + 4 * (self.attempts / 10).min(1 << 20);
         let nv = f.vars().len();
@@ -355,32 +374,74 @@ impl ImageSource {
                 }
             })
             .collect();
-        let n = f.terms().iter().map(|t| t.exps[xi]).max().unwrap_or(0) as usize;
-        let mut powers: Vec<Vec<Int>> = vec![vec![Int::ONE]; nv];
-        let img = image_int(f, xi, &vals, &mut powers);
-        if img.len() != n + 1 || img[n].is_zero() {
-            return None;
-        }
-        let factors: Vec<(Vec<Int>, u32)> = if is_squarefree_mod_some_prime(&img) {
-            factor_squarefree(&z_primitive(&img))
-                .into_iter()
-                .map(|u| (u, 1))
-                .collect()
-        } else {
-            factor_univariate(&UPoly::new(img))
-                .1
-                .into_iter()
-                .map(|(u, e)| (u.coeffs().to_vec(), e))
-                .collect()
-        };
-        let rad_degree = factors.iter().map(|(u, _)| u.len() - 1).sum();
-        let point: Vec<i64> = (0..nv).filter(|&j| j != xi).map(|j| vals[j]).collect();
-        Some(Image {
-            point,
-            factors,
-            rad_degree,
-        })
+        image_at(f, xi, ys_idx, &vals)
     }
+}
+
+/// The image of `f` at `vals` (one value per variable of `f`, the one of
+/// `x` ignored), `None` if the leading coefficient in `x` vanishes there.
+fn image_at(f: &Poly, xi: usize, ys_idx: &[usize], vals: &[i64]) -> Option<Image> {
+    let nv = f.vars().len();
+    let n = f.terms().iter().map(|t| t.exps[xi]).max().unwrap_or(0) as usize;
+    let mut powers: Vec<Vec<Int>> = vec![vec![Int::ONE]; nv];
+    let img = image_int(f, xi, vals, &mut powers);
+    if img.len() != n + 1 || img[n].is_zero() {
+        return None;
+    }
+    let factors: Vec<(Vec<Int>, u32)> = if is_squarefree_mod_some_prime(&img) {
+        factor_squarefree(&z_primitive(&img))
+            .into_iter()
+            .map(|u| (u, 1))
+            .collect()
+    } else {
+        factor_univariate(&UPoly::new(img))
+            .1
+            .into_iter()
+            .map(|(u, e)| (u.coeffs().to_vec(), e))
+            .collect()
+    };
+    let rad_degree = factors.iter().map(|(u, _)| u.len() - 1).sum();
+    let point: Vec<i64> = ys_idx.iter().map(|&j| vals[j]).collect();
+    Some(Image {
+        point,
+        factors,
+        rad_degree,
+    })
+}
+
+/// Degrees and multiplicities of the factors of an image, sorted.
+fn pattern(im: &Image) -> Vec<(usize, u32)> {
+    let mut v: Vec<(usize, u32)> = im.factors.iter().map(|(u, e)| (u.len(), *e)).collect();
+    v.sort_unstable();
+    v
+}
+
+/// Polynomials with at least this many terms are lifted from points with
+/// zeros where possible (below, the extra image factorizations cost more
+/// than they save).
+const ZERO_POINT_MIN_TERMS: usize = 64;
+
+/// `im` with as many coordinates set to 0 as keep the pattern of its
+/// factorization (last lifted variables first), `None` if none can be.
+/// At 0 the Taylor expansions of the lifting are plain coefficients and
+/// the intermediate factors stay sparse; the point is only a choice (the
+/// lift checks its result), so this never affects correctness.
+fn zero_point(f: &Poly, xi: usize, ys_idx: &[usize], im: &Image) -> Option<Image> {
+    let want = pattern(im);
+    let mut vals = vec![0i64; f.vars().len()];
+    for (&j, &v) in ys_idx.iter().zip(&im.point) {
+        vals[j] = v;
+    }
+    let mut best: Option<Image> = None;
+    for &j in ys_idx.iter().rev() {
+        let old = vals[j];
+        vals[j] = 0;
+        match image_at(f, xi, ys_idx, &vals) {
+            Some(z) if pattern(&z) == want => best = Some(z),
+            _ => vals[j] = old,
+        }
+    }
+    best
 }
 
 /// Number of good evaluation points whose images are compared.
@@ -391,7 +452,12 @@ const IMAGES: usize = 3;
 fn factor_by_lifting(f: &Poly, x: &str, mult: u32, out: &mut Vec<(Poly, u32)>) {
     let vars = f.vars().to_vec();
     let xi = vars.iter().position(|v| v == x).expect("x occurs");
-    let ys: Vec<String> = vars.iter().filter(|v| *v != x).cloned().collect();
+    let lead = f.lead_in(x);
+    // The variables of the leading coefficient are lifted first: a wrong
+    // distribution of its factors then fails at an early, cheap level.
+    let mut ys_idx: Vec<usize> = (0..vars.len()).filter(|&j| j != xi).collect();
+    ys_idx.sort_by_key(|&j| (!lead.has_var(&vars[j]), j));
+    let ys: Vec<String> = ys_idx.iter().map(|&j| vars[j].clone()).collect();
     // Evaluation points. The leading coefficient is a non-zero polynomial,
     // so good points exist and the search ends.
     let mut source = ImageSource {
@@ -400,7 +466,7 @@ fn factor_by_lifting(f: &Poly, x: &str, mult: u32, out: &mut Vec<(Poly, u32)>) {
     };
     let mut images: Vec<Image> = Vec::new();
     while images.len() < IMAGES && (source.attempts < 100 || images.is_empty()) {
-        let Some(im) = source.next(f, xi) else {
+        let Some(im) = source.next(f, xi, &ys_idx) else {
             continue;
         };
         if im.factors.len() == 1 && im.factors[0].1 == 1 {
@@ -411,9 +477,30 @@ fn factor_by_lifting(f: &Poly, x: &str, mult: u32, out: &mut Vec<(Poly, u32)>) {
         images.push(im);
     }
     images.sort_by_key(|im| im.key());
-    let lead = f.lead_in(x);
-    // Full lift at the best points.
+    // Full lift at the best points, first at the best one with zeros.
     if let Some(best) = images.first() {
+        let zeroed = if f.num_terms() >= ZERO_POINT_MIN_TERMS {
+            zero_point(f, xi, &ys_idx, best)
+        } else {
+            None
+        };
+        if let Some(im) = &zeroed {
+            // Only with known leading coefficients: the lc trick is not
+            // worth it here, the random points follow.
+            if lead.num_terms() > 1 {
+                if let Some(hs) = lift_with_lead_assignment(f, x, &ys, &lead, im) {
+                    for (h, e) in hs {
+                        out.push((h, e * mult));
+                    }
+                    return;
+                }
+            } else if let Some(hs) = lift_all(f, x, &ys, &lead, im) {
+                for (h, e) in hs {
+                    out.push((h, e * mult));
+                }
+                return;
+            }
+        }
         for im in images.iter().take(2) {
             if im.key() != best.key() {
                 break;
@@ -443,7 +530,7 @@ fn factor_by_lifting(f: &Poly, x: &str, mult: u32, out: &mut Vec<(Poly, u32)>) {
                 // Square-free after all but no image showed it (unlucky
                 // points): find a square-free image, which exists.
                 loop {
-                    let Some(im) = source.next(f, xi) else {
+                    let Some(im) = source.next(f, xi, &ys_idx) else {
                         continue;
                     };
                     if !im.is_squarefree() {
@@ -511,7 +598,9 @@ fn split_by_subsets(
 /// Maximal number of leading-coefficient assignments enumerated.
 const MAX_ASSIGNMENTS: usize = 4096;
 /// Maximal number of assignments passing the divisibility filter that are
-/// lifted.
+/// screened by bivariate lifts.
+const MAX_LC_CANDIDATES: usize = 64;
+/// Maximal number of assignments that are lifted in full.
 const MAX_LC_TRIES: usize = 6;
 
 /// Lifts all image factors with their true leading coefficients, found by
@@ -554,8 +643,9 @@ fn lift_with_lead_assignment(
     if total == 0 || total > MAX_ASSIGNMENTS {
         return None;
     }
+    // Assignments passing the divisibility filter, as (leads, images).
+    let mut candidates: Vec<(Vec<Poly>, Vec<QPoly>)> = Vec::new();
     let mut choice = vec![0usize; per_k.len()];
-    let mut tries = 0;
     for _ in 0..total {
         // l_i(a) for this assignment.
         let mut la = vec![Rat::ONE; r];
@@ -572,7 +662,6 @@ fn lift_with_lead_assignment(
             !v.is_zero() && v.div_rem(lc).1.is_zero()
         });
         if pass {
-            tries += 1;
             let leads: Vec<Poly> = (0..r)
                 .map(|i| {
                     let mut l = Poly::one();
@@ -591,19 +680,9 @@ fn lift_with_lead_assignment(
                 .zip(&la)
                 .map(|((u, _), l)| with_lead(u, l))
                 .collect();
-            let big_f = f.scale(&cont.recip());
-            if let Some(gs) = hensel_lift(&big_f, x, ys, &a, images, &exps, &leads) {
-                let hs: Vec<Poly> = gs.iter().map(normalize).collect();
-                let mut prod = Poly::one();
-                for (h, e) in hs.iter().zip(&exps) {
-                    prod = &prod * &h.pow(*e);
-                }
-                if &prod == f {
-                    return Some(hs.into_iter().zip(exps).collect());
-                }
-            }
-            if tries >= MAX_LC_TRIES {
-                return None;
+            candidates.push((leads, images));
+            if candidates.len() >= MAX_LC_CANDIDATES {
+                break;
             }
         }
         // Next assignment (mixed radix).
@@ -615,7 +694,52 @@ fn lift_with_lead_assignment(
             *c = 0;
         }
     }
+    let big_f = f.scale(&cont.recip());
+    if candidates.len() > 1 && ys.len() > 1 {
+        // Several candidates: a wrong one fails the bivariate lift in some
+        // variable of a misplaced lc factor, far cheaper than a full lift.
+        let bivariate = bivariate_images(&big_f, ys, &a);
+        candidates.retain(|(leads, images)| {
+            bivariate.iter().all(|(j, fj)| {
+                let lj: Vec<Poly> = leads.iter().map(|l| eval_except(l, ys, &a, *j)).collect();
+                let (yj, aj) = (&ys[*j..*j + 1], &a[*j..*j + 1]);
+                hensel_lift(fj, x, yj, aj, images.clone(), &exps, &lj).is_some()
+            })
+        });
+    }
+    for (leads, images) in candidates.into_iter().take(MAX_LC_TRIES) {
+        if let Some(gs) = hensel_lift(&big_f, x, ys, &a, images, &exps, &leads) {
+            // The lift reproduced f / cont exactly, so the product of the
+            // normalized factors is f up to a constant, fixed by the
+            // leading coefficients.
+            let hs: Vec<Poly> = gs.iter().map(normalize).collect();
+            if same_up_to_lc(&hs, &exps, f) {
+                return Some(hs.into_iter().zip(exps).collect());
+            }
+        }
+    }
     None
+}
+
+/// For each variable `ys[j]` of `f`, `f` with every other `ys` at `a`
+/// (`(j, image)`, last variables first).
+fn bivariate_images(f: &Poly, ys: &[String], a: &[Rat]) -> Vec<(usize, Poly)> {
+    (0..ys.len())
+        .rev()
+        .filter(|&j| f.has_var(&ys[j]))
+        .map(|j| (j, eval_except(f, ys, a, j)))
+        .collect()
+}
+
+/// `p` with every `ys[l]`, `l != j`, at `a[l]`.
+fn eval_except(p: &Poly, ys: &[String], a: &[Rat], j: usize) -> Poly {
+    let mut q = p.clone();
+    for (l, (y, v)) in ys.iter().zip(a).enumerate() {
+        if l != j {
+            q = q.subs(y, v);
+        }
+    }
+    q
 }
 
 /// All `n` (pushed to `acc`) with `sum_i w_i n_i = m`, filling from `i`.
@@ -654,14 +778,23 @@ fn lift_all(f: &Poly, x: &str, ys: &[String], lead: &Poly, im: &Image) -> Option
         .iter()
         .map(|g| normalize(&content_and_pp(g, x).1))
         .collect();
-    let mut prod = Poly::one();
-    for (h, e) in hs.iter().zip(&exps) {
-        prod = &prod * &h.pow(*e);
-    }
-    if &prod != f {
+    // prod g_i^e_i = L^(E-1) f exactly, so the primitive parts multiply to
+    // f up to a constant (Gauss), fixed by the leading coefficients.
+    if !same_up_to_lc(&hs, &exps, f) {
         return None;
     }
     Some(hs.into_iter().zip(exps).collect())
+}
+
+/// `prod hs[i]^es[i]` and `f`, known to agree up to a constant factor,
+/// are equal: compares their leading coefficients (the lex leading term of
+/// a product is the product of the leading terms).
+fn same_up_to_lc(hs: &[Poly], es: &[u32], f: &Poly) -> bool {
+    let mut lc = Rat::ONE;
+    for (h, &e) in hs.iter().zip(es) {
+        lc = &lc * &h.leading_coef().pow(e as i32);
+    }
+    lc == f.leading_coef()
 }
 
 /// Lifts the two-factor splitting of a square-free image given by the
@@ -885,31 +1018,46 @@ fn shift_pow(y: &str, a: &Rat, d: u32) -> Poly {
     (&Poly::var(y) - &Poly::constant(a.clone())).pow(d)
 }
 
-/// Coefficient of `(y - a)^d` in the Taylor expansion of `e` at `y = a`.
+/// Coefficient of `(y - a)^d` in the Taylor expansion of `e` at `y = a`:
+/// `sum_{k >= d} C(k, d) a^(k-d) c_k` over the coefficients `c_k` of `y^k`,
+/// in one pass over the terms.
 fn taylor_coeff(e: &Poly, y: &str, a: &Rat, d: u32) -> Poly {
-    let cs = e.coeffs_in(y);
-    let d = d as usize;
-    if cs.len() <= d {
+    let Some(i) = e.vars().iter().position(|v| v == y) else {
+        return if d == 0 { e.clone() } else { Poly::zero() };
+    };
+    let deg = e.terms().iter().map(|t| t.exps[i]).max().unwrap_or(0);
+    if deg < d {
         return Poly::zero();
     }
     if a.is_zero() {
-        return cs[d].clone();
+        return e.coeffs_in(y).swap_remove(d as usize);
     }
-    let mut acc = Poly::zero();
-    // sum_{k >= d} C(k, d) a^(k-d) c_k
+    // w[k - d] = C(k, d) a^(k - d).
+    let mut w: Vec<Rat> = Vec::with_capacity((deg - d + 1) as usize);
     let mut binom = Int::ONE;
     let mut apow = Rat::ONE;
-    for (k, c) in cs.iter().enumerate().skip(d) {
+    for k in d..=deg {
         if k > d {
-            // C(k, d) = C(k-1, d) * k / (k - d)
             binom = (&binom * &Int::from(k as i64)).div_exact(&Int::from((k - d) as i64));
             apow = &apow * a;
         }
-        if !c.is_zero() {
-            acc = &acc + &c.scale(&(&Rat::from_int(binom.clone()) * &apow));
-        }
+        w.push(&Rat::from_int(binom.clone()) * &apow);
     }
-    acc
+    let terms: Vec<Term> = e
+        .terms()
+        .iter()
+        .filter(|t| t.exps[i] >= d)
+        .map(|t| {
+            let mut exps = t.exps.clone();
+            let k = exps[i];
+            exps[i] = 0;
+            Term {
+                exps,
+                coef: &t.coef * &w[(k - d) as usize],
+            }
+        })
+        .collect();
+    Poly::from_terms_like(e, terms)
 }
 
 fn product(ps: &[Poly]) -> Poly {
@@ -1120,9 +1268,11 @@ fn hensel_lift(
         } else {
             None
         };
+        let mut exact = false;
         for d in 1..=lifter.bounds[j] {
             let e = target - &product_pow(&g, exps);
             if e.is_zero() {
+                exact = true;
                 break;
             }
             let mut c = taylor_coeff(&e, y, &a[j], d);
@@ -1145,7 +1295,7 @@ fn hensel_lift(
                 }
             }
         }
-        if &product_pow(&g, exps) != target {
+        if !exact && &product_pow(&g, exps) != target {
             return None;
         }
     }

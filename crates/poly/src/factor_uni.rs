@@ -303,22 +303,24 @@ impl Fp {
     }
     #[inline]
     pub(crate) fn mul(&self, a: u64, b: u64) -> u64 {
-        ((a as u128 * b as u128) % self.p as u128) as u64
-    }
-    pub(crate) fn pow(&self, mut a: u64, mut e: u64) -> u64 {
-        let mut r = 1u64;
-        while e > 0 {
-            if e & 1 == 1 {
-                r = self.mul(r, a);
-            }
-            a = self.mul(a, a);
-            e >>= 1;
+        if self.p <= u32::MAX as u64 {
+            (a * b) % self.p
+        } else {
+            ((a as u128 * b as u128) % self.p as u128) as u64
         }
-        r
     }
-    /// Inverse of a non-zero residue (Fermat).
+    /// Inverse of a non-zero residue.
     pub(crate) fn inv(&self, a: u64) -> u64 {
-        self.pow(a, self.p - 2)
+        // Extended Euclid (p prime, a != 0 mod p).
+        let (mut r0, mut r1) = (self.p as i128, (a % self.p) as i128);
+        let (mut s0, mut s1) = (0i128, 1i128);
+        while r1 != 0 {
+            let q = r0 / r1;
+            (r0, r1) = (r1, r0 - q * r1);
+            (s0, s1) = (s1, s0 - q * s1);
+        }
+        debug_assert_eq!(r0, 1, "inverse of a unit");
+        s0.rem_euclid(self.p as i128) as u64
     }
     pub(crate) fn reduce_z(&self, a: &[Int]) -> Pp {
         let mut v: Pp = a.iter().map(|c| c.rem_u64(self.p)).collect();

@@ -32,6 +32,11 @@
 //!    the sequence stops early when a remainder reaches the proven degree
 //!    bound and its primitive part divides both operands.
 //!
+//! For the gcd of a list (contents), the bounds of step 2 are first taken
+//! over the whole list at once (the gcd of the images of all members), so a
+//! trivial content is usually proven with one evaluation per term and
+//! variable, without pairwise gcds of large coefficients.
+//!
 //! Nothing depends on a heuristic succeeding: the modular bounds are only
 //! used as proven bounds, and every shortcut is confirmed by exact division
 //! or falls through to the PRS. Evaluation points are fixed, so results and
@@ -151,6 +156,12 @@ pub fn content_and_pp(p: &Poly, var: &str) -> (Poly, Poly) {
         return (p.clone(), Poly::one());
     }
     let g = gcd_list(p.coeffs_in(var));
+    if let Some(k) = g.as_constant() {
+        // A constant content: only the rational normalization.
+        let (c, pp) = p.primitive();
+        debug_assert!(!k.is_zero());
+        return (Poly::constant(c), pp);
+    }
     let q = p.div_exact(&g).expect("the content divides");
     let (c, pp) = q.primitive();
     (g.scale(&c), pp)
@@ -175,6 +186,29 @@ pub(crate) fn gcd_list(ps: Vec<Poly>) -> Poly {
             .then(a.total_degree().cmp(&b.total_degree()))
     });
     ps.dedup();
+    if ps.len() > 2 {
+        // Variables that cannot occur in the gcd of the whole list (proven
+        // by modular images): the gcd is that of the coefficients with
+        // respect to them. Usually this shows a trivial gcd at once,
+        // without pairwise gcds that may be large and expensive.
+        let mut vars: Vec<String> = ps.iter().flat_map(|p| p.vars().iter().cloned()).collect();
+        vars.sort_by(|a, b| var_cmp(a, b));
+        vars.dedup();
+        let bounds = list_degree_bounds(&ps, &vars);
+        let elim: Vec<String> = vars
+            .iter()
+            .zip(&bounds)
+            .filter(|(_, &b)| b == 0)
+            .map(|(v, _)| v.clone())
+            .collect();
+        if elim.len() == vars.len() {
+            return Poly::one();
+        }
+        if !elim.is_empty() {
+            let list: Vec<Poly> = ps.iter().flat_map(|p| coeffs_wrt(p, &elim)).collect();
+            return gcd_list(list);
+        }
+    }
     let mut it = ps.into_iter();
     let mut g = it.next().expect("non-empty");
     for p in it {
@@ -655,6 +689,81 @@ fn degree_bounds(a: &Poly, b: &Poly, shared: &[String]) -> Vec<u32> {
         .zip(shared)
         .map(|(r, v)| r.unwrap_or_else(|| a.degree(v).min(b.degree(v))))
         .collect()
+}
+
+/// Proven upper bounds for `deg_v gcd(ps)`, for each `v` of `vars`. The
+/// image of the gcd divides the image of every `p`, and it keeps its degree
+/// in `v` when the leading coefficient in `v` of one `p` survives (it is a
+/// multiple of the gcd's), so the degree of the gcd of the images bounds
+/// the degree of the gcd. A variable missing from some `p` has bound 0; a
+/// variable without a usable point keeps the trivial bound (least degree).
+fn list_degree_bounds(ps: &[Poly], vars: &[String]) -> Vec<u32> {
+    let mut res: Vec<Option<u32>> = vars
+        .iter()
+        .map(|v| ps.iter().any(|p| !p.has_var(v)).then_some(0))
+        .collect();
+    for k in 0..3 {
+        if res.iter().all(|r| r.is_some()) {
+            break;
+        }
+        let Some(vals) = ps
+            .iter()
+            .map(|p| term_values(p, k))
+            .collect::<Option<Vec<_>>>()
+        else {
+            continue;
+        };
+        for (r, v) in res.iter_mut().zip(vars) {
+            if r.is_some() {
+                continue;
+            }
+            let mut full = false;
+            let mut g: Vec<u64> = Vec::new();
+            for (p, (pv, pt)) in ps.iter().zip(&vals) {
+                let xi = p.vars().iter().position(|w| w == v).expect("checked");
+                let im = image_from(p, pv, pt, xi);
+                full |= im.len() == p.degree(v) as usize + 1;
+                g = gcd_mod(&g, &im);
+                if g.len() == 1 && full {
+                    break;
+                }
+            }
+            if full {
+                *r = Some(g.len().saturating_sub(1) as u32);
+            }
+        }
+    }
+    res.iter()
+        .zip(vars)
+        .map(|(r, v)| r.unwrap_or_else(|| ps.iter().map(|p| p.degree(v)).min().unwrap_or(0)))
+        .collect()
+}
+
+/// Monic gcd of two polynomials over GF(P) (empty if both are 0).
+fn gcd_mod(a: &[u64], b: &[u64]) -> Vec<u64> {
+    let (mut f, mut g) = (a.to_vec(), b.to_vec());
+    while !g.is_empty() {
+        let inv = invm(*g.last().expect("non-empty"));
+        while f.len() >= g.len() {
+            let q = mulm(*f.last().expect("non-empty"), inv);
+            let s = f.len() - g.len();
+            for (i, &gi) in g.iter().enumerate() {
+                f[i + s] = subm(f[i + s], mulm(q, gi));
+            }
+            f.pop();
+            while f.last() == Some(&0) {
+                f.pop();
+            }
+        }
+        std::mem::swap(&mut f, &mut g);
+    }
+    if let Some(&l) = f.last() {
+        let inv = invm(l);
+        for c in f.iter_mut() {
+            *c = mulm(*c, inv);
+        }
+    }
+    f
 }
 
 /// [`degree_bounds`] for one variable.

@@ -53,6 +53,7 @@ pub use crate::resultant::{
     subresultant_chain, subresultants, sylvester_matrix,
 };
 mod factor;
+mod homog;
 pub use crate::factor::{factor, Factorization};
 mod sqfree;
 pub use crate::sqfree::{is_square_free, square_free, square_free_part};

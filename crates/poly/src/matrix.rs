@@ -250,7 +250,8 @@ fn minors_dp(
     let mut level: BTreeMap<u32, Poly> = BTreeMap::new();
     level.insert(0, Poly::one());
     for (k, row) in m.iter().enumerate().take(n) {
-        let mut next: BTreeMap<u32, Poly> = BTreeMap::new();
+        // All products for one new minor are summed in one pass.
+        let mut terms: BTreeMap<u32, Vec<(&Poly, &Poly, bool)>> = BTreeMap::new();
         for (&mask, val) in &level {
             for (j, e) in row.iter().enumerate() {
                 if e.is_zero() || mask & (1 << j) != 0 {
@@ -259,14 +260,16 @@ fn minors_dp(
                 // Expanding the k-th row of the minor on columns mask|j: the
                 // sign is (-1)^(number of chosen columns to the right of j).
                 let after = (mask >> (j + 1)).count_ones();
-                let mut t = e * val;
-                if after % 2 == 1 {
-                    t = -t;
-                }
-                let slot = next.entry(mask | (1 << j)).or_default();
-                *slot = &*slot + &t;
+                terms
+                    .entry(mask | (1 << j))
+                    .or_default()
+                    .push((e, val, after % 2 == 1));
             }
         }
+        let mut next: BTreeMap<u32, Poly> = terms
+            .into_iter()
+            .map(|(mask, ops)| (mask, Poly::sum_of_products(&ops)))
+            .collect();
         next.retain(|_, v| !v.is_zero());
         level = next;
         debug_assert!(level.keys().all(|mk| mk.count_ones() as usize == k + 1));

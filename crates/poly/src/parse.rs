@@ -48,21 +48,35 @@ impl<'a> Parser<'a> {
     }
 
     fn expr(&mut self) -> Result<Poly, ParsePolyError> {
-        let mut acc = self.term()?;
+        let mut parts = vec![self.term()?];
         while let Some(c) = self.peek() {
             match c {
                 b'+' => {
                     self.pos += 1;
-                    acc = &acc + &self.term()?;
+                    parts.push(self.term()?);
                 }
                 b'-' => {
                     self.pos += 1;
-                    acc = &acc - &self.term()?;
+                    parts.push(-self.term()?);
                 }
                 _ => break,
             }
         }
-        Ok(acc)
+        // Pairwise sums: linear merges of balanced sizes, not one long
+        // accumulation (quadratic in the number of terms).
+        while parts.len() > 1 {
+            let mut next = Vec::with_capacity(parts.len().div_ceil(2));
+            let mut it = parts.chunks(2);
+            for ch in &mut it {
+                next.push(match ch {
+                    [a, b] => a + b,
+                    [a] => a.clone(),
+                    _ => unreachable!("chunks of two"),
+                });
+            }
+            parts = next;
+        }
+        Ok(parts.pop().expect("one part"))
     }
 
     fn term(&mut self) -> Result<Poly, ParsePolyError> {

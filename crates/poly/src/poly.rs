@@ -21,18 +21,41 @@ use std::sync::Arc;
 /// lower-case parameter names, so polynomials in Omega print in powers of
 /// Omega first.
 pub fn var_cmp(a: &str, b: &str) -> Ordering {
-    fn split(s: &str) -> (&str, Option<u128>, &str) {
-        let idx = s.find(|c: char| c.is_ascii_digit()).unwrap_or(s.len());
-        let (pre, rest) = s.split_at(idx);
-        let end = rest
-            .find(|c: char| !c.is_ascii_digit())
-            .unwrap_or(rest.len());
-        let num = rest[..end].parse::<u128>().ok();
-        (pre, num, &rest[end..])
+    if a == b {
+        return Ordering::Equal;
     }
-    let (pa, na, ra) = split(a);
-    let (pb, nb, rb) = split(b);
-    pa.cmp(pb).then(na.cmp(&nb)).then(ra.cmp(rb)).then(a.cmp(b))
+    /// Alphabetic prefix, digit run (leading zeros stripped) and whether
+    /// there is one, rest.
+    fn split(s: &str) -> (&str, bool, &str, &str) {
+        let bytes = s.as_bytes();
+        let idx = bytes
+            .iter()
+            .position(|c| c.is_ascii_digit())
+            .unwrap_or(s.len());
+        let end = bytes[idx..]
+            .iter()
+            .position(|c| !c.is_ascii_digit())
+            .map_or(s.len(), |k| idx + k);
+        let digits = &s[idx..end];
+        let trimmed = digits.trim_start_matches('0');
+        (&s[..idx], !digits.is_empty(), trimmed, &s[end..])
+    }
+    let (pa, da, na, ra) = split(a);
+    let (pb, db, nb, rb) = split(b);
+    // Numbers beyond u128 compare as absent, as `str::parse` would have it.
+    let fits =
+        |t: &str| t.len() < 39 || (t.len() == 39 && t <= "340282366920938463463374607431768211455");
+    let (da, db) = (da && fits(na), db && fits(nb));
+    let num_cmp = match (da, db) {
+        (false, false) => Ordering::Equal,
+        (false, true) => Ordering::Less,
+        (true, false) => Ordering::Greater,
+        (true, true) => na.len().cmp(&nb.len()).then_with(|| na.cmp(nb)),
+    };
+    pa.cmp(pb)
+        .then(num_cmp)
+        .then_with(|| ra.cmp(rb))
+        .then_with(|| a.cmp(b))
 }
 
 /// One term: exponents (one per variable of the owning polynomial) and a
@@ -112,22 +135,72 @@ impl Hasher for MonoHasher {
     }
 }
 
-type MonoMap<V> = HashMap<u128, V, BuildHasherDefault<MonoHasher>>;
+type MonoMap<K, V> = HashMap<K, V, BuildHasherDefault<MonoHasher>>;
 
-/// Accumulates all products with `i128` coefficients; `None` on overflow.
-fn mul_acc_small(
-    ka: &[u128],
-    ca: &[i64],
-    kb: &[u128],
-    cb: &[i64],
-    cap: usize,
-) -> Option<Vec<(u128, Rat)>> {
-    let mut acc: MonoMap<i128> = MonoMap::with_capacity_and_hasher(cap, Default::default());
-    for (&x, &cx) in ka.iter().zip(ca) {
-        for (&y, &cy) in kb.iter().zip(cb) {
-            let p = cx as i128 * cy as i128;
-            let slot = acc.entry(x + y).or_insert(0);
-            *slot = slot.checked_add(p)?;
+/// A packed monomial key: `u64` when the layout fits, else `u128`.
+trait Key: Copy + Eq + std::hash::Hash + Ord + Add<Output = Self> {
+    fn from_u128(x: u128) -> Self;
+    fn to_u128(self) -> u128;
+}
+
+impl Key for u64 {
+    fn from_u128(x: u128) -> Self {
+        x as u64
+    }
+    fn to_u128(self) -> u128 {
+        self as u128
+    }
+}
+
+impl Key for u128 {
+    fn from_u128(x: u128) -> Self {
+        x
+    }
+    fn to_u128(self) -> u128 {
+        self
+    }
+}
+
+/// One signed product of a sum of products: packed monomials and
+/// coefficients of both factors, and whether it is subtracted.
+struct PackedPair<'a, K> {
+    ka: Vec<K>,
+    a: &'a [Term],
+    kb: Vec<K>,
+    b: &'a [Term],
+    neg: bool,
+}
+
+/// Initial size of the accumulation table: the number of products, capped
+/// (the table grows when needed; a large up-front table costs page faults).
+fn table_capacity<K>(pairs: &[PackedPair<'_, K>]) -> usize {
+    let products: usize = pairs.iter().map(|p| p.a.len() * p.b.len()).sum();
+    products.min(1 << 14)
+}
+
+/// Accumulates all products with `i128` coefficients; `None` if a
+/// coefficient is not a machine integer or a sum overflows.
+fn acc_small<K: Key>(pairs: &[PackedPair<'_, K>]) -> Option<Vec<(K, Rat)>> {
+    let products: usize = pairs.iter().map(|p| p.a.len() * p.b.len()).sum();
+    if products <= SMALL_PRODUCTS {
+        return acc_small_sorted(pairs);
+    }
+    let mut acc: MonoMap<K, i128> =
+        MonoMap::with_capacity_and_hasher(table_capacity(pairs), Default::default());
+    for pr in pairs {
+        let ca = small_coefs(pr.a)?;
+        let mut cb = small_coefs(pr.b)?;
+        if pr.neg {
+            for c in cb.iter_mut() {
+                *c = c.checked_neg()?;
+            }
+        }
+        for (&x, &cx) in pr.ka.iter().zip(&ca) {
+            for (&y, &cy) in pr.kb.iter().zip(&cb) {
+                let p = cx as i128 * cy as i128;
+                let slot = acc.entry(x + y).or_insert(0);
+                *slot = slot.checked_add(p)?;
+            }
         }
     }
     Some(
@@ -144,24 +217,126 @@ fn mul_acc_small(
     )
 }
 
+/// Up to this many products a sorted list beats the hash table.
+const SMALL_PRODUCTS: usize = 64;
+
+/// [`acc_small`] for few products: all of them listed, sorted, merged.
+fn acc_small_sorted<K: Key>(pairs: &[PackedPair<'_, K>]) -> Option<Vec<(K, Rat)>> {
+    let mut all: Vec<(K, i128)> = Vec::new();
+    for pr in pairs {
+        for (&x, s) in pr.ka.iter().zip(pr.a) {
+            let cx = if s.coef.is_integer() {
+                s.coef.numer().to_i64()?
+            } else {
+                return None;
+            };
+            for (&y, t) in pr.kb.iter().zip(pr.b) {
+                let cy = if t.coef.is_integer() {
+                    t.coef.numer().to_i64()?
+                } else {
+                    return None;
+                };
+                let p = cx as i128 * cy as i128;
+                all.push((x + y, if pr.neg { p.checked_neg()? } else { p }));
+            }
+        }
+    }
+    all.sort_unstable_by_key(|x| std::cmp::Reverse(x.0));
+    let mut out: Vec<(K, Rat)> = Vec::with_capacity(all.len());
+    let mut i = 0;
+    while i < all.len() {
+        let k = all[i].0;
+        let mut c = all[i].1;
+        i += 1;
+        while i < all.len() && all[i].0 == k {
+            c = c.checked_add(all[i].1)?;
+            i += 1;
+        }
+        if c != 0 {
+            let c = match i64::try_from(c) {
+                Ok(v) => Rat::from(v),
+                Err(_) => Rat::from_int(Int::from(num_bigint::BigInt::from(c))),
+            };
+            out.push((k, c));
+        }
+    }
+    Some(out)
+}
+
 /// Accumulates all products with [`Rat`] coefficients.
-fn mul_acc_rat(ka: &[u128], a: &[Term], kb: &[u128], b: &[Term], cap: usize) -> Vec<(u128, Rat)> {
-    let mut acc: MonoMap<Rat> = MonoMap::with_capacity_and_hasher(cap, Default::default());
-    for (&x, s) in ka.iter().zip(a) {
-        for (&y, t) in kb.iter().zip(b) {
-            let p = &s.coef * &t.coef;
-            match acc.entry(x + y) {
-                std::collections::hash_map::Entry::Occupied(mut o) => {
-                    let v = o.get() + &p;
-                    *o.get_mut() = v;
-                }
-                std::collections::hash_map::Entry::Vacant(v) => {
-                    v.insert(p);
+fn acc_rat<K: Key>(pairs: &[PackedPair<'_, K>]) -> Vec<(K, Rat)> {
+    let mut acc: MonoMap<K, Rat> =
+        MonoMap::with_capacity_and_hasher(table_capacity(pairs), Default::default());
+    for pr in pairs {
+        for (&x, s) in pr.ka.iter().zip(pr.a) {
+            let sc = if pr.neg { -&s.coef } else { s.coef.clone() };
+            for (&y, t) in pr.kb.iter().zip(pr.b) {
+                let p = &sc * &t.coef;
+                match acc.entry(x + y) {
+                    std::collections::hash_map::Entry::Occupied(mut o) => {
+                        let v = o.get() + &p;
+                        *o.get_mut() = v;
+                    }
+                    std::collections::hash_map::Entry::Vacant(v) => {
+                        v.insert(p);
+                    }
                 }
             }
         }
     }
     acc.into_iter().filter(|(_, c)| !c.is_zero()).collect()
+}
+
+/// `sum ±a_k b_k` on packed monomials (see [`Poly::sum_of_products`]).
+fn dot_packed<K: Key>(
+    vars: Arc<[String]>,
+    ops: &[(&Poly, &Poly, bool)],
+    pos: &[(Vec<usize>, Vec<usize>)],
+    pk: &Packing,
+) -> Poly {
+    let keys = |p: &Poly, pos: &[usize]| -> Vec<K> {
+        p.terms
+            .iter()
+            .map(|t| {
+                K::from_u128(
+                    t.exps
+                        .iter()
+                        .zip(pos)
+                        .fold(0u128, |k, (&e, &i)| k | ((e as u128) << pk.shifts[i])),
+                )
+            })
+            .collect()
+    };
+    let pairs: Vec<PackedPair<'_, K>> = ops
+        .iter()
+        .zip(pos)
+        .map(|((a, b, neg), (pa, pb))| PackedPair {
+            ka: keys(a, pa),
+            a: &a.terms,
+            kb: keys(b, pb),
+            b: &b.terms,
+            neg: *neg,
+        })
+        .collect();
+    let mut out = match acc_small(&pairs) {
+        Some(v) => v,
+        None => acc_rat(&pairs),
+    };
+    out.sort_unstable_by_key(|x| std::cmp::Reverse(x.0));
+    let terms = out
+        .into_iter()
+        .map(|(k, coef)| Term {
+            exps: pk.unpack(k.to_u128()),
+            coef,
+        })
+        .collect();
+    let p = Poly { vars, terms };
+    if ops.len() > 1 {
+        // A variable may cancel out of a sum.
+        p.drop_unused_vars()
+    } else {
+        p
+    }
 }
 
 /// Exponent vectors packed into one `u128`, the first variable in the most
@@ -173,6 +348,8 @@ struct Packing {
     shifts: Vec<u32>,
     masks: Vec<u128>,
     guard: u128,
+    /// Number of bits used.
+    bits: u32,
 }
 
 impl Packing {
@@ -198,6 +375,7 @@ impl Packing {
             shifts,
             masks,
             guard,
+            bits: total,
         })
     }
 
@@ -329,14 +507,19 @@ impl Poly {
     fn drop_unused_vars(self) -> Poly {
         let n = self.vars.len();
         let mut used = vec![false; n];
+        let mut count = 0;
         for t in &self.terms {
-            for (i, &e) in t.exps.iter().enumerate() {
-                if e > 0 {
-                    used[i] = true;
+            for (u, &e) in used.iter_mut().zip(&t.exps) {
+                if e > 0 && !*u {
+                    *u = true;
+                    count += 1;
                 }
             }
+            if count == n {
+                return self;
+            }
         }
-        if used.iter().all(|&u| u) {
+        if count == n {
             return self;
         }
         let vars: Vec<String> = self
@@ -364,6 +547,12 @@ impl Poly {
             vars: Arc::from(vars),
             terms,
         }
+    }
+
+    /// A polynomial from terms over the (shared) variable list of another
+    /// polynomial: sorted, merged, unused variables dropped.
+    pub(crate) fn from_terms_like(like: &Poly, terms: Vec<Term>) -> Poly {
+        Poly::normalize(like.vars.clone(), terms)
     }
 
     /// The variables that occur, sorted by [`var_cmp`].
@@ -515,6 +704,22 @@ impl Poly {
         if c.is_zero() {
             return Poly::zero();
         }
+        if c.is_one() {
+            return self.clone();
+        }
+        if c.is_integer() && c.numer() == &Int::from(-1) {
+            return Poly {
+                vars: self.vars.clone(),
+                terms: self
+                    .terms
+                    .iter()
+                    .map(|t| Term {
+                        exps: t.exps.clone(),
+                        coef: -&t.coef,
+                    })
+                    .collect(),
+            };
+        }
         Poly {
             vars: self.vars.clone(),
             terms: self
@@ -526,6 +731,45 @@ impl Poly {
                 })
                 .collect(),
         }
+    }
+
+    /// `self * m` for a one-term `m`: multiplying by a monomial keeps the
+    /// term order, so no sorting or merging is needed.
+    fn mul_term(&self, m: &Poly) -> Poly {
+        let t = &m.terms[0];
+        let same = Arc::ptr_eq(&self.vars, &m.vars) || self.vars == m.vars;
+        let (vars, pos_s, pos_m): (Arc<[String]>, Vec<usize>, Vec<usize>) = if same {
+            let id: Vec<usize> = (0..self.vars.len()).collect();
+            (self.vars.clone(), id.clone(), id)
+        } else {
+            let (v, ia, ib) = Poly::merge_vars(&self.vars, &m.vars);
+            (Arc::from(v), ia, ib)
+        };
+        let n = vars.len();
+        let mut add = vec![0u32; n];
+        for (&p, &e) in pos_m.iter().zip(&t.exps) {
+            add[p] = e;
+        }
+        let one = t.coef.is_one();
+        let terms = self
+            .terms
+            .iter()
+            .map(|s| {
+                let mut exps = add.clone();
+                for (&p, &e) in pos_s.iter().zip(&s.exps) {
+                    exps[p] += e;
+                }
+                Term {
+                    exps,
+                    coef: if one {
+                        s.coef.clone()
+                    } else {
+                        &s.coef * &t.coef
+                    },
+                }
+            })
+            .collect();
+        Poly { vars, terms }
     }
 
     /// `self^e`.
@@ -693,9 +937,18 @@ impl Poly {
                 coef: t.coef.clone(),
             });
         }
+        // Terms with equal exponents of `name` keep their relative order
+        // (lex comparison is decided elsewhere), so every bucket is sorted
+        // and free of duplicates already.
         buckets
             .into_iter()
-            .map(|ts| Poly::normalize(self.vars.clone(), ts))
+            .map(|ts| {
+                Poly {
+                    vars: self.vars.clone(),
+                    terms: ts,
+                }
+                .drop_unused_vars()
+            })
             .collect()
     }
 
@@ -834,12 +1087,18 @@ impl Poly {
         }
         let mut den = Int::ONE;
         for t in &self.terms {
-            den = den.lcm(t.coef.denom());
+            if !t.coef.is_integer() {
+                den = den.lcm(t.coef.denom());
+            }
         }
         let mut g = Int::ZERO;
         for t in &self.terms {
-            let v = t.coef.numer() * &den.div_exact(t.coef.denom());
-            g = g.gcd(&v);
+            if den.is_one() {
+                g = g.gcd(t.coef.numer());
+            } else {
+                let v = t.coef.numer() * &den.div_exact(t.coef.denom());
+                g = g.gcd(&v);
+            }
             if g.is_one() {
                 break;
             }
@@ -850,6 +1109,49 @@ impl Poly {
         }
         let p = self.scale(&c.recip());
         (c, p)
+    }
+
+    /// The least exponent of each variable over all terms (the monomial
+    /// content), in the order of [`Poly::vars`]. Empty for zero.
+    pub fn monomial_content(&self) -> Vec<u32> {
+        let mut it = self.terms.iter();
+        let Some(first) = it.next() else {
+            return Vec::new();
+        };
+        let mut m = first.exps.clone();
+        for t in it {
+            if m.iter().all(|&x| x == 0) {
+                break;
+            }
+            for (x, &e) in m.iter_mut().zip(&t.exps) {
+                *x = (*x).min(e);
+            }
+        }
+        m
+    }
+
+    /// `self` divided by the monomial with exponents `m` (one per variable,
+    /// at most [`Poly::monomial_content`]); the term order is unchanged.
+    pub fn div_monomial(&self, m: &[u32]) -> Poly {
+        assert_eq!(m.len(), self.vars.len(), "one exponent per variable");
+        let terms = self
+            .terms
+            .iter()
+            .map(|t| Term {
+                exps: t
+                    .exps
+                    .iter()
+                    .zip(m)
+                    .map(|(e, k)| e.checked_sub(*k).expect("monomial divides"))
+                    .collect(),
+                coef: t.coef.clone(),
+            })
+            .collect();
+        Poly {
+            vars: self.vars.clone(),
+            terms,
+        }
+        .drop_unused_vars()
     }
 
     /// The primitive part (see [`Poly::primitive`]).
@@ -868,44 +1170,95 @@ impl Poly {
         !self.is_zero() && self.terms.iter().all(|t| t.coef.signum() < 0)
     }
 
-    fn mul_terms(vars: Arc<[String]>, a: &[Term], b: &[Term]) -> Poly {
-        let n = vars.len();
-        let maxes: Vec<u32> = max_exps(a, n)
+    /// `sum_k ±a_k b_k` (the product subtracted when its flag is set) in
+    /// one pass: all products are accumulated in a single table keyed by
+    /// packed monomials, so the sum needs no intermediate polynomials.
+    ///
+    /// ```
+    /// use poly::Poly;
+    /// let p = |s: &str| s.parse::<Poly>().unwrap();
+    /// let (a, b, c, d) = (p("x + y"), p("x - y"), p("x"), p("z"));
+    /// let s = Poly::sum_of_products(&[(&a, &b, false), (&c, &d, true)]);
+    /// assert_eq!(s, p("x^2 - y^2 - x*z"));
+    /// ```
+    pub fn sum_of_products(ops: &[(&Poly, &Poly, bool)]) -> Poly {
+        let ops: Vec<(&Poly, &Poly, bool)> = ops
             .iter()
-            .zip(max_exps(b, n))
-            .map(|(x, y)| x + y)
+            .filter(|(a, b, _)| !a.is_zero() && !b.is_zero())
+            .copied()
             .collect();
-        match Packing::new(&maxes) {
-            Some(pk) => Poly::mul_packed(vars, a, b, &pk),
-            None => Poly::mul_generic(vars, a, b),
+        if ops.is_empty() {
+            return Poly::zero();
         }
-    }
-
-    /// Multiplication on packed exponents: every product `a_i b_j` is
-    /// accumulated in a hash table keyed by the packed monomial (small
-    /// integer coefficients in `i128`, others as [`Rat`]), then the distinct
-    /// monomials are sorted once. The output order depends only on the
-    /// monomials, never on the table.
-    fn mul_packed(vars: Arc<[String]>, a: &[Term], b: &[Term], pk: &Packing) -> Poly {
-        let ka: Vec<u128> = a.iter().map(|t| pk.pack(&t.exps)).collect();
-        let kb: Vec<u128> = b.iter().map(|t| pk.pack(&t.exps)).collect();
-        let cap = (a.len() * b.len()).min(1 << 20);
-        let mut out: Vec<(u128, Rat)> = match (small_coefs(a), small_coefs(b)) {
-            (Some(ca), Some(cb)) => match mul_acc_small(&ka, &ca, &kb, &cb, cap) {
-                Some(v) => v,
-                None => mul_acc_rat(&ka, a, &kb, b, cap),
-            },
-            _ => mul_acc_rat(&ka, a, &kb, b, cap),
+        // Common variables and each operand's positions in them.
+        let first = &ops[0].0.vars;
+        let same = ops.iter().all(|(a, b, _)| {
+            [&a.vars, &b.vars]
+                .iter()
+                .all(|v| Arc::ptr_eq(first, v) || first[..] == v[..])
+        });
+        let vars: Arc<[String]> = if same {
+            first.clone()
+        } else {
+            let mut acc: Vec<String> = first.to_vec();
+            for (a, b, _) in &ops {
+                for v in [&a.vars, &b.vars] {
+                    if acc[..] != v[..] {
+                        acc = Poly::merge_vars(&acc, v).0;
+                    }
+                }
+            }
+            Arc::from(acc)
         };
-        out.sort_unstable_by_key(|x| std::cmp::Reverse(x.0));
-        let terms = out
-            .into_iter()
-            .map(|(k, coef)| Term {
-                exps: pk.unpack(k),
-                coef,
-            })
-            .collect();
-        Poly { vars, terms }.drop_unused_vars()
+        let positions = |p: &Poly| -> Vec<usize> {
+            if same {
+                return (0..p.vars.len()).collect();
+            }
+            // Both lists are sorted the same way: one walk.
+            let mut out = Vec::with_capacity(p.vars.len());
+            let mut k = 0;
+            for v in p.vars.iter() {
+                while vars[k] != *v {
+                    k += 1;
+                }
+                out.push(k);
+            }
+            out
+        };
+        let n = vars.len();
+        let mut maxes = vec![0u32; n];
+        let mut pos = Vec::with_capacity(ops.len());
+        for (a, b, _) in &ops {
+            let (pa, pb) = (positions(a), positions(b));
+            let (ma, mb) = (
+                max_exps(&a.terms, a.vars.len()),
+                max_exps(&b.terms, b.vars.len()),
+            );
+            let mut sum = vec![0u32; n];
+            for (&i, &e) in pa.iter().zip(&ma) {
+                sum[i] += e;
+            }
+            for (&i, &e) in pb.iter().zip(&mb) {
+                sum[i] += e;
+            }
+            for (m, s) in maxes.iter_mut().zip(&sum) {
+                *m = (*m).max(*s);
+            }
+            pos.push((pa, pb));
+        }
+        match Packing::new(&maxes) {
+            Some(pk) if pk.bits <= 64 => dot_packed::<u64>(vars, &ops, &pos, &pk),
+            Some(pk) => dot_packed::<u128>(vars, &ops, &pos, &pk),
+            None => {
+                let mut acc = Poly::zero();
+                for (a, b, neg) in &ops {
+                    let (v, x, y) = a.aligned(b);
+                    let p = Poly::mul_generic(v, &x, &y);
+                    acc = if *neg { &acc - &p } else { &acc + &p };
+                }
+                acc
+            }
+        }
     }
 
     fn mul_generic(vars: Arc<[String]>, a: &[Term], b: &[Term]) -> Poly {
@@ -921,35 +1274,60 @@ impl Poly {
         Poly::normalize(vars, acc)
     }
 
-    /// Sum of two term lists over the same variables, both sorted
-    /// descending: a linear merge.
-    fn merge_add(vars: Arc<[String]>, a: Vec<Term>, b: Vec<Term>) -> Poly {
+    /// `a + b` or `a - b` for term lists over the same variables, both
+    /// sorted descending: a linear merge that clones only what it emits.
+    fn merge_add(vars: Arc<[String]>, a: &[Term], b: &[Term], negate_b: bool) -> Poly {
         let mut out: Vec<Term> = Vec::with_capacity(a.len() + b.len());
-        let mut ia = a.into_iter().peekable();
-        let mut ib = b.into_iter().peekable();
-        loop {
-            let ord = match (ia.peek(), ib.peek()) {
-                (None, None) => break,
-                (Some(_), None) => Ordering::Greater,
-                (None, Some(_)) => Ordering::Less,
-                (Some(x), Some(y)) => lex_cmp(&x.exps, &y.exps),
-            };
-            match ord {
-                Ordering::Greater => out.extend(ia.next()),
-                Ordering::Less => out.extend(ib.next()),
+        let (mut i, mut j) = (0, 0);
+        let other = |t: &Term| Term {
+            exps: t.exps.clone(),
+            coef: if negate_b { -&t.coef } else { t.coef.clone() },
+        };
+        while i < a.len() && j < b.len() {
+            match lex_cmp(&a[i].exps, &b[j].exps) {
+                Ordering::Greater => {
+                    out.push(a[i].clone());
+                    i += 1;
+                }
+                Ordering::Less => {
+                    out.push(other(&b[j]));
+                    j += 1;
+                }
                 Ordering::Equal => {
-                    let (x, y) = (ia.next().expect("peeked"), ib.next().expect("peeked"));
-                    let c = &x.coef + &y.coef;
+                    let c = if negate_b {
+                        &a[i].coef - &b[j].coef
+                    } else {
+                        &a[i].coef + &b[j].coef
+                    };
                     if !c.is_zero() {
                         out.push(Term {
-                            exps: x.exps,
+                            exps: a[i].exps.clone(),
                             coef: c,
                         });
                     }
+                    i += 1;
+                    j += 1;
                 }
             }
         }
+        out.extend(a[i..].iter().cloned());
+        out.extend(b[j..].iter().map(other));
         Poly { vars, terms: out }.drop_unused_vars()
+    }
+
+    /// `self + rhs` or `self - rhs`.
+    fn add_sub(&self, rhs: &Poly, negate: bool) -> Poly {
+        if rhs.is_zero() {
+            return self.clone();
+        }
+        if self.is_zero() {
+            return if negate { -rhs } else { rhs.clone() };
+        }
+        if Arc::ptr_eq(&self.vars, &rhs.vars) || self.vars == rhs.vars {
+            return Poly::merge_add(self.vars.clone(), &self.terms, &rhs.terms, negate);
+        }
+        let (vars, a, b) = self.aligned(rhs);
+        Poly::merge_add(vars, &a, &b, negate)
     }
 
     /// Plain text, parseable by [`str::parse`]: terms in descending order,
@@ -980,21 +1358,14 @@ impl From<i64> for Poly {
 impl Add for &Poly {
     type Output = Poly;
     fn add(self, rhs: &Poly) -> Poly {
-        if self.is_zero() {
-            return rhs.clone();
-        }
-        if rhs.is_zero() {
-            return self.clone();
-        }
-        let (vars, a, b) = self.aligned(rhs);
-        Poly::merge_add(vars, a, b)
+        self.add_sub(rhs, false)
     }
 }
 
 impl Sub for &Poly {
     type Output = Poly;
     fn sub(self, rhs: &Poly) -> Poly {
-        self + &(-rhs)
+        self.add_sub(rhs, true)
     }
 }
 
@@ -1004,8 +1375,13 @@ impl Mul for &Poly {
         if self.is_zero() || rhs.is_zero() {
             return Poly::zero();
         }
-        let (vars, a, b) = self.aligned(rhs);
-        Poly::mul_terms(vars, &a, &b)
+        if rhs.terms.len() == 1 {
+            return self.mul_term(rhs);
+        }
+        if self.terms.len() == 1 {
+            return rhs.mul_term(self);
+        }
+        Poly::sum_of_products(&[(self, rhs, false)])
     }
 }
 
@@ -1093,6 +1469,55 @@ mod tests {
         let mut v = vec!["m1", "c12", "c2", "Omega", "c1", "m10", "m2", "d1"];
         v.sort_by(|a, b| var_cmp(a, b));
         assert_eq!(v, ["Omega", "c1", "c2", "c12", "d1", "m1", "m2", "m10"]);
+    }
+
+    #[test]
+    fn var_cmp_is_the_parsed_order() {
+        // The order defined by parsing the digit run as a number.
+        fn reference(a: &str, b: &str) -> Ordering {
+            fn split(s: &str) -> (&str, Option<u128>, &str) {
+                let idx = s.find(|c: char| c.is_ascii_digit()).unwrap_or(s.len());
+                let (pre, rest) = s.split_at(idx);
+                let end = rest
+                    .find(|c: char| !c.is_ascii_digit())
+                    .unwrap_or(rest.len());
+                (pre, rest[..end].parse::<u128>().ok(), &rest[end..])
+            }
+            let (pa, na, ra) = split(a);
+            let (pb, nb, rb) = split(b);
+            pa.cmp(pb).then(na.cmp(&nb)).then(ra.cmp(rb)).then(a.cmp(b))
+        }
+        let names = [
+            "",
+            "c",
+            "c1",
+            "c01",
+            "c001",
+            "c2",
+            "c12",
+            "c1a",
+            "c1b",
+            "c10b",
+            "m10",
+            "m9",
+            "Omega",
+            "x",
+            "x1y2",
+            "x1y10",
+            "a0",
+            "a00",
+            "1",
+            "01",
+            "10",
+            "c340282366920938463463374607431768211455",
+            "c340282366920938463463374607431768211456",
+            "c999999999999999999999999999999999999999",
+        ];
+        for a in names {
+            for b in names {
+                assert_eq!(var_cmp(a, b), reference(a, b), "{a:?} vs {b:?}");
+            }
+        }
     }
 
     #[test]

@@ -303,6 +303,9 @@ pub fn discriminant(p: &Poly, var: &str) -> Poly {
     if n <= 1 {
         return Poly::one();
     }
+    if n as usize <= BEZOUT_MAX {
+        return discriminant_bezout(p, var);
+    }
     let r = resultant(p, &p.derivative(var), var);
     let q = r
         .div_exact(&p.lead_in(var))
@@ -376,7 +379,7 @@ pub fn bezout_matrix(a: &Poly, b: &Poly, var: &str) -> Vec<Vec<Poly>> {
     cb.resize(m + 1, Poly::zero());
     for p in 1..=m {
         for q in 0..p {
-            let c = &(&ca[p] * &cb[q]) - &(&ca[q] * &cb[p]);
+            let c = Poly::sum_of_products(&[(&ca[p], &cb[q], false), (&ca[q], &cb[p], true)]);
             if c.is_zero() {
                 continue;
             }
@@ -420,6 +423,33 @@ fn psc_bezout(a: &Poly, b: &Poly, var: &str) -> Vec<Poly> {
         out[m - k] = if (k * (k - 1) / 2) % 2 == 1 { -d } else { d };
     }
     out
+}
+
+/// The discriminant of `p` (degree `m >= 2` in `var`) from the Bezout
+/// matrix of `p` and `p'`. Its last column (and, by symmetry, last row) is
+/// `lc(p)` times the coefficients of `p'`: the entries come from
+/// `a_m b_q - a_q b_m` with `b_m = 0`. Dividing that row and column by
+/// `lc(p)` (small entries) leaves a matrix whose determinant is
+/// `det Bez(p, p') / lc(p)^2 = (-1)^(m(m-1)/2) Res(p, p') / lc(p)`, the
+/// discriminant, without dividing the large determinant.
+fn discriminant_bezout(p: &Poly, var: &str) -> Poly {
+    let m = degree_of(p, var);
+    let lc = p.lead_in(var);
+    let mut bz = bezout_matrix(p, &p.derivative(var), var);
+    let last = m - 1;
+    for row in bz.iter_mut() {
+        if !row[last].is_zero() {
+            row[last] = row[last]
+                .div_exact(&lc)
+                .expect("lc(p) divides the last column");
+        }
+    }
+    for e in bz[last].iter_mut() {
+        if !e.is_zero() {
+            *e = e.div_exact(&lc).expect("lc(p) divides the last row");
+        }
+    }
+    crate::matrix::det_minors(&bz).expect("square, small")
 }
 
 /// `Res(a, b)` for `deg a = m >= deg b = n >= 1` from the Bezout determinant.

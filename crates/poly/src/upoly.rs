@@ -742,6 +742,7 @@ mod modular {
 
     /// Primes are taken downward from here (2^31 - 1, itself prime), so that
     /// products of residues fit in `u64`.
+    #[cfg(test)]
     const PRIME_START: u64 = (1 << 31) - 1;
 
     fn mul(a: u64, b: u64, p: u64) -> u64 {
@@ -852,8 +853,28 @@ mod modular {
         true
     }
 
+    /// The 32 largest primes below 2^31, descending (checked by a test).
+    const FIRST_PRIMES: [u64; 32] = [
+        2147483647, 2147483629, 2147483587, 2147483579, 2147483563, 2147483549, 2147483543,
+        2147483497, 2147483489, 2147483477, 2147483423, 2147483399, 2147483353, 2147483323,
+        2147483269, 2147483249, 2147483237, 2147483179, 2147483171, 2147483137, 2147483123,
+        2147483077, 2147483069, 2147483059, 2147483053, 2147483033, 2147483029, 2147482951,
+        2147482949, 2147482943, 2147482937, 2147482921,
+    ];
+
     /// The primes below 2^31, descending.
     pub(super) fn primes() -> impl Iterator<Item = u64> {
+        let last = FIRST_PRIMES[FIRST_PRIMES.len() - 1];
+        FIRST_PRIMES.iter().copied().chain(
+            (1..last / 2)
+                .map(move |k| last - 2 * k)
+                .filter(|&n| is_prime(n)),
+        )
+    }
+
+    /// The primes as the definition generates them.
+    #[cfg(test)]
+    pub(super) fn primes_by_search() -> impl Iterator<Item = u64> {
         (0..PRIME_START / 2)
             .map(|k| PRIME_START - 2 * k)
             .filter(|&n| is_prime(n))
@@ -1221,6 +1242,11 @@ mod tests {
         };
         let expect: Vec<u64> = (ps[19]..=ps[0]).rev().filter(|&n| trial(n)).collect();
         assert_eq!(ps, expect);
+        // The table of the first primes agrees with the search, and the
+        // sequence continues correctly past it.
+        let table: Vec<u64> = modular::primes().take(40).collect();
+        let search: Vec<u64> = modular::primes_by_search().take(40).collect();
+        assert_eq!(table, search);
         assert!(modular::is_prime(9_223_372_036_854_775_783)); // largest below 2^63
         assert!(!modular::is_prime(9_223_372_036_854_775_807)); // 7^2 * 73 * ...
         assert!(!modular::is_prime(561)); // Carmichael
