@@ -134,6 +134,7 @@
 
 use crate::model::{mass_name, spring_name, Model};
 use crate::tf::{UndampedTf, OMEGA};
+use crate::xorshift::XorShift;
 use poly::{Int, Poly, Rat};
 use serde::{Serialize, Serializer};
 use std::collections::BTreeMap;
@@ -476,22 +477,15 @@ impl Default for RankOptions {
     }
 }
 
-/// Deterministic xorshift64* generator.
-struct XorShift(u64);
-
-impl XorShift {
-    fn next(&mut self) -> u64 {
-        let mut x = self.0;
-        x ^= x >> 12;
-        x ^= x << 25;
-        x ^= x >> 27;
-        self.0 = x;
-        x.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-
+/// Sample points for the rank: positive integers.
+trait PositiveSample {
     /// A positive integer in `1 ..= 2^30`.
+    fn positive(&mut self) -> Rat;
+}
+
+impl PositiveSample for XorShift {
     fn positive(&mut self) -> Rat {
-        Rat::from(((self.next() >> 34) + 1) as i64)
+        Rat::from(((self.next_u64() >> 34) + 1) as i64)
     }
 }
 
@@ -678,7 +672,7 @@ fn sampled_pivots(
     bound: usize,
     options: &RankOptions,
 ) -> Vec<(usize, usize)> {
-    let mut rng = XorShift(options.seed.max(1));
+    let mut rng = XorShift::new(options.seed);
     let mut best = Vec::new();
     if bound == 0 {
         return best;

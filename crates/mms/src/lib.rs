@@ -53,6 +53,7 @@ mod model;
 pub mod paper;
 pub mod render;
 mod tf;
+mod xorshift;
 
 pub use crate::enumerate::{
     basic_models, counts, degradation_free_models, equivalence_classes, redundancy_report,

@@ -26,6 +26,7 @@ use super::frf_type::{frf_type_at, Feature, FrfType};
 use super::lp::positive_combination;
 use crate::model::Model;
 use crate::tf::OMEGA;
+use crate::xorshift::XorShift;
 use poly::{discriminant, factor, gcd, resultant, square_free, Poly, Rat};
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
@@ -562,21 +563,16 @@ pub(crate) fn build_stratum(
     }
 }
 
-/// A small deterministic generator (xorshift64*) for sample points.
-pub(crate) struct Sampler(u64);
+/// Sample points: a deterministic generator (xorshift64*).
+pub(crate) struct Sampler(XorShift);
 
 impl Sampler {
     pub(crate) fn new(seed: u64) -> Sampler {
-        Sampler(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+        Sampler(XorShift::new(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1))
     }
 
     fn next(&mut self) -> u64 {
-        let mut x = self.0;
-        x ^= x >> 12;
-        x ^= x << 25;
-        x ^= x >> 27;
-        self.0 = x;
-        x.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        self.0.next_u64()
     }
 
     /// A positive rational spread log-uniformly over about `[1/64, 64]`,
