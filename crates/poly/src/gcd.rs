@@ -631,27 +631,7 @@ fn image_from(p: &Poly, vals: &[u64], point: &[u64], xi: usize) -> Vec<u64> {
 
 /// Degree of the gcd of two polynomials over GF(P) (`None` if both are 0).
 fn gcd_degree_mod(a: &[u64], b: &[u64]) -> Option<usize> {
-    let (mut f, mut g) = (a.to_vec(), b.to_vec());
-    if f.len() < g.len() {
-        std::mem::swap(&mut f, &mut g);
-    }
-    while !g.is_empty() {
-        // f <- f mod g
-        let inv = invm(*g.last().expect("non-empty"));
-        while f.len() >= g.len() {
-            let q = mulm(*f.last().expect("non-empty"), inv);
-            let s = f.len() - g.len();
-            for (i, &gi) in g.iter().enumerate() {
-                f[i + s] = subm(f[i + s], mulm(q, gi));
-            }
-            f.pop();
-            while f.last() == Some(&0) {
-                f.pop();
-            }
-        }
-        std::mem::swap(&mut f, &mut g);
-    }
-    f.len().checked_sub(1)
+    gcd_mod(a, b).len().checked_sub(1)
 }
 
 /// Proven upper bounds for `deg_v gcd(a, b)`, for each `v` of `shared`

@@ -447,7 +447,7 @@ pub fn mat_mul(a: &[Vec<Poly>], b: &[Vec<Poly>]) -> Option<Vec<Vec<Poly>>> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     fn p(s: &str) -> Poly {

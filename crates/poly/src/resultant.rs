@@ -792,22 +792,7 @@ mod tests {
     fn timing_chain5() {
         use std::time::Instant;
         let n = 5;
-        let c = |i: usize| p(&format!("c{}{}", i, i + 1));
-        let mut a = vec![vec![Poly::zero(); n]; n];
-        for i in 0..n {
-            let mut d = p(&format!("-Omega*m{}", i + 1));
-            if i > 0 {
-                d = &d + &c(i);
-            }
-            if i + 1 < n {
-                d = &d + &c(i + 1);
-            }
-            a[i][i] = d;
-            if i + 1 < n {
-                a[i][i + 1] = -c(i + 1);
-                a[i + 1][i] = -c(i + 1);
-            }
-        }
+        let a = crate::matrix::tests::chain(n);
         let t = Instant::now();
         let d = det(&a);
         let t_det = t.elapsed();
