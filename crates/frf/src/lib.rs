@@ -1,0 +1,201 @@
+//! # frf: measured frequency response functions
+//!
+//! The measurement layer of `mms`: it turns files into a validated [`Frf`]
+//! (frequencies in Hz, complex response, optional coherence) and knows
+//! nothing of masses or models.
+//!
+//! ```
+//! use frf::Frf;
+//! use num_complex::Complex64;
+//!
+//! let frf = Frf::new(
+//!     vec![1.0, 2.0, 3.0],
+//!     vec![Complex64::new(1.0, 0.0), Complex64::new(0.5, -0.5), Complex64::new(0.1, -0.2)],
+//!     None,
+//! )?;
+//! assert_eq!(frf.len(), 3);
+//! assert!(Frf::new(vec![2.0, 1.0], vec![Complex64::new(1.0, 0.0); 2], None).is_err());
+//! # Ok::<(), frf::FrfError>(())
+//! ```
+
+#![warn(missing_docs)]
+
+pub use num_complex::Complex64;
+
+/// A frequency response function on a grid of frequency lines.
+///
+/// Invariants (checked by [`Frf::new`]): at least one line; all vectors of
+/// equal length; frequencies finite, non-negative and strictly increasing;
+/// response values finite; coherence, where given, finite and in `[0, 1]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frf {
+    freq_hz: Vec<f64>,
+    response: Vec<Complex64>,
+    coherence: Option<Vec<f64>>,
+}
+
+/// Why a set of vectors is not a valid [`Frf`]. Line numbers are 0-based
+/// indices into the vectors; readers of files translate them to file
+/// lines.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FrfError {
+    /// No frequency lines at all.
+    #[error("no frequency lines")]
+    Empty,
+    /// The vectors differ in length.
+    #[error("{what} has {got} values, expected {expected}")]
+    Length {
+        /// Which vector.
+        what: &'static str,
+        /// Its length.
+        got: usize,
+        /// The number of frequencies.
+        expected: usize,
+    },
+    /// A NaN or infinite value.
+    #[error("{what} at index {index} is not finite")]
+    NotFinite {
+        /// Which vector.
+        what: &'static str,
+        /// Index of the value.
+        index: usize,
+    },
+    /// A negative frequency.
+    #[error("frequency at index {index} is negative ({value} Hz)")]
+    NegativeFrequency {
+        /// Index of the value.
+        index: usize,
+        /// The frequency.
+        value: f64,
+    },
+    /// Frequencies not strictly increasing.
+    #[error("frequency at index {index} ({value} Hz) does not increase")]
+    NotIncreasing {
+        /// Index of the value.
+        index: usize,
+        /// The frequency.
+        value: f64,
+    },
+    /// Coherence outside `[0, 1]`.
+    #[error("coherence at index {index} is {value}, outside [0, 1]")]
+    CoherenceRange {
+        /// Index of the value.
+        index: usize,
+        /// The coherence.
+        value: f64,
+    },
+}
+
+impl Frf {
+    /// A validated FRF; see the type's invariants.
+    pub fn new(
+        freq_hz: Vec<f64>,
+        response: Vec<Complex64>,
+        coherence: Option<Vec<f64>>,
+    ) -> Result<Frf, FrfError> {
+        let n = freq_hz.len();
+        if n == 0 {
+            return Err(FrfError::Empty);
+        }
+        if response.len() != n {
+            return Err(FrfError::Length {
+                what: "response",
+                got: response.len(),
+                expected: n,
+            });
+        }
+        for (index, &f) in freq_hz.iter().enumerate() {
+            if !f.is_finite() {
+                return Err(FrfError::NotFinite {
+                    what: "frequency",
+                    index,
+                });
+            }
+            if f < 0.0 {
+                return Err(FrfError::NegativeFrequency { index, value: f });
+            }
+            if index > 0 && f <= freq_hz[index - 1] {
+                return Err(FrfError::NotIncreasing { index, value: f });
+            }
+        }
+        if let Some(index) = response
+            .iter()
+            .position(|z| !z.re.is_finite() || !z.im.is_finite())
+        {
+            return Err(FrfError::NotFinite {
+                what: "response",
+                index,
+            });
+        }
+        if let Some(c) = &coherence {
+            if c.len() != n {
+                return Err(FrfError::Length {
+                    what: "coherence",
+                    got: c.len(),
+                    expected: n,
+                });
+            }
+            for (index, &value) in c.iter().enumerate() {
+                if !value.is_finite() {
+                    return Err(FrfError::NotFinite {
+                        what: "coherence",
+                        index,
+                    });
+                }
+                if !(0.0..=1.0).contains(&value) {
+                    return Err(FrfError::CoherenceRange { index, value });
+                }
+            }
+        }
+        Ok(Frf {
+            freq_hz,
+            response,
+            coherence,
+        })
+    }
+
+    /// Number of frequency lines.
+    pub fn len(&self) -> usize {
+        self.freq_hz.len()
+    }
+
+    /// Never true: an [`Frf`] has at least one line.
+    pub fn is_empty(&self) -> bool {
+        self.freq_hz.is_empty()
+    }
+
+    /// Frequencies in Hz, strictly increasing.
+    pub fn freq_hz(&self) -> &[f64] {
+        &self.freq_hz
+    }
+
+    /// Complex response at each frequency (output per input, in the units
+    /// of the recording).
+    pub fn response(&self) -> &[Complex64] {
+        &self.response
+    }
+
+    /// Coherence at each frequency, if the FRF was estimated or read with
+    /// one.
+    pub fn coherence(&self) -> Option<&[f64]> {
+        self.coherence.as_deref()
+    }
+
+    /// The lines with `lo_hz <= f <= hi_hz`, or `None` if there are none.
+    pub fn band(&self, lo_hz: f64, hi_hz: f64) -> Option<Frf> {
+        let keep: Vec<usize> = (0..self.len())
+            .filter(|&i| self.freq_hz[i] >= lo_hz && self.freq_hz[i] <= hi_hz)
+            .collect();
+        if keep.is_empty() {
+            return None;
+        }
+        Some(Frf {
+            freq_hz: keep.iter().map(|&i| self.freq_hz[i]).collect(),
+            response: keep.iter().map(|&i| self.response[i]).collect(),
+            coherence: self
+                .coherence
+                .as_ref()
+                .map(|c| keep.iter().map(|&i| c[i]).collect()),
+        })
+    }
+}

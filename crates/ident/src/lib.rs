@@ -1,0 +1,7 @@
+//! # ident: identification of multiple-mass models from measured FRFs
+//!
+//! Reads nothing from disk and writes nothing to the terminal: it takes a
+//! measured [`frf::Frf`] and the model layer of [`mms`], and returns
+//! classifications, fitted parameters and rankings as data.
+
+#![warn(missing_docs)]
