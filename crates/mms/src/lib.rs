@@ -19,6 +19,8 @@
 //! - paper-style rendering as text, LaTeX or Markdown ([`render`]);
 //! - moment invariants, determinable parameters (Tab. 5) and structural
 //!   equivalence of models ([`mod@identifiability`], [`structural_equivalences`]);
+//! - the numeric damped frequency response and its parameter derivatives
+//!   ([`response`]), for fitting, and model files in TOML ([`model_file`]);
 //! - FRF-type analysis with witnesses and certificates ([`analysis`]), and
 //!   an independent exact checker of its output ([`check`]).
 //!
@@ -50,8 +52,10 @@ pub mod check;
 mod enumerate;
 pub mod identifiability;
 mod model;
+pub mod model_file;
 pub mod paper;
 pub mod render;
+pub mod response;
 mod tf;
 mod xorshift;
 

@@ -1,0 +1,424 @@
+//! Model files: one damped model with its parameters, in TOML.
+//!
+//! ```toml
+//! # the paper's Tab. 4 generating model
+//! masses = 3
+//! gap = 0
+//! actuator = [1, 0]
+//! sensor = [2, 0]
+//! output = "position"        # position | velocity | acceleration
+//!
+//! [parameters]               # SI: kg, N/m, N s/m (or kg m^2, N m/rad, N m s/rad)
+//! m1 = 0.01
+//! m2 = 0.01
+//! m3 = 0.02
+//! c12 = 100
+//! c23 = 100
+//! d12 = 0.01
+//! d23 = 0.01
+//!
+//! [effects]                  # optional; filled by the diagnosis
+//! time_delay = { delay_s = 2e-4 }
+//! ```
+//!
+//! `structure = "A2"` (a paper ID, or a generic ID such as
+//! `"N4-g1-a2.1-s4.1"`) may stand in place of the four topology keys.
+//! Optional top-level keys: `gain` (the product of actuator and sensor
+//! constants the FRF is multiplied by; default 1) and `motion`
+//! (`"translational"` or `"rotary"`, for units in reports). Unknown keys,
+//! missing or non-positive parameters are errors that name the line.
+//!
+//! ```
+//! use mms::model_file::ModelFile;
+//! let text = "structure = \"A1\"\noutput = \"acceleration\"\n[parameters]\n\
+//!             m1 = 1\nm2 = 2\nm3 = 3\nc12 = 1e4\nc23 = 2e4\nd12 = 1\nd23 = 1\n";
+//! let file = ModelFile::parse(text)?;
+//! assert_eq!(file.model.paper_id(), Some("A1"));
+//! assert_eq!(file.parameters.get("c23"), Some(2e4));
+//! // Written back deterministically, then read again to the same value.
+//! assert_eq!(ModelFile::parse(&file.to_toml())?, file);
+//!
+//! let err = ModelFile::parse("structure = \"A1\"\nmass = 3\n").unwrap_err();
+//! assert_eq!(err.to_string(), "line 2: unknown key 'mass'");
+//! # Ok::<(), mms::model_file::ModelFileError>(())
+//! ```
+
+use crate::model::{Model, Port};
+use crate::response::{Effects, Parameters};
+use crate::tf::Output;
+use std::fmt::Write as _;
+use toml::de::{DeTable, DeValue};
+use toml::Spanned;
+
+/// Whether the parameters are translational (kg, N/m, N s/m) or rotary
+/// (kg m^2, N m/rad, N m s/rad). The algebra is the same; only units in
+/// reports differ.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Motion {
+    /// Masses, forces, positions.
+    #[default]
+    Translational,
+    /// Inertias, torques, angles.
+    Rotary,
+}
+
+impl Motion {
+    fn as_str(self) -> &'static str {
+        match self {
+            Motion::Translational => "translational",
+            Motion::Rotary => "rotary",
+        }
+    }
+}
+
+/// A model file's content.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelFile {
+    /// The chain: masses, gap, actuator, sensor.
+    pub model: Model,
+    /// The measured quantity.
+    pub output: Output,
+    /// Every parameter of the model.
+    pub parameters: Parameters,
+    /// Product of the actuator and sensor constants (1 if the FRF is in
+    /// force and position units).
+    pub gain: f64,
+    /// Translational or rotary units.
+    pub motion: Motion,
+    /// Physics beyond the chain (see [`Effects`]).
+    pub effects: Effects,
+}
+
+/// A model file that cannot be read; `line` is 1-based where known.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{}{message}", match line { Some(l) => format!("line {l}: "), None => String::new() })]
+pub struct ModelFileError {
+    /// The line of the offending key or value.
+    pub line: Option<usize>,
+    /// What is wrong.
+    pub message: String,
+}
+
+const TOP_KEYS: [&str; 10] = [
+    "masses",
+    "gap",
+    "actuator",
+    "sensor",
+    "structure",
+    "output",
+    "gain",
+    "motion",
+    "parameters",
+    "effects",
+];
+
+/// `(key, parameter)` of each effect in the `[effects]` table.
+const EFFECT_KEYS: [(&str, &str); 5] = [
+    ("time_delay", "delay_s"),
+    ("lowpass", "corner_hz"),
+    ("gain_error", "factor"),
+    ("hysteretic_damping", "loss_factor"),
+    ("friction", "viscous_ns_per_m"),
+];
+
+struct Reader<'a> {
+    text: &'a str,
+}
+
+impl Reader<'_> {
+    fn line_of(&self, offset: usize) -> usize {
+        self.text[..offset.min(self.text.len())]
+            .bytes()
+            .filter(|&b| b == b'\n')
+            .count()
+            + 1
+    }
+
+    fn err(&self, span: std::ops::Range<usize>, message: impl Into<String>) -> ModelFileError {
+        ModelFileError {
+            line: Some(self.line_of(span.start)),
+            message: message.into(),
+        }
+    }
+
+    fn number(&self, key: &str, v: &Spanned<DeValue<'_>>) -> Result<f64, ModelFileError> {
+        let x = match v.get_ref() {
+            DeValue::Float(f) => f.as_str().replace('_', "").parse::<f64>().ok(),
+            DeValue::Integer(i) if i.radix() == 10 => i
+                .as_str()
+                .replace('_', "")
+                .parse::<i64>()
+                .ok()
+                .map(|n| n as f64),
+            _ => None,
+        };
+        match x {
+            Some(x) if x.is_finite() => Ok(x),
+            Some(_) => Err(self.err(v.span(), format!("'{key}' must be finite"))),
+            None => Err(self.err(v.span(), format!("'{key}' must be a number"))),
+        }
+    }
+
+    fn count(&self, key: &str, v: &Spanned<DeValue<'_>>) -> Result<usize, ModelFileError> {
+        match v.get_ref() {
+            DeValue::Integer(i) if i.radix() == 10 => {
+                i.as_str().replace('_', "").parse::<usize>().map_err(|_| {
+                    self.err(v.span(), format!("'{key}' must be a non-negative integer"))
+                })
+            }
+            _ => Err(self.err(v.span(), format!("'{key}' must be a non-negative integer"))),
+        }
+    }
+
+    fn string<'v>(
+        &self,
+        key: &str,
+        v: &'v Spanned<DeValue<'_>>,
+    ) -> Result<&'v str, ModelFileError> {
+        v.get_ref()
+            .as_str()
+            .ok_or_else(|| self.err(v.span(), format!("'{key}' must be a string")))
+    }
+
+    fn port(&self, key: &str, v: &Spanned<DeValue<'_>>) -> Result<Port, ModelFileError> {
+        let msg = format!("'{key}' must be [plus, minus], e.g. [2, 0]");
+        let arr = v
+            .get_ref()
+            .as_array()
+            .ok_or_else(|| self.err(v.span(), &msg))?;
+        if arr.len() != 2 {
+            return Err(self.err(v.span(), msg));
+        }
+        Ok(Port::new(
+            self.count(key, &arr[0])?,
+            self.count(key, &arr[1])?,
+        ))
+    }
+
+    fn table<'v, 'i>(
+        &self,
+        key: &str,
+        v: &'v Spanned<DeValue<'i>>,
+    ) -> Result<&'v DeTable<'i>, ModelFileError> {
+        v.get_ref()
+            .as_table()
+            .ok_or_else(|| self.err(v.span(), format!("'{key}' must be a table")))
+    }
+}
+
+impl ModelFile {
+    /// Reads a model file from its text.
+    pub fn parse(text: &str) -> Result<ModelFile, ModelFileError> {
+        let r = Reader { text };
+        let root = DeTable::parse(text).map_err(|e| ModelFileError {
+            line: e.span().map(|s| r.line_of(s.start)),
+            message: format!("invalid TOML: {}", e.message().trim()),
+        })?;
+        let root = root.get_ref();
+        for (k, _) in root.iter() {
+            if !TOP_KEYS.contains(&k.get_ref().as_ref()) {
+                return Err(r.err(k.span(), format!("unknown key '{}'", k.get_ref())));
+            }
+        }
+        let get = |k: &str| root.get(k);
+        let missing = |k: &str| ModelFileError {
+            line: None,
+            message: format!("missing key '{k}'"),
+        };
+
+        let model = if let Some(v) = get("structure") {
+            if let Some(k) = ["masses", "gap", "actuator", "sensor"]
+                .into_iter()
+                .find(|k| get(k).is_some())
+            {
+                return Err(r.err(
+                    v.span(),
+                    format!("'structure' and '{k}' exclude each other"),
+                ));
+            }
+            let id = r.string("structure", v)?;
+            Model::from_id(id).map_err(|e| r.err(v.span(), e.to_string()))?
+        } else {
+            let masses = r.count("masses", get("masses").ok_or_else(|| missing("masses"))?)?;
+            let gap_v = get("gap").ok_or_else(|| missing("gap"))?;
+            let gap = r.count("gap", gap_v)?;
+            let act = r.port(
+                "actuator",
+                get("actuator").ok_or_else(|| missing("actuator"))?,
+            )?;
+            let meas = r.port("sensor", get("sensor").ok_or_else(|| missing("sensor"))?)?;
+            Model::new(masses, gap, act, meas).map_err(|e| r.err(gap_v.span(), e.to_string()))?
+        };
+
+        let output = match get("output") {
+            Some(v) => r
+                .string("output", v)?
+                .parse::<Output>()
+                .map_err(|e| r.err(v.span(), e.to_string()))?,
+            None => return Err(missing("output")),
+        };
+        let gain = match get("gain") {
+            Some(v) => {
+                let g = r.number("gain", v)?;
+                if g <= 0.0 {
+                    return Err(r.err(v.span(), "'gain' must be positive"));
+                }
+                g
+            }
+            None => 1.0,
+        };
+        let motion = match get("motion") {
+            None => Motion::Translational,
+            Some(v) => match r.string("motion", v)? {
+                "translational" => Motion::Translational,
+                "rotary" => Motion::Rotary,
+                other => {
+                    return Err(r.err(
+                        v.span(),
+                        format!("'motion' is {other:?}, expected \"translational\" or \"rotary\""),
+                    ))
+                }
+            },
+        };
+
+        let ptable_v = get("parameters").ok_or_else(|| missing("parameters"))?;
+        let ptable = r.table("parameters", ptable_v)?;
+        let names = model.parameters();
+        let mut values = Vec::with_capacity(names.len());
+        for (k, _) in ptable.iter() {
+            if !names.iter().any(|n| n == k.get_ref().as_ref()) {
+                return Err(r.err(
+                    k.span(),
+                    format!(
+                        "unknown parameter '{}' (model {} has {})",
+                        k.get_ref(),
+                        model.name(),
+                        names.join(", ")
+                    ),
+                ));
+            }
+        }
+        for name in &names {
+            let v = ptable
+                .get(name.as_str())
+                .ok_or_else(|| r.err(ptable_v.span(), format!("missing parameter '{name}'")))?;
+            let x = r.number(name, v)?;
+            // Same rule as `Parameters::from_values`, checked here to name the line.
+            let damper = name.starts_with('d');
+            if !(x > 0.0 || (damper && x == 0.0)) {
+                let rule = if damper { "non-negative" } else { "positive" };
+                return Err(r.err(v.span(), format!("parameter '{name}' = {x} must be {rule}")));
+            }
+            values.push(x);
+        }
+        let parameters = Parameters::from_values(&model, values).map_err(|e| ModelFileError {
+            line: None,
+            message: e.to_string(),
+        })?;
+
+        let mut effects = Effects::default();
+        if let Some(ev) = get("effects") {
+            for (k, v) in r.table("effects", ev)?.iter() {
+                let key = k.get_ref().as_ref();
+                let Some(&(_, pname)) = EFFECT_KEYS.iter().find(|(e, _)| *e == key) else {
+                    let known: Vec<&str> = EFFECT_KEYS.iter().map(|(e, _)| *e).collect();
+                    return Err(r.err(
+                        k.span(),
+                        format!("unknown effect '{key}' (known: {})", known.join(", ")),
+                    ));
+                };
+                let t = r.table(key, v)?;
+                for (pk, _) in t.iter() {
+                    if pk.get_ref().as_ref() != pname {
+                        return Err(r.err(
+                            pk.span(),
+                            format!(
+                                "unknown key '{}' in effect '{key}' (expected {pname})",
+                                pk.get_ref()
+                            ),
+                        ));
+                    }
+                }
+                let pv = t
+                    .get(pname)
+                    .ok_or_else(|| r.err(v.span(), format!("effect '{key}' needs '{pname}'")))?;
+                let x = r.number(pname, pv)?;
+                let ok = if key == "time_delay" || key == "hysteretic_damping" || key == "friction"
+                {
+                    x >= 0.0
+                } else {
+                    x > 0.0
+                };
+                if !ok {
+                    return Err(r.err(pv.span(), format!("'{pname}' = {x} is out of range")));
+                }
+                match key {
+                    "time_delay" => effects.time_delay_s = Some(x),
+                    "lowpass" => effects.lowpass_hz = Some(x),
+                    "gain_error" => effects.gain_factor = Some(x),
+                    "hysteretic_damping" => effects.loss_factor = Some(x),
+                    _ => effects.viscous_friction = Some(x),
+                }
+            }
+        }
+
+        Ok(ModelFile {
+            model,
+            output,
+            parameters,
+            gain,
+            motion,
+            effects,
+        })
+    }
+
+    /// The file's text: deterministic (keys in a fixed order, numbers in
+    /// Rust's shortest round-trip form), so it reads back to an equal
+    /// [`ModelFile`] and diffs cleanly.
+    pub fn to_toml(&self) -> String {
+        let m = &self.model;
+        let mut s = String::new();
+        if let Some(id) = m.paper_id() {
+            let _ = writeln!(s, "# paper model {id}");
+        }
+        let (a, b) = (m.actuator(), m.sensor());
+        let _ = writeln!(s, "masses = {}", m.n_masses());
+        let _ = writeln!(s, "gap = {}", m.gap());
+        let _ = writeln!(s, "actuator = [{}, {}]", a.plus, a.minus);
+        let _ = writeln!(s, "sensor = [{}, {}]", b.plus, b.minus);
+        let _ = writeln!(s, "output = \"{}\"", self.output);
+        if self.gain != 1.0 {
+            let _ = writeln!(s, "gain = {}", num(self.gain));
+        }
+        if self.motion != Motion::Translational {
+            let _ = writeln!(s, "motion = \"{}\"", self.motion.as_str());
+        }
+        s.push_str("\n[parameters]\n");
+        for (name, v) in self.parameters.iter() {
+            let _ = writeln!(s, "{name} = {}", num(v));
+        }
+        let e = &self.effects;
+        if !e.is_empty() {
+            s.push_str("\n[effects]\n");
+            let values = [
+                e.time_delay_s,
+                e.lowpass_hz,
+                e.gain_factor,
+                e.loss_factor,
+                e.viscous_friction,
+            ];
+            for ((key, pname), v) in EFFECT_KEYS.iter().zip(values) {
+                if let Some(v) = v {
+                    let _ = writeln!(s, "{key} = {{ {pname} = {} }}", num(v));
+                }
+            }
+        }
+        s
+    }
+}
+
+/// A TOML float in Rust's shortest round-trip form (`{:?}` keeps the
+/// decimal point or exponent that TOML needs to read it as a float).
+fn num(x: f64) -> String {
+    format!("{x:?}")
+}
