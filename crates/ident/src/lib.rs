@@ -5,3 +5,5 @@
 //! classifications, fitted parameters and rankings as data.
 
 #![warn(missing_docs)]
+
+pub mod fit;

@@ -1,0 +1,455 @@
+//! Fitting the physical parameters of one structure to a measured FRF:
+//! Levenberg-Marquardt on the complex logarithm of the ratio model/data.
+//!
+//! The residual at line `k` is `ln(G(p, f_k) / H_k)`: its real part is the
+//! log-magnitude error (in nepers; `20/ln 10` dB each), its imaginary part
+//! the phase error in radians, wrapped to `(-pi, pi]` by taking the
+//! argument of the ratio rather than of each factor. Both are
+//! dimensionless, so lightly damped peaks and deep antiresonances weigh
+//! alike, as they do on a Bode plot.
+//!
+//! Parameters are fitted as logarithms, which keeps them positive and makes
+//! the steps scale-free (a mass of 1 g and a spring of 1e5 N/m move alike).
+//! Dampers may go to (numerically) zero: their logarithms are bounded
+//! below.
+//!
+//! Scale: multiplying every mass, spring and damper by `k` divides the FRF
+//! by `k`, so with an unknown actuator or sensor constant the absolute
+//! scale is not identifiable. [`Gain::Known`] fixes the constant (the FRF
+//! is in force and position units, or converted); [`Gain::Fit`] fits it and
+//! holds one parameter at its start value instead.
+//!
+//! ```
+//! use frf::Frf;
+//! use ident::fit::{fit, FitOptions};
+//! use mms::response::{ChainResponse, Parameters};
+//! use mms::{Model, Output};
+//!
+//! // Data from the paper's Tab. 7 model A1 (with some damping) ...
+//! let a1 = Model::from_id("A1")?;
+//! let truth = [0.0044, 0.0173, 0.0184, 46.8, 14.3, 0.002, 0.001];
+//! let f: Vec<f64> = (1..=400).map(|k| 0.25 * k as f64).collect();
+//! let h = ChainResponse::new(&a1, Output::Position).eval_many(&truth, &f)?;
+//! let data = Frf::new(f, h, None)?;
+//! // ... fitted from a start 30% off in every parameter.
+//! let start: Vec<f64> = truth.iter().map(|p| p * 1.3).collect();
+//! let start = Parameters::from_values(&a1, start)?;
+//! let result = fit(&a1, Output::Position, &data, &start, &FitOptions::default())?;
+//! assert!(result.rms_db < 1e-6);
+//! for (got, want) in result.parameters.values().iter().zip(truth) {
+//!     assert!((got / want - 1.0).abs() < 1e-6);
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use frf::Frf;
+use mms::response::{ChainResponse, Effects, Parameters, ResponseError};
+use mms::{Model, Output};
+use num_complex::Complex64;
+use serde::Serialize;
+
+/// What is known about the product of actuator and sensor constants.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Gain {
+    /// The FRF is `gain * G(p)` with this known gain (1: SI units).
+    Known(f64),
+    /// Fit the gain from this start value; the parameter named by
+    /// [`FitOptions::scale_parameter`] (default: the first mass) is held
+    /// at its start value to fix the scale.
+    Fit(f64),
+}
+
+/// Options of [`fit`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitOptions {
+    /// How the gain is treated.
+    pub gain: Gain,
+    /// Parameter held fixed under [`Gain::Fit`]; `None`: the first mass.
+    pub scale_parameter: Option<String>,
+    /// Further parameters held at their start values.
+    pub fixed: Vec<String>,
+    /// Effects applied to the model (held fixed).
+    pub effects: Effects,
+    /// Iteration limit.
+    pub max_iterations: usize,
+    /// Stop when the relative decrease of the cost in an accepted step is
+    /// below this.
+    pub tolerance: f64,
+    /// Weight of each line (e.g. from coherence); `None`: all 1. Must have
+    /// one entry per line, each finite and non-negative.
+    pub weights: Option<Vec<f64>>,
+}
+
+impl Default for FitOptions {
+    fn default() -> FitOptions {
+        FitOptions {
+            gain: Gain::Known(1.0),
+            scale_parameter: None,
+            fixed: Vec::new(),
+            effects: Effects::default(),
+            max_iterations: 200,
+            tolerance: 1e-12,
+            weights: None,
+        }
+    }
+}
+
+/// The result of [`fit`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Fit {
+    /// Fitted parameters, in the model's order.
+    #[serde(serialize_with = "ser_parameters")]
+    pub parameters: Parameters,
+    /// Fitted (or known) gain.
+    pub gain: f64,
+    /// RMS over the lines of `20 log10 |G / H|`, dB.
+    pub rms_db: f64,
+    /// RMS over the lines of the wrapped phase difference, degrees.
+    pub rms_deg: f64,
+    /// Accepted Levenberg-Marquardt steps.
+    pub iterations: usize,
+    /// True if the cost stopped decreasing before the iteration limit.
+    pub converged: bool,
+}
+
+fn ser_parameters<S: serde::Serializer>(p: &Parameters, s: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeMap;
+    let mut m = s.serialize_map(Some(p.names().len()))?;
+    for (k, v) in p.iter() {
+        m.serialize_entry(k, &v)?;
+    }
+    m.end()
+}
+
+/// Why a fit cannot run.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FitError {
+    /// Bad start values or a frequency the model cannot be evaluated at.
+    #[error(transparent)]
+    Response(#[from] ResponseError),
+    /// A parameter to hold fixed that the model does not have.
+    #[error("unknown parameter {0} to hold fixed")]
+    UnknownParameter(String),
+    /// Weights of the wrong length or with bad values.
+    #[error("weights: {0}")]
+    Weights(String),
+    /// A line where the measured response is zero (its logarithm is
+    /// undefined).
+    #[error("the measured response is zero at {0} Hz")]
+    ZeroResponse(f64),
+    /// Fewer weighted lines than free parameters.
+    #[error("{lines} usable lines for {parameters} free parameters")]
+    TooFewLines {
+        /// Lines with positive weight.
+        lines: usize,
+        /// Free parameters.
+        parameters: usize,
+    },
+}
+
+/// Lower bound of a damper's logarithm relative to its mass/spring scale:
+/// dampers below `1e-9` of their start are numerically zero.
+const LOG_DAMPER_FLOOR: f64 = -20.7;
+
+struct Problem<'a> {
+    response: ChainResponse,
+    freq: &'a [f64],
+    data: &'a [Complex64],
+    weights: Vec<f64>,
+    /// Index into the full parameter vector of each free parameter.
+    free: Vec<usize>,
+    fit_gain: bool,
+}
+
+impl Problem<'_> {
+    /// Residuals (2 per line) at full parameters `p` and `gain`, and, if
+    /// asked, the Jacobian with respect to `ln p_free` (and `ln gain`),
+    /// row-major with `free.len() + fit_gain` columns.
+    fn eval(
+        &self,
+        p: &[f64],
+        gain: f64,
+        jac: Option<&mut Vec<f64>>,
+    ) -> Result<Vec<f64>, ResponseError> {
+        let np = self.response.n_parameters();
+        let nc = self.free.len() + usize::from(self.fit_gain);
+        let mut r = Vec::with_capacity(2 * self.freq.len());
+        let mut grad = vec![Complex64::new(0.0, 0.0); np];
+        let want_jac = jac.is_some();
+        let mut j = Vec::new();
+        if want_jac {
+            j.reserve(2 * self.freq.len() * nc);
+        }
+        for ((&f, &h), &w) in self.freq.iter().zip(self.data).zip(&self.weights) {
+            let g = if want_jac {
+                self.response.eval_with_gradient(p, f, &mut grad)?
+            } else {
+                self.response.eval(p, f)?
+            } * gain;
+            let e = (g / h).ln();
+            r.push(w * e.re);
+            r.push(w * e.im);
+            if want_jac {
+                // d ln G / d ln p = p (dG/dp) / G; the gain scales G and
+                // its derivatives alike.
+                let mut re_row = Vec::with_capacity(nc);
+                let mut im_row = Vec::with_capacity(nc);
+                for &i in &self.free {
+                    let d = grad[i] * gain * p[i] / g;
+                    re_row.push(w * d.re);
+                    im_row.push(w * d.im);
+                }
+                if self.fit_gain {
+                    re_row.push(w);
+                    im_row.push(0.0);
+                }
+                j.extend(re_row);
+                j.extend(im_row);
+            }
+        }
+        if let Some(out) = jac {
+            *out = j;
+        }
+        Ok(r)
+    }
+}
+
+/// Fits `model`'s parameters (with `output` and `options.effects`) to
+/// `data`, starting from `start`. See the module docs for the cost.
+pub fn fit(
+    model: &Model,
+    output: Output,
+    data: &Frf,
+    start: &Parameters,
+    options: &FitOptions,
+) -> Result<Fit, FitError> {
+    let names = model.parameters();
+    let n_lines = data.len();
+    let weights = match &options.weights {
+        None => vec![1.0; n_lines],
+        Some(w) => {
+            if w.len() != n_lines {
+                return Err(FitError::Weights(format!(
+                    "{} weights for {n_lines} lines",
+                    w.len()
+                )));
+            }
+            if let Some(x) = w.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
+                return Err(FitError::Weights(format!("bad weight {x}")));
+            }
+            w.clone()
+        }
+    };
+    if let Some(k) = data.response().iter().position(|h| h.norm() == 0.0) {
+        return Err(FitError::ZeroResponse(data.freq_hz()[k]));
+    }
+    let mut held: Vec<usize> = Vec::new();
+    for name in &options.fixed {
+        let i = names
+            .iter()
+            .position(|n| n == name)
+            .ok_or_else(|| FitError::UnknownParameter(name.clone()))?;
+        held.push(i);
+    }
+    let (fit_gain, mut gain) = match options.gain {
+        Gain::Known(g) => (false, g),
+        Gain::Fit(g) => {
+            let scale = options.scale_parameter.clone().unwrap_or_else(|| "m1".into());
+            let i = names
+                .iter()
+                .position(|n| *n == scale)
+                .ok_or(FitError::UnknownParameter(scale))?;
+            held.push(i);
+            (true, g)
+        }
+    };
+    let free: Vec<usize> = (0..names.len()).filter(|i| !held.contains(i)).collect();
+    let nc = free.len() + usize::from(fit_gain);
+    let usable = weights.iter().filter(|&&w| w > 0.0).count();
+    if 2 * usable < nc {
+        return Err(FitError::TooFewLines {
+            lines: usable,
+            parameters: nc,
+        });
+    }
+    let problem = Problem {
+        response: ChainResponse::with_effects(model, output, &options.effects),
+        freq: data.freq_hz(),
+        data: data.response(),
+        weights,
+        free,
+        fit_gain,
+    };
+
+    // Dampers start at zero sometimes; give them a floor so their
+    // logarithm exists, relative to the scale of the springs.
+    let mut p = start.values().to_vec();
+    let n_masses = model.n_masses();
+    let n_links = model.springs().len();
+    let floor: Vec<f64> = (0..p.len())
+        .map(|i| {
+            if i >= n_masses + n_links {
+                let c = p[i - n_links].max(f64::MIN_POSITIVE);
+                let m = p[..n_masses].iter().sum::<f64>();
+                (c * m).sqrt() * LOG_DAMPER_FLOOR.exp()
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    for (x, fl) in p.iter_mut().zip(&floor) {
+        *x = x.max(*fl);
+    }
+
+    let cost = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
+    let mut jac = Vec::new();
+    let mut r = problem.eval(&p, gain, Some(&mut jac))?;
+    let mut c = cost(&r);
+    let mut lambda = 1e-3;
+    let mut nu = 2.0;
+    let mut iterations = 0;
+    let mut converged = false;
+    let rows = r.len();
+    for _ in 0..options.max_iterations {
+        // Normal equations A = J^T J, g = J^T r.
+        let mut a = vec![0.0; nc * nc];
+        let mut g = vec![0.0; nc];
+        for k in 0..rows {
+            let row = &jac[k * nc..(k + 1) * nc];
+            for i in 0..nc {
+                g[i] += row[i] * r[k];
+                for j in 0..=i {
+                    a[i * nc + j] += row[i] * row[j];
+                }
+            }
+        }
+        for i in 0..nc {
+            for j in 0..i {
+                a[j * nc + i] = a[i * nc + j];
+            }
+        }
+        let mut accepted = false;
+        while lambda < 1e16 {
+            let mut m = a.clone();
+            for i in 0..nc {
+                // Marquardt's scaling, with a floor for directions the data
+                // barely see.
+                m[i * nc + i] += lambda * a[i * nc + i].max(1e-12 * (1.0 + c));
+            }
+            let Some(step) = solve_spd(&m, &g, nc) else {
+                lambda *= nu;
+                nu *= 2.0;
+                continue;
+            };
+            let mut trial = p.clone();
+            for (k, &i) in problem.free.iter().enumerate() {
+                let ln = (trial[i].ln() - step[k]).max(floor[i].max(f64::MIN_POSITIVE).ln());
+                trial[i] = ln.exp();
+            }
+            let trial_gain = if fit_gain {
+                (gain.ln() - step[nc - 1]).exp()
+            } else {
+                gain
+            };
+            let mut trial_jac = Vec::new();
+            let Ok(tr) = problem.eval(&trial, trial_gain, Some(&mut trial_jac)) else {
+                lambda *= nu;
+                nu *= 2.0;
+                continue;
+            };
+            let tc = cost(&tr);
+            // Predicted decrease of the linear model, for the gain ratio.
+            let predicted: f64 = (0..nc)
+                .map(|i| step[i] * (lambda * a[i * nc + i].max(1e-12 * (1.0 + c)) * step[i] + g[i]))
+                .sum();
+            if tc < c {
+                let rho = (c - tc) / predicted.max(f64::MIN_POSITIVE);
+                lambda *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
+                nu = 2.0;
+                let rel = (c - tc) / c.max(f64::MIN_POSITIVE);
+                p = trial;
+                gain = trial_gain;
+                r = tr;
+                jac = trial_jac;
+                c = tc;
+                iterations += 1;
+                accepted = true;
+                if rel < options.tolerance || c < 1e-28 * rows as f64 {
+                    converged = true;
+                }
+                break;
+            }
+            lambda *= nu;
+            nu *= 2.0;
+        }
+        if !accepted || converged {
+            converged = true;
+            break;
+        }
+    }
+    let _ = r;
+    let (rms_db, rms_deg) = rms_errors(&problem.response, &p, gain, data)?;
+    Ok(Fit {
+        parameters: Parameters::from_values(model, p)?,
+        gain,
+        rms_db,
+        rms_deg,
+        iterations,
+        converged,
+    })
+}
+
+/// RMS over the lines of `20 log10 |G/H|` (dB) and of the wrapped phase
+/// of `G/H` (degrees), unweighted.
+pub fn rms_errors(
+    response: &ChainResponse,
+    p: &[f64],
+    gain: f64,
+    data: &Frf,
+) -> Result<(f64, f64), ResponseError> {
+    let mut sdb = 0.0;
+    let mut sdeg = 0.0;
+    for (&f, &h) in data.freq_hz().iter().zip(data.response()) {
+        let e = (response.eval(p, f)? * gain / h).ln();
+        sdb += (e.re * 20.0 / std::f64::consts::LN_10).powi(2);
+        sdeg += e.im.to_degrees().powi(2);
+    }
+    let n = data.len() as f64;
+    Ok(((sdb / n).sqrt(), (sdeg / n).sqrt()))
+}
+
+/// Solves the symmetric positive definite system `m x = b` by Cholesky;
+/// `None` if `m` is not numerically positive definite.
+fn solve_spd(m: &[f64], b: &[f64], n: usize) -> Option<Vec<f64>> {
+    let mut l = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..=i {
+            let mut s = m[i * n + j];
+            for k in 0..j {
+                s -= l[i * n + k] * l[j * n + k];
+            }
+            if i == j {
+                if !(s > 0.0 && s.is_finite()) {
+                    return None;
+                }
+                l[i * n + i] = s.sqrt();
+            } else {
+                l[i * n + j] = s / l[j * n + j];
+            }
+        }
+    }
+    let mut y = b.to_vec();
+    for i in 0..n {
+        for k in 0..i {
+            y[i] -= l[i * n + k] * y[k];
+        }
+        y[i] /= l[i * n + i];
+    }
+    for i in (0..n).rev() {
+        for k in i + 1..n {
+            y[i] -= l[k * n + i] * y[k];
+        }
+        y[i] /= l[i * n + i];
+    }
+    Some(y)
+}
