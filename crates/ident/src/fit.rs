@@ -254,7 +254,10 @@ pub fn fit(
     let (fit_gain, mut gain) = match options.gain {
         Gain::Known(g) => (false, g),
         Gain::Fit(g) => {
-            let scale = options.scale_parameter.clone().unwrap_or_else(|| "m1".into());
+            let scale = options
+                .scale_parameter
+                .clone()
+                .unwrap_or_else(|| "m1".into());
             let i = names
                 .iter()
                 .position(|n| *n == scale)

@@ -334,6 +334,31 @@ impl ChainResponse {
         Ok(g)
     }
 
+    /// The position of every mass (`x_1 .. x_N`, relative to the ground)
+    /// per unit actuator force at `freq_hz`, with the effects' gain, delay
+    /// and lag but whatever the compiled output: what an extra position
+    /// sensor at each mass would read.
+    ///
+    /// ```
+    /// use mms::{response::ChainResponse, Model, Output};
+    /// let a2 = Model::from_id("A2").unwrap();
+    /// let p = [0.01, 0.01, 0.02, 100.0, 100.0, 0.01, 0.01];
+    /// let g = ChainResponse::new(&a2, Output::Position);
+    /// let x = g.mass_positions(&p, 7.0).unwrap();
+    /// // A2's own sensor reads x_2.
+    /// assert_eq!(x[1], g.eval(&p, 7.0).unwrap());
+    /// ```
+    pub fn mass_positions(
+        &self,
+        values: &[f64],
+        freq_hz: f64,
+    ) -> Result<Vec<Complex64>, ResponseError> {
+        let mut solver = self.solver(values, freq_hz)?;
+        solver.response(false);
+        let e = solver.effect;
+        Ok(solver.x.iter().map(|&x| x * e).collect())
+    }
+
     /// `G` over a vector of frequencies.
     pub fn eval_many(
         &self,
