@@ -4,6 +4,21 @@
 //! (frequencies in Hz, complex response, optional coherence) and knows
 //! nothing of masses or models.
 //!
+//! Modules:
+//! * [`recording`]: the entry point [`read_recording`], which picks the
+//!   format by extension and content and returns a [`Recording`]; errors
+//!   name the file and the line, variable or dataset;
+//! * [`csv`]: FRF CSV (`freq_hz,re,im` or `freq_hz,mag_db,phase_deg`,
+//!   optional `coherence`) reader and writer, time-domain CSV, headerless
+//!   numeric matrices;
+//! * [`uff`]: universal file dataset 58 (ASCII) reader and writer;
+//! * [`mat`]: MATLAB level-5 MAT-file reader (numeric variables,
+//!   uncompressed or zlib-compressed);
+//! * [`welch`]: H1 estimation with Welch averaging, for random or periodic
+//!   excitation;
+//! * [`fft`]: the discrete Fourier transform of any length (radix-2 and
+//!   Bluestein).
+//!
 //! ```
 //! use frf::Frf;
 //! use num_complex::Complex64;
@@ -20,7 +35,24 @@
 
 #![warn(missing_docs)]
 
+pub mod csv;
+pub mod fft;
+pub mod mat;
+pub mod recording;
+pub mod uff;
+pub mod welch;
+
+pub use csv::{parse_frf_csv, write_csv, CsvLayout};
 pub use num_complex::Complex64;
+pub use recording::{
+    read_recording, Recording, RecordingError, RecordingOptions, SignalRef, Source,
+};
+pub use uff::{parse_uff, write_frf_uff, Spacing};
+pub use welch::{h1, H1Estimate, WelchOptions, Window};
+
+/// Fewest frequency lines the file readers accept: fewer cannot show a
+/// resonance, and usually mean a truncated or mis-read file.
+pub const MIN_LINES: usize = 10;
 
 /// A frequency response function on a grid of frequency lines.
 ///
@@ -84,6 +116,49 @@ pub enum FrfError {
         /// The coherence.
         value: f64,
     },
+}
+
+impl FrfError {
+    /// The 0-based index of the offending value, if the error has one.
+    ///
+    /// ```
+    /// use frf::{Complex64, Frf};
+    /// let err = Frf::new(vec![1.0, 3.0, 2.0], vec![Complex64::new(1.0, 0.0); 3], None).unwrap_err();
+    /// assert_eq!(err.index(), Some(2));
+    /// ```
+    pub fn index(&self) -> Option<usize> {
+        match self {
+            FrfError::Empty | FrfError::Length { .. } => None,
+            FrfError::NotFinite { index, .. }
+            | FrfError::NegativeFrequency { index, .. }
+            | FrfError::NotIncreasing { index, .. }
+            | FrfError::CoherenceRange { index, .. } => Some(*index),
+        }
+    }
+
+    /// The message without the index, for readers that report the place
+    /// themselves (a file line, say).
+    ///
+    /// ```
+    /// use frf::{Complex64, Frf};
+    /// let err = Frf::new(vec![1.0, -2.0], vec![Complex64::new(1.0, 0.0); 2], None).unwrap_err();
+    /// assert_eq!(err.message_without_index(), "frequency -2 Hz is negative");
+    /// ```
+    pub fn message_without_index(&self) -> String {
+        match self {
+            FrfError::NotFinite { what, .. } => format!("{what} is not finite"),
+            FrfError::NegativeFrequency { value, .. } => {
+                format!("frequency {value} Hz is negative")
+            }
+            FrfError::NotIncreasing { value, .. } => {
+                format!("frequency {value} Hz does not increase")
+            }
+            FrfError::CoherenceRange { value, .. } => {
+                format!("coherence {value} is outside [0, 1]")
+            }
+            FrfError::Empty | FrfError::Length { .. } => self.to_string(),
+        }
+    }
 }
 
 impl Frf {

@@ -1,0 +1,831 @@
+//! H1 frequency response estimation with Welch averaging.
+//!
+//! From a sampled input `u` and output `y` at rate `fs`, the record is cut
+//! into segments of `nfft` samples; each segment is detrended, windowed and
+//! transformed; the auto and cross spectra are averaged over the segments:
+//!
+//! ```text
+//! S_uu = mean |U|^2,  S_yy = mean |Y|^2,  S_uy = mean conj(U) Y
+//! H1 = S_uy / S_uu,   coherence = |S_uy|^2 / (S_uu S_yy)
+//! ```
+//!
+//! The lines are `k fs / nfft` for `k = 1 ..= nfft / 2` (DC is dropped: it
+//! carries the offsets and drift that detrending removes). H1 is unbiased
+//! by noise on the output; the coherence tells how much of the output is
+//! explained linearly by the input at each line.
+//!
+//! Two modes:
+//! * random excitation (default): Hann window, 50 % overlap, linear
+//!   detrending of each segment (recordings drift, e.g. a position under
+//!   constant velocity), `nfft` from [`default_nfft`] unless given;
+//! * periodic excitation ([`WelchOptions::period`]): one segment per
+//!   period, rectangular window, no overlap, the first period dropped as
+//!   the transient; with a steady-state periodic input this is leakage
+//!   free and H1 is exact up to noise.
+//!
+//! ```
+//! use frf::welch::{h1, WelchOptions};
+//!
+//! // y[n] = 0.5 u[n-1]: H(f) = 0.5 exp(-2 pi i f / fs).
+//! let fs = 100.0;
+//! let mut state = 12345u64;
+//! let u: Vec<f64> = (0..4096)
+//!     .map(|_| {
+//!         state ^= state << 13;
+//!         state ^= state >> 7;
+//!         state ^= state << 17;
+//!         (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+//!     })
+//!     .collect();
+//! let y: Vec<f64> = (0..u.len()).map(|n| if n > 0 { 0.5 * u[n - 1] } else { 0.0 }).collect();
+//! let est = h1(&u, &y, fs, &WelchOptions { nfft: Some(256), ..Default::default() })?;
+//! assert_eq!(est.nfft, 256);
+//! assert_eq!(est.frf.len(), 128);
+//! let (f, h) = (est.frf.freq_hz()[9], est.frf.response()[9]);
+//! let exact = frf::Complex64::from_polar(0.5, -2.0 * std::f64::consts::PI * f / fs);
+//! assert!((h - exact).norm() < 0.02);
+//! # Ok::<(), frf::welch::WelchError>(())
+//! ```
+
+use crate::fft::FftPlan;
+use crate::{Frf, FrfError};
+use num_complex::Complex64;
+use std::f64::consts::PI;
+
+/// Smallest `nfft` that [`default_nfft`] picks when the record allows it.
+pub const MIN_DEFAULT_NFFT: usize = 64;
+/// Largest `nfft` that [`default_nfft`] picks.
+pub const MAX_DEFAULT_NFFT: usize = 65536;
+/// Number of averages [`default_nfft`] aims for.
+pub const DEFAULT_AVERAGES: usize = 8;
+
+/// Segment window.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Window {
+    /// Periodic Hann window `sin^2(pi n / nfft)`: low leakage for random
+    /// excitation. Default overlap 50 %.
+    #[default]
+    Hann,
+    /// No window: for periodic excitation with one period per segment.
+    /// Default overlap 0.
+    Rectangular,
+}
+
+impl Window {
+    /// The overlap used when [`WelchOptions::overlap`] is `None`.
+    pub fn default_overlap(self) -> f64 {
+        match self {
+            Window::Hann => 0.5,
+            Window::Rectangular => 0.0,
+        }
+    }
+
+    fn weights(self, n: usize) -> Vec<f64> {
+        match self {
+            Window::Hann => (0..n)
+                .map(|i| (PI * i as f64 / n as f64).sin().powi(2))
+                .collect(),
+            Window::Rectangular => vec![1.0; n],
+        }
+    }
+}
+
+/// What is removed from each segment before windowing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Detrend {
+    /// Nothing.
+    None,
+    /// The mean.
+    Mean,
+    /// The least-squares straight line (mean and slope).
+    Linear,
+}
+
+/// Options of [`h1`]. `Default` gives Hann, 50 % overlap, linear
+/// detrending and [`default_nfft`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WelchOptions {
+    /// Segment length; `None` for [`default_nfft`]. Any length >= 2 (not
+    /// only powers of two).
+    pub nfft: Option<usize>,
+    /// Segment window (ignored with `period`: rectangular).
+    pub window: Window,
+    /// Overlap of consecutive segments as a fraction in `[0, 1)`; `None`
+    /// for the window's [`Window::default_overlap`].
+    pub overlap: Option<f64>,
+    /// Per-segment detrending; `None` for [`Detrend::Linear`], or
+    /// [`Detrend::Mean`] with `period` (a straight line fitted to one period
+    /// of a periodic signal is not zero and would leak into every line).
+    pub detrend: Option<Detrend>,
+    /// Samples per period of a periodic excitation: then `nfft = period`,
+    /// rectangular window, no overlap, and the first period is dropped as
+    /// the transient (so at least two periods are needed). `nfft`, if
+    /// given, must equal it, and `overlap`, if given, must be 0.
+    pub period: Option<usize>,
+}
+
+/// Result of [`h1`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct H1Estimate {
+    /// The H1 estimate with its coherence, lines `k fs / nfft`,
+    /// `k = 1 ..= nfft / 2`.
+    pub frf: Frf,
+    /// Number of segments averaged.
+    pub averages: usize,
+    /// Segment length.
+    pub nfft: usize,
+    /// Window used.
+    pub window: Window,
+    /// Overlap used, as a fraction.
+    pub overlap: f64,
+    /// Detrending used.
+    pub detrend: Detrend,
+}
+
+/// Why [`h1`] could not estimate.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum WelchError {
+    /// Input and output differ in length.
+    #[error("input has {u} samples but output has {y}")]
+    LengthMismatch {
+        /// Input samples.
+        u: usize,
+        /// Output samples.
+        y: usize,
+    },
+    /// The sample rate is not a positive finite number.
+    #[error("sample rate {0} Hz is not a positive finite number")]
+    SampleRate(f64),
+    /// Too few samples for even one segment.
+    #[error("{samples} samples are too few: need at least {needed}")]
+    TooShort {
+        /// Samples available.
+        samples: usize,
+        /// Samples needed.
+        needed: usize,
+    },
+    /// A NaN or infinite sample.
+    #[error("{signal} sample {index} is not finite")]
+    NotFinite {
+        /// `"input"` or `"output"`.
+        signal: &'static str,
+        /// 0-based sample index.
+        index: usize,
+    },
+    /// Contradictory or out-of-range options.
+    #[error("{0}")]
+    Options(String),
+    /// The estimate did not pass [`Frf::new`] (cannot happen for finite
+    /// data, kept so that no path panics).
+    #[error("estimate rejected: {0}")]
+    Frf(#[from] FrfError),
+}
+
+/// Number of segments of length `nfft` advancing by `step` that fit in
+/// `n` samples (trailing samples that do not fill a segment are unused).
+pub fn segment_count(n: usize, nfft: usize, step: usize) -> usize {
+    if nfft == 0 || step == 0 || n < nfft {
+        0
+    } else {
+        (n - nfft) / step + 1
+    }
+}
+
+fn step_of(nfft: usize, overlap: f64) -> usize {
+    // floor(overlap * nfft) samples shared, as scipy.signal does for 50 %.
+    let shared = (overlap * nfft as f64).floor() as usize;
+    nfft.saturating_sub(shared).max(1)
+}
+
+/// The default segment length for `n` samples: the largest power of two in
+/// [`MIN_DEFAULT_NFFT`] ..= [`MAX_DEFAULT_NFFT`] that gives at least
+/// [`DEFAULT_AVERAGES`] segments with this overlap (a fraction). A record too
+/// short for that gets [`MIN_DEFAULT_NFFT`] (fewer averages), and one
+/// shorter than that the largest power of two that fits.
+///
+/// ```
+/// use frf::welch::default_nfft;
+/// // 40000 samples, Hann 50 %: 8192 gives (40000 - 8192) / 4096 + 1 = 8.
+/// assert_eq!(default_nfft(40_000, 0.5), 8192);
+/// assert_eq!(default_nfft(40, 0.5), 32);
+/// ```
+pub fn default_nfft(n: usize, overlap: f64) -> usize {
+    let mut p = MAX_DEFAULT_NFFT;
+    while p > MIN_DEFAULT_NFFT && segment_count(n, p, step_of(p, overlap)) < DEFAULT_AVERAGES {
+        p /= 2;
+    }
+    if p > n && n >= 1 {
+        p = 1 << (usize::BITS - 1 - n.leading_zeros());
+    }
+    p
+}
+
+/// Removes the mean or the least-squares line from `x` in place.
+fn detrend(x: &mut [f64], how: Detrend) {
+    let n = x.len();
+    if n == 0 || how == Detrend::None {
+        return;
+    }
+    let mean = x.iter().sum::<f64>() / n as f64;
+    if how == Detrend::Mean || n == 1 {
+        x.iter_mut().for_each(|v| *v -= mean);
+        return;
+    }
+    // Centred abscissa makes slope and mean independent.
+    let c = (n as f64 - 1.0) / 2.0;
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for (i, &v) in x.iter().enumerate() {
+        let t = i as f64 - c;
+        sxy += t * (v - mean);
+        sxx += t * t;
+    }
+    let slope = sxy / sxx;
+    for (i, v) in x.iter_mut().enumerate() {
+        *v -= mean + slope * (i as f64 - c);
+    }
+}
+
+/// Largest relative deviation of one time step from the mean step that
+/// [`sample_rate_from_times`] accepts: 1 %, because time stamps are often
+/// written with few digits (at 4 kHz, six decimals round each step by up
+/// to 0.4 %) or stored in single precision; real jitter or a dropped
+/// sample is far larger.
+pub const TIME_STEP_TOLERANCE: f64 = 0.01;
+
+/// Why a time vector does not define a sample rate.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{message}")]
+pub struct TimeAxisError {
+    /// 0-based index of the offending sample (0 for the whole vector).
+    pub index: usize,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// The sample rate `(n - 1) / (t[n-1] - t[0])` of uniformly spaced time
+/// stamps, after checking that every step is within
+/// [`TIME_STEP_TOLERANCE`] of the mean step.
+///
+/// ```
+/// use frf::welch::sample_rate_from_times;
+/// let t: Vec<f64> = (0..100).map(|i| i as f64 * 0.001).collect();
+/// assert!((sample_rate_from_times(&t)? - 1000.0).abs() < 1e-9);
+/// let mut gap = t.clone();
+/// gap[50] += 0.0005;
+/// assert_eq!(sample_rate_from_times(&gap).unwrap_err().index, 50);
+/// # Ok::<(), frf::welch::TimeAxisError>(())
+/// ```
+pub fn sample_rate_from_times(t: &[f64]) -> Result<f64, TimeAxisError> {
+    let n = t.len();
+    if n < 2 {
+        return Err(TimeAxisError {
+            index: 0,
+            message: format!("{n} time stamps cannot define a sample rate"),
+        });
+    }
+    if let Some(index) = t.iter().position(|v| !v.is_finite()) {
+        return Err(TimeAxisError {
+            index,
+            message: "time stamp is not finite".to_string(),
+        });
+    }
+    let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
+    if !(dt > 0.0 && dt.is_finite()) {
+        return Err(TimeAxisError {
+            index: n - 1,
+            message: "time does not increase".to_string(),
+        });
+    }
+    for i in 1..n {
+        let step = t[i] - t[i - 1];
+        if (step - dt).abs() > TIME_STEP_TOLERANCE * dt {
+            return Err(TimeAxisError {
+                index: i,
+                message: format!(
+                    "non-uniform time: step {step:e} s differs from the mean step {dt:e} s by more than {} %",
+                    TIME_STEP_TOLERANCE * 100.0
+                ),
+            });
+        }
+    }
+    Ok(1.0 / dt)
+}
+
+/// H1 estimate of the response from `u` to `y`, sampled at `fs` Hz.
+///
+/// See the [module documentation](self) for the method. With periodic
+/// excitation the estimate is exact up to rounding:
+///
+/// ```
+/// use frf::welch::{h1, WelchOptions};
+/// use frf::Complex64;
+/// use std::f64::consts::PI;
+///
+/// // Three periods of 64 samples; y is u delayed by one sample, so
+/// // H(f) = exp(-2 pi i f / fs) at every line.
+/// let period = 64;
+/// let u: Vec<f64> = (0..3 * period)
+///     .map(|n| (1..32).map(|k| (2.0 * PI * (k * n) as f64 / 64.0 + k as f64).cos()).sum())
+///     .collect();
+/// let y: Vec<f64> = (0..u.len()).map(|n| u[(n + u.len() - 1) % u.len()]).collect();
+/// let est = h1(&u, &y, 64.0, &WelchOptions { period: Some(period), ..Default::default() })?;
+/// assert_eq!(est.averages, 2); // the first period is dropped
+/// for (f, h) in est.frf.freq_hz().iter().zip(est.frf.response()).take(31) {
+///     assert!((h - Complex64::from_polar(1.0, -2.0 * PI * f / 64.0)).norm() < 1e-12);
+/// }
+/// # Ok::<(), frf::welch::WelchError>(())
+/// ```
+pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estimate, WelchError> {
+    if u.len() != y.len() {
+        return Err(WelchError::LengthMismatch {
+            u: u.len(),
+            y: y.len(),
+        });
+    }
+    if !(fs.is_finite() && fs > 0.0) {
+        return Err(WelchError::SampleRate(fs));
+    }
+    if let Some(index) = u.iter().position(|v| !v.is_finite()) {
+        return Err(WelchError::NotFinite {
+            signal: "input",
+            index,
+        });
+    }
+    if let Some(index) = y.iter().position(|v| !v.is_finite()) {
+        return Err(WelchError::NotFinite {
+            signal: "output",
+            index,
+        });
+    }
+    let n = u.len();
+    if let Some(o) = opts.overlap {
+        if !(0.0..1.0).contains(&o) {
+            return Err(WelchError::Options(format!(
+                "overlap {o} is outside [0, 1)"
+            )));
+        }
+    }
+
+    // (segment starts, nfft, window, overlap, detrend)
+    let (starts, nfft, window, overlap, how): (Vec<usize>, usize, Window, f64, Detrend) =
+        if let Some(period) = opts.period {
+            if period < 2 {
+                return Err(WelchError::Options(format!(
+                    "period {period} is too short: need at least 2 samples"
+                )));
+            }
+            if let Some(nfft) = opts.nfft {
+                if nfft != period {
+                    return Err(WelchError::Options(format!(
+                        "nfft {nfft} contradicts period {period} (periodic mode uses one period per segment)"
+                    )));
+                }
+            }
+            if opts.overlap.is_some_and(|o| o != 0.0) {
+                return Err(WelchError::Options(
+                    "periodic mode uses no overlap".to_string(),
+                ));
+            }
+            let periods = n / period;
+            if periods < 2 {
+                return Err(WelchError::TooShort {
+                    samples: n,
+                    needed: period.saturating_mul(2),
+                });
+            }
+            let starts = (1..periods).map(|p| p * period).collect();
+            let how = opts.detrend.unwrap_or(Detrend::Mean);
+            (starts, period, Window::Rectangular, 0.0, how)
+        } else {
+            let overlap = opts.overlap.unwrap_or(opts.window.default_overlap());
+            let nfft = match opts.nfft {
+                Some(k) => k,
+                None => default_nfft(n, overlap),
+            };
+            if nfft < 2 {
+                return Err(WelchError::Options(format!(
+                    "nfft {nfft} is too small: need at least 2"
+                )));
+            }
+            if n < nfft {
+                return Err(WelchError::TooShort {
+                    samples: n,
+                    needed: nfft,
+                });
+            }
+            let step = step_of(nfft, overlap);
+            let count = segment_count(n, nfft, step);
+            let starts = (0..count).map(|s| s * step).collect();
+            let how = opts.detrend.unwrap_or(Detrend::Linear);
+            (starts, nfft, opts.window, overlap, how)
+        };
+
+    let lines = nfft / 2;
+    let plan = FftPlan::new(nfft);
+    let w = window.weights(nfft);
+    let mut s_uu = vec![0.0; lines];
+    let mut s_yy = vec![0.0; lines];
+    let mut s_uy = vec![Complex64::new(0.0, 0.0); lines];
+    let mut us = vec![0.0; nfft];
+    let mut ys = vec![0.0; nfft];
+    let mut z = vec![Complex64::new(0.0, 0.0); nfft];
+    for &s in &starts {
+        us.copy_from_slice(&u[s..s + nfft]);
+        ys.copy_from_slice(&y[s..s + nfft]);
+        detrend(&mut us, how);
+        detrend(&mut ys, how);
+        // Both real signals in one complex transform: z = u + i y gives
+        // U_k = (Z_k + conj Z_{N-k}) / 2 and Y_k = (Z_k - conj Z_{N-k}) / 2i.
+        for i in 0..nfft {
+            z[i] = Complex64::new(us[i] * w[i], ys[i] * w[i]);
+        }
+        plan.forward(&mut z);
+        for k in 1..=lines {
+            let zk = z[k];
+            let zm = z[nfft - k].conj();
+            let uk = (zk + zm) * 0.5;
+            let yk = (zk - zm) * Complex64::new(0.0, -0.5);
+            s_uu[k - 1] += uk.norm_sqr();
+            s_yy[k - 1] += yk.norm_sqr();
+            s_uy[k - 1] += uk.conj() * yk;
+        }
+    }
+
+    let freq: Vec<f64> = (1..=lines).map(|k| k as f64 * fs / nfft as f64).collect();
+    let mut response = Vec::with_capacity(lines);
+    let mut coherence = Vec::with_capacity(lines);
+    for k in 0..lines {
+        // A line without input power has no estimate: report 0 with zero
+        // coherence rather than NaN.
+        response.push(if s_uu[k] > 0.0 {
+            s_uy[k] / s_uu[k]
+        } else {
+            Complex64::new(0.0, 0.0)
+        });
+        let den = s_uu[k] * s_yy[k];
+        // Cauchy-Schwarz bounds it by 1; rounding may not.
+        coherence.push(if den > 0.0 {
+            (s_uy[k].norm_sqr() / den).clamp(0.0, 1.0)
+        } else {
+            0.0
+        });
+    }
+    let frf = Frf::new(freq, response, Some(coherence))?;
+    Ok(H1Estimate {
+        frf,
+        averages: starts.len(),
+        nfft,
+        window,
+        overlap,
+        detrend: how,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// xorshift64: deterministic white sequence, uniform in [-1, 1).
+    struct Xorshift(u64);
+    impl Xorshift {
+        fn next(&mut self) -> f64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+        fn white(&mut self, n: usize) -> Vec<f64> {
+            (0..n).map(|_| self.next()).collect()
+        }
+    }
+
+    /// A resonant second-order section
+    /// `H(z) = (b0 + b1 z^-1 + b2 z^-2) / (1 + a1 z^-1 + a2 z^-2)`
+    /// with poles at radius 0.9, angle 0.2 pi, and zeros inside the unit
+    /// circle (|z|^2 = 1/3), so |H| > 0 on the whole band.
+    struct Biquad {
+        b: [f64; 3],
+        a: [f64; 2],
+    }
+
+    impl Biquad {
+        fn resonant() -> Biquad {
+            let (r, theta) = (0.9f64, 0.2 * PI);
+            Biquad {
+                b: [0.3, 0.2, 0.1],
+                a: [-2.0 * r * theta.cos(), r * r],
+            }
+        }
+
+        /// Direct form I, zero initial state.
+        fn filter(&self, u: &[f64]) -> Vec<f64> {
+            let mut y = vec![0.0; u.len()];
+            for n in 0..u.len() {
+                let at = |v: &[f64], k: usize| if n >= k { v[n - k] } else { 0.0 };
+                y[n] = self.b[0] * u[n] + self.b[1] * at(u, 1) + self.b[2] * at(u, 2)
+                    - self.a[0] * at(&y, 1)
+                    - self.a[1] * at(&y, 2);
+            }
+            y
+        }
+
+        /// The exact response at `z = exp(i w)`, `w = 2 pi f / fs`.
+        fn response(&self, w: f64) -> Complex64 {
+            let zi = Complex64::from_polar(1.0, -w);
+            let num = self.b[0] + self.b[1] * zi + self.b[2] * zi * zi;
+            let den = 1.0 + self.a[0] * zi + self.a[1] * zi * zi;
+            num / den
+        }
+    }
+
+    #[test]
+    fn noise_free_h1_matches_exact_response() {
+        let fs = 1000.0;
+        let sys = Biquad::resonant();
+        let u = Xorshift(0x1234_5678).white(1 << 16);
+        let y = sys.filter(&u);
+        let est = h1(
+            &u,
+            &y,
+            fs,
+            &WelchOptions {
+                nfft: Some(512),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(est.nfft, 512);
+        assert_eq!(est.frf.len(), 256);
+        // (65536 - 512) / 256 + 1 segments at 50 % overlap.
+        assert_eq!(est.averages, 255);
+        let coh = est.frf.coherence().unwrap();
+        let mut worst: f64 = 0.0;
+        for (k, (&f, &h)) in est.frf.freq_hz().iter().zip(est.frf.response()).enumerate() {
+            assert!((f - (k + 1) as f64 * fs / 512.0).abs() < 1e-12);
+            let exact = sys.response(2.0 * PI * f / fs);
+            worst = worst.max((h - exact).norm() / exact.norm());
+            // Without noise only leakage from outside each segment lowers
+            // the coherence; with an impulse response decaying as 0.9^n it
+            // stays above 0.99.
+            assert!(coh[k] > 0.99, "coherence {} at {f} Hz", coh[k]);
+        }
+        // Tolerance 1 %: the remaining error is segment leakage (the
+        // filter's memory crossing segment edges), averaged over 255
+        // segments; a wrong conjugation or scaling is off by O(1).
+        assert!(worst < 0.01, "worst relative error {worst}");
+    }
+
+    #[test]
+    fn output_noise_lowers_coherence_but_not_h1() {
+        let fs = 1.0;
+        let sys = Biquad::resonant();
+        let mut rng = Xorshift(0xdead_beef);
+        let u = rng.white(1 << 17);
+        let clean = sys.filter(&u);
+        let sigma_n = 0.1;
+        let noisy: Vec<f64> = clean.iter().map(|v| v + sigma_n * rng.next()).collect();
+        let opts = WelchOptions {
+            nfft: Some(256),
+            ..Default::default()
+        };
+        let est = h1(&u, &noisy, fs, &opts).unwrap();
+        // The same input without noise: the difference is the noise's
+        // effect alone (window leakage is common to both).
+        let reference = h1(&u, &clean, fs, &opts).unwrap();
+        let k_avg = est.averages as f64;
+        // Uniform [-1, 1) has variance 1/3; noise variance sigma^2 / 3.
+        let (var_u, var_n) = (1.0 / 3.0, sigma_n * sigma_n / 3.0);
+        let coh = est.frf.coherence().unwrap();
+        let (mut sum, mut sum_var) = (Complex64::new(0.0, 0.0), 0.0);
+        let mut low_coherence_lines = 0;
+        for (k, &c) in coh.iter().enumerate() {
+            let f = est.frf.freq_hz()[k];
+            let exact = sys.response(2.0 * PI * f / fs);
+            let snr = exact.norm_sqr() * var_u / var_n;
+            let expected_coh = snr / (1.0 + snr);
+            // Coherence estimate vs its theoretical value: the estimator's
+            // spread with K = 1023 averages is about (1 - g) sqrt(2 / K)
+            // < 0.045, plus a small leakage loss.
+            assert!(
+                (c - expected_coh).abs() < 0.05,
+                "{f}: coherence {} vs {expected_coh}",
+                c
+            );
+            if expected_coh < 0.9 {
+                low_coherence_lines += 1;
+            }
+            // Standard deviation of |H1 - H| / |H| is sqrt((1 - g) / (2 K g)),
+            // at most ~0.06 here; allow 5 of them at every line.
+            let sd = ((1.0 - expected_coh) / (2.0 * k_avg * expected_coh)).sqrt();
+            let rel = (est.frf.response()[k] - reference.frf.response()[k]) / exact;
+            assert!(
+                rel.norm() < 5.0 * sd,
+                "{f}: rel error {} vs sd {sd}",
+                rel.norm()
+            );
+            sum += rel;
+            sum_var += sd * sd;
+        }
+        // The noise really matters somewhere (else the test proves nothing).
+        assert!(low_coherence_lines > 20, "{low_coherence_lines}");
+        // Unbiased: the mean relative deviation over the 128 lines is
+        // within 4 standard deviations of that mean (sqrt(sum sd^2) / L).
+        let lines = est.frf.len() as f64;
+        let mean = sum.norm() / lines;
+        assert!(
+            mean < 4.0 * sum_var.sqrt() / lines,
+            "mean relative deviation {mean}"
+        );
+    }
+
+    #[test]
+    fn periodic_excitation_is_exact() {
+        // Multisine with random phases on every line 1 .. P/2 - 1, nine
+        // periods; the first period carries the transient and is dropped.
+        let (period, periods, fs) = (256usize, 9usize, 400.0);
+        let mut rng = Xorshift(42);
+        let phases: Vec<f64> = (0..period / 2).map(|_| PI * rng.next()).collect();
+        let one: Vec<f64> = (0..period)
+            .map(|n| {
+                (1..period / 2)
+                    .map(|k| (2.0 * PI * (k * n) as f64 / period as f64 + phases[k]).cos())
+                    .sum()
+            })
+            .collect();
+        let u: Vec<f64> = (0..period * periods).map(|n| one[n % period]).collect();
+        let sys = Biquad::resonant();
+        let y = sys.filter(&u);
+        let est = h1(
+            &u,
+            &y,
+            fs,
+            &WelchOptions {
+                period: Some(period),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(est.averages, periods - 1);
+        assert_eq!(est.window, Window::Rectangular);
+        assert_eq!(est.nfft, period);
+        let coh = est.frf.coherence().unwrap();
+        for (k, &c) in coh.iter().enumerate().take(period / 2 - 1) {
+            let f = est.frf.freq_hz()[k];
+            let exact = sys.response(2.0 * PI * f / fs);
+            // The transient decays as 0.9^n: after one period (256
+            // samples) it is ~2e-12 of the response, so 1e-9 holds.
+            let rel = (est.frf.response()[k] - exact).norm() / exact.norm();
+            assert!(rel < 1e-9, "line {}: {rel:e}", k + 1);
+            assert!(c > 1.0 - 1e-9);
+        }
+    }
+
+    #[test]
+    fn linear_trend_is_removed() {
+        // A ramp added to the output (drift) must not change H1 beyond
+        // rounding when every segment is linearly detrended.
+        let sys = Biquad::resonant();
+        let u = Xorshift(99).white(1 << 14);
+        let y = sys.filter(&u);
+        let drifting: Vec<f64> = y
+            .iter()
+            .enumerate()
+            .map(|(n, v)| v + 5.0 + 0.01 * n as f64)
+            .collect();
+        let opts = WelchOptions {
+            nfft: Some(256),
+            ..Default::default()
+        };
+        let a = h1(&u, &y, 1.0, &opts).unwrap();
+        let b = h1(&u, &drifting, 1.0, &opts).unwrap();
+        for (ha, hb) in a.frf.response().iter().zip(b.frf.response()) {
+            assert!((ha - hb).norm() < 1e-9 * (1.0 + ha.norm()));
+        }
+        // Without detrending the ramp leaks into the low lines.
+        let raw = WelchOptions {
+            detrend: Some(Detrend::None),
+            ..opts
+        };
+        let c = h1(&u, &drifting, 1.0, &raw).unwrap();
+        assert!((c.frf.response()[0] - a.frf.response()[0]).norm() > 0.1);
+    }
+
+    #[test]
+    fn default_nfft_rule() {
+        // Hann 50 %: the largest power of two with >= 8 segments.
+        for &n in &[1000usize, 40_000, 73_728, 1_000_000] {
+            let p = default_nfft(n, 0.5);
+            assert!(p.is_power_of_two());
+            assert!(segment_count(n, p, p / 2) >= 8 || p == MIN_DEFAULT_NFFT);
+            assert!(p == MAX_DEFAULT_NFFT || segment_count(n, 2 * p, p) < 8);
+        }
+        assert_eq!(default_nfft(10_000_000, 0.5), MAX_DEFAULT_NFFT);
+        // Rectangular, no overlap: 8 * 4096 <= 40000 < 8 * 8192.
+        assert_eq!(default_nfft(40_000, 0.0), 4096);
+        assert_eq!(default_nfft(100, 0.5), 64);
+    }
+
+    #[test]
+    fn non_power_of_two_nfft() {
+        // nfft = 500 goes through Bluestein; lines at k fs / 500.
+        let sys = Biquad::resonant();
+        let u = Xorshift(5).white(50_000);
+        let y = sys.filter(&u);
+        let est = h1(
+            &u,
+            &y,
+            500.0,
+            &WelchOptions {
+                nfft: Some(500),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(est.frf.len(), 250);
+        assert!((est.frf.freq_hz()[0] - 1.0).abs() < 1e-12);
+        for (&f, &h) in est.frf.freq_hz().iter().zip(est.frf.response()) {
+            let exact = sys.response(2.0 * PI * f / 500.0);
+            // 2 %: segment leakage with 199 averages, largest (about 1 %)
+            // at the first line, where per-segment detrending also acts.
+            let rel = (h - exact).norm() / exact.norm();
+            assert!(rel < 0.02, "{f}: {rel}");
+        }
+    }
+
+    #[test]
+    fn errors() {
+        let u = vec![0.0; 100];
+        let y = vec![0.0; 99];
+        assert!(matches!(
+            h1(&u, &y, 1.0, &Default::default()),
+            Err(WelchError::LengthMismatch { .. })
+        ));
+        assert!(matches!(
+            h1(&u, &u, 0.0, &Default::default()),
+            Err(WelchError::SampleRate(_))
+        ));
+        assert!(matches!(
+            h1(&u, &u, f64::NAN, &Default::default()),
+            Err(WelchError::SampleRate(_))
+        ));
+        let mut bad = u.clone();
+        bad[7] = f64::INFINITY;
+        assert_eq!(
+            h1(&u, &bad, 1.0, &Default::default()),
+            Err(WelchError::NotFinite {
+                signal: "output",
+                index: 7
+            })
+        );
+        let big = WelchOptions {
+            nfft: Some(101),
+            ..Default::default()
+        };
+        assert!(matches!(
+            h1(&u, &u, 1.0, &big),
+            Err(WelchError::TooShort { .. })
+        ));
+        let periodic = WelchOptions {
+            period: Some(60),
+            ..Default::default()
+        };
+        assert!(matches!(
+            h1(&u, &u, 1.0, &periodic),
+            Err(WelchError::TooShort { .. })
+        ));
+        let clash = WelchOptions {
+            period: Some(50),
+            nfft: Some(40),
+            ..Default::default()
+        };
+        assert!(matches!(
+            h1(&u, &u, 1.0, &clash),
+            Err(WelchError::Options(_))
+        ));
+        let overlap = WelchOptions {
+            overlap: Some(1.0),
+            ..Default::default()
+        };
+        assert!(matches!(
+            h1(&u, &u, 1.0, &overlap),
+            Err(WelchError::Options(_))
+        ));
+        // All-zero input: no input power anywhere; zeros, not NaN.
+        let est = h1(
+            &u,
+            &u,
+            1.0,
+            &WelchOptions {
+                nfft: Some(20),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert!(est
+            .frf
+            .response()
+            .iter()
+            .all(|h| *h == Complex64::new(0.0, 0.0)));
+        assert!(est.frf.coherence().unwrap().iter().all(|&c| c == 0.0));
+    }
+}
