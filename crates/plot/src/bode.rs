@@ -1,0 +1,705 @@
+//! Bode figures: magnitude and phase over log frequency, optional residual
+//! panel, shaded bands and a legend, built into a [`Scene`].
+
+use num_complex::Complex64;
+
+use crate::axis::Axis;
+use crate::scene::{
+    Anchor, Band, Color, Dash, Line, Mark, MarkerShape, Markers, Panel, Rect, Scene, Stroke, Text,
+    PALETTE,
+};
+
+/// How a trace is drawn. The default is a solid 1.5 px line in the next
+/// palette colour.
+///
+/// ```
+/// use plot::{Color, MarkerShape, Style};
+/// let measured = Style::points();
+/// let model = Style::line().width(2.0);
+/// let prior = Style::dashed().color(Color::rgb(0, 0, 0));
+/// let both = Style::line().marker(MarkerShape::Square);
+/// assert!(measured.marker.is_some() && !measured.line);
+/// # let _ = (model, prior, both);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Style {
+    /// Colour; `None` takes [`PALETTE`]`[i % 8]` for the i-th trace.
+    pub color: Option<Color>,
+    /// Line width in pixels.
+    pub width: f64,
+    /// Line pattern.
+    pub dash: Dash,
+    /// Whether to connect the points.
+    pub line: bool,
+    /// Marker at every point, if any.
+    pub marker: Option<MarkerShape>,
+}
+
+impl Default for Style {
+    fn default() -> Style {
+        Style::line()
+    }
+}
+
+impl Style {
+    /// A solid line.
+    pub fn line() -> Style {
+        Style {
+            color: None,
+            width: 1.5,
+            dash: Dash::Solid,
+            line: true,
+            marker: None,
+        }
+    }
+
+    /// A dashed line.
+    pub fn dashed() -> Style {
+        Style {
+            dash: Dash::Dashed,
+            ..Style::line()
+        }
+    }
+
+    /// A dotted line.
+    pub fn dotted() -> Style {
+        Style {
+            dash: Dash::Dotted,
+            ..Style::line()
+        }
+    }
+
+    /// Unconnected circles, for measured points.
+    pub fn points() -> Style {
+        Style {
+            line: false,
+            marker: Some(MarkerShape::Circle),
+            ..Style::line()
+        }
+    }
+
+    /// The same style in a fixed colour.
+    pub fn color(self, color: Color) -> Style {
+        Style {
+            color: Some(color),
+            ..self
+        }
+    }
+
+    /// The same style with another line width.
+    pub fn width(self, width: f64) -> Style {
+        Style { width, ..self }
+    }
+
+    /// The same style with markers.
+    pub fn marker(self, shape: MarkerShape) -> Style {
+        Style {
+            marker: Some(shape),
+            ..self
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Trace {
+    label: String,
+    freq_hz: Vec<f64>,
+    response: Vec<Complex64>,
+    style: Style,
+}
+
+/// A Bode figure under construction.
+///
+/// Panels, top to bottom: magnitude in dB (`20 log10 |H|`), phase in
+/// degrees, and with [`Bode::residual`] the residual in dB. They share a
+/// logarithmic frequency axis in Hz that spans the data exactly; the value
+/// axes get nice ranges with a margin.
+///
+/// Phase is unwrapped along each trace (steps over 180 degrees between
+/// successive finite points are taken as wraps, across gaps too). The first
+/// trace starts in `[-180, 180)` (so a real negative response reads -180,
+/// the lagging convention); every other trace is then shifted by the
+/// multiple of 360 degrees that brings it closest, on average, to the first
+/// trace (compared at common frequencies, or by mean if they do not
+/// overlap), so that equal phases plot on top of each other.
+///
+/// Points whose frequency is not finite and positive, or whose response is
+/// not finite or zero, are gaps that break the line. Input never panics:
+/// frequency and response are cut to the shorter of the two, and empty or
+/// degenerate data gives default or widened ranges.
+///
+/// ```
+/// use num_complex::Complex64;
+/// use plot::{Bode, Style};
+///
+/// let freq: Vec<f64> = (0..200).map(|i| 10f64.powf(i as f64 / 50.0)).collect();
+/// let model: Vec<Complex64> = freq
+///     .iter()
+///     .map(|&f| 1.0 / (Complex64::new(0.0, 2.0 * std::f64::consts::PI * f / 20.0) + 1.0))
+///     .collect();
+/// let measured: Vec<Complex64> = model.iter().map(|h| h * 1.05).collect();
+/// let svg = Bode::new("Axis 1, motor side")
+///     .trace("measured", &freq, &measured, Style::points())
+///     .trace("fit", &freq, &model, Style::line())
+///     .band(300.0, 500.0, "mismatch")
+///     .residual()
+///     .to_svg();
+/// assert!(svg.starts_with("<svg") && svg.contains("mismatch"));
+/// ```
+#[derive(Clone, Debug)]
+#[must_use]
+pub struct Bode {
+    title: String,
+    traces: Vec<Trace>,
+    bands: Vec<(f64, f64, String)>,
+    residual: bool,
+    size: Option<(u32, u32)>,
+}
+
+/// Fills of band groups (bands sharing a label), in order of first use.
+const BAND_FILLS: [Color; 4] = [
+    Color::rgba(128, 128, 128, 56),
+    Color::rgba(240, 228, 66, 96),
+    Color::rgba(86, 180, 233, 64),
+    Color::rgba(204, 121, 167, 64),
+];
+
+impl Bode {
+    /// An empty figure with a title (may be empty).
+    ///
+    /// ```
+    /// let png = plot::Bode::new("nothing yet").to_png();
+    /// assert_eq!(&png[1..4], b"PNG");
+    /// ```
+    pub fn new(title: impl Into<String>) -> Bode {
+        let title = title.into();
+        Bode {
+            title,
+            traces: Vec::new(),
+            bands: Vec::new(),
+            residual: false,
+            size: None,
+        }
+    }
+
+    /// Adds a trace: a label for the legend (empty for no entry),
+    /// frequencies in Hz, the complex response at them, and how to draw
+    /// it. The first trace is the phase and residual reference.
+    ///
+    /// ```
+    /// use num_complex::Complex64;
+    /// let f = [1.0, 10.0, 100.0];
+    /// let h = [Complex64::new(1.0, 0.0), Complex64::new(0.5, -0.5), Complex64::new(0.0, -0.1)];
+    /// let bode = plot::Bode::new("").trace("H", &f, &h, plot::Style::line());
+    /// assert_eq!(bode.scene().panels[0].lines.len(), 1);
+    /// ```
+    pub fn trace(
+        mut self,
+        label: impl Into<String>,
+        freq_hz: &[f64],
+        response: &[Complex64],
+        style: Style,
+    ) -> Bode {
+        let n = freq_hz.len().min(response.len());
+        let (freq_hz, response) = (freq_hz[..n].to_vec(), response[..n].to_vec());
+        self.traces.push(Trace {
+            label: label.into(),
+            freq_hz,
+            response,
+            style,
+        });
+        self
+    }
+
+    /// Shades the frequencies between `lo_hz` and `hi_hz` in every panel,
+    /// e.g. where model and measurement disagree. Bands with the same label
+    /// share a colour and one legend entry; an empty label has no entry.
+    ///
+    /// ```
+    /// let bode = plot::Bode::new("").band(40.0, 60.0, "mismatch").band(200.0, 210.0, "mismatch");
+    /// assert!(bode.to_svg().matches("mismatch").count() == 1);
+    /// ```
+    pub fn band(mut self, lo_hz: f64, hi_hz: f64, label: impl Into<String>) -> Bode {
+        self.bands.push((lo_hz, hi_hz, label.into()));
+        self
+    }
+
+    /// Adds a third panel with each trace's magnitude relative to the first
+    /// trace, `20 log10 |H_i / H_0|` in dB, where the first trace's dB
+    /// value is interpolated linearly over log frequency at the other
+    /// trace's frequencies (gaps outside its range).
+    ///
+    /// ```
+    /// use num_complex::Complex64;
+    /// let f = [1.0, 10.0];
+    /// let bode = plot::Bode::new("")
+    ///     .trace("measured", &f, &[Complex64::new(1.0, 0.0); 2], plot::Style::points())
+    ///     .trace("model", &f, &[Complex64::new(2.0, 0.0); 2], plot::Style::line())
+    ///     .residual();
+    /// let residual = &bode.scene().panels[2];
+    /// let (_, db) = residual.lines[0].points[1];
+    /// assert!((db - 20.0 * 2f64.log10()).abs() < 1e-12);
+    /// ```
+    pub fn residual(mut self) -> Bode {
+        self.residual = true;
+        self
+    }
+
+    /// Figure size in pixels; the default is 800 x 560, or 800 x 700 with
+    /// a residual panel. Sizes below 200 x 160 are raised to that.
+    ///
+    /// ```
+    /// let scene = plot::Bode::new("small").size(480, 360).scene();
+    /// assert_eq!((scene.width, scene.height), (480, 360));
+    /// ```
+    pub fn size(mut self, width: u32, height: u32) -> Bode {
+        self.size = Some((width, height));
+        self
+    }
+
+    /// The figure as SVG 1.1 text: deterministic, without ids or an XML
+    /// declaration, so it can be written to a `.svg` file or pasted inline
+    /// into HTML or Markdown as is.
+    ///
+    /// ```
+    /// use num_complex::Complex64;
+    /// let f: Vec<f64> = (1..=100).map(f64::from).collect();
+    /// let h: Vec<Complex64> = f.iter().map(|&f| Complex64::new(0.0, -1.0 / f)).collect();
+    /// let bode = plot::Bode::new("integrator").trace("1/s", &f, &h, Default::default());
+    /// let svg = bode.to_svg();
+    /// assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\""));
+    /// assert_eq!(svg, bode.to_svg());
+    /// std::fs::write(std::env::temp_dir().join("integrator.svg"), &svg)?;
+    /// # Ok::<(), std::io::Error>(())
+    /// ```
+    pub fn to_svg(&self) -> String {
+        self.scene().to_svg()
+    }
+
+    /// The figure as an 8-bit RGB PNG file: own rasteriser and bitmap
+    /// font, deterministic bytes.
+    ///
+    /// ```
+    /// use num_complex::Complex64;
+    /// let f: Vec<f64> = (1..=100).map(f64::from).collect();
+    /// let h: Vec<Complex64> = f.iter().map(|&f| Complex64::new(0.0, -1.0 / f)).collect();
+    /// let png = plot::Bode::new("integrator").trace("1/s", &f, &h, Default::default()).to_png();
+    /// assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    /// std::fs::write(std::env::temp_dir().join("integrator.png"), &png)?;
+    /// # Ok::<(), std::io::Error>(())
+    /// ```
+    pub fn to_png(&self) -> Vec<u8> {
+        self.scene().to_png()
+    }
+
+    /// The backend-independent scene, for inspection or further drawing.
+    /// Panels are magnitude, phase and (if requested) residual; their lines
+    /// hold the plotted values in data units, and all of the legend and
+    /// title are in [`Scene::overlay`].
+    ///
+    /// ```
+    /// let scene = plot::Bode::new("").residual().scene();
+    /// assert_eq!(scene.panels.len(), 3);
+    /// assert_eq!(scene.panels[1].y.label, "Phase [deg]");
+    /// ```
+    pub fn scene(&self) -> Scene {
+        let curves = align_phases(self.traces.iter().map(Curve::new).collect());
+        let colors: Vec<Color> = (self.traces.iter().enumerate())
+            .map(|(i, t)| t.style.color.unwrap_or(PALETTE[i % PALETTE.len()]))
+            .collect();
+        let mut groups: Vec<(&str, Color)> = Vec::new();
+        for (_, _, label) in &self.bands {
+            if !groups.iter().any(|(l, _)| l == label) {
+                groups.push((label, BAND_FILLS[groups.len() % BAND_FILLS.len()]));
+            }
+        }
+
+        let (w, h) = self
+            .size
+            .unwrap_or((800, if self.residual { 700 } else { 560 }));
+        let (w, h) = (w.max(200), h.max(160));
+        let mut scene = Scene::new(w, h);
+        scene.title = self.title.clone();
+
+        // The legend column is as wide as its longest label, within limits.
+        let legend_labels = (self.traces.iter().map(|t| t.label.as_str()))
+            .chain(groups.iter().map(|g| g.0))
+            .filter(|l| !l.is_empty());
+        let max_legend = 0.4 * f64::from(w);
+        let max_chars = ((max_legend - 40.0) / (0.6 * LEGEND_SIZE)).max(4.0) as usize;
+        let longest = legend_labels
+            .map(|l| l.chars().count().min(max_chars))
+            .max();
+        let legend_w = longest.map_or(0.0, |n| {
+            (n as f64 * 0.6 * LEGEND_SIZE + 40.0).clamp(80.0, max_legend)
+        });
+        let (left, right, top) = (70.0, (f64::from(w) - 16.0 - legend_w).round(), 44.0);
+
+        let panels = self.panel_values(&curves);
+        let all_f = finite_range(curves.iter().flat_map(|c| c.f.iter().copied()));
+        // Without data, the bands pick the frequency range, if they can.
+        let band_f = finite_range(
+            self.bands
+                .iter()
+                .flat_map(|b| [b.0, b.1])
+                .filter(|f| *f > 0.0),
+        );
+        let (f_lo, f_hi) = all_f.or(band_f).unwrap_or((1.0, 1000.0));
+        let (gap, bottom_margin) = (12.0, 44.0);
+        let avail = f64::from(h) - top - bottom_margin - gap * (panels.len() - 1) as f64;
+        let total: f64 = panels.iter().map(|p| p.2).sum();
+        let mut y = top;
+        let count = panels.len();
+        for (k, (values, name, weight)) in panels.into_iter().enumerate() {
+            let height = (avail * weight / total).round().max(10.0);
+            let (lo, hi) = match (finite_range(values.iter().flatten().copied()), k) {
+                (Some(range), 0 | 1) => range,
+                // Zero is the residual's point of reference: always show it.
+                (Some((lo, hi)), _) => (lo.min(0.0), hi.max(0.0)),
+                (None, 0) => (-20.0, 20.0),
+                (None, 1) => (-180.0, 180.0),
+                (None, _) => (0.0, 0.0),
+            };
+            // One tick interval per 30 px keeps the labels apart.
+            let y_axis = Axis::linear_with(lo, hi, name, (height / 30.0) as usize);
+            let x_axis = Axis::log(f_lo, f_hi, "Frequency [Hz]");
+            let mut panel = Panel::new(Rect::new(left, y, right - left, height), x_axis, y_axis);
+            y += height + gap;
+            panel.x_tick_labels = k + 1 == count;
+            for (lo, hi, label) in &self.bands {
+                let fill = groups
+                    .iter()
+                    .find(|g| g.0 == label)
+                    .map_or(BAND_FILLS[0], |g| g.1);
+                panel.bands.push(Band {
+                    lo: *lo,
+                    hi: *hi,
+                    fill,
+                });
+            }
+            for (i, (c, ys)) in curves.iter().zip(&values).enumerate() {
+                let points: Vec<(f64, f64)> = c.f.iter().copied().zip(ys.iter().copied()).collect();
+                let (style, color) = (self.traces[i].style, colors[i]);
+                if let Some(shape) = style.marker {
+                    let (points, size) = (points.clone(), marker_size(style.width));
+                    panel.markers.push(Markers {
+                        points,
+                        shape,
+                        size,
+                        color,
+                    });
+                }
+                if style.line {
+                    let stroke = Stroke {
+                        color,
+                        width: style.width,
+                        dash: style.dash,
+                    };
+                    panel.lines.push(Line { points, stroke });
+                }
+            }
+            scene.panels.push(panel);
+        }
+
+        let title = Text::new((left + right) / 2.0, 26.0, &self.title, 16.0);
+        scene.overlay.push(Mark::Text(title.anchor(Anchor::Middle)));
+        // Legend rows: traces, then band groups; unlabelled ones have none.
+        let traces = (self.traces.iter().zip(&colors))
+            .map(|(t, &c)| (t.label.as_str(), Swatch::Trace(t.style, c)));
+        let bands = groups
+            .iter()
+            .map(|&(label, fill)| (label, Swatch::Band(fill)));
+        let entries = traces.chain(bands).filter(|e| !e.0.is_empty());
+        push_legend(&mut scene, entries, (right + 16.0, top + 8.0), max_chars);
+        scene
+    }
+
+    /// Values of each panel (one vector per trace, aligned with its
+    /// frequencies), its y title and its share of the height.
+    fn panel_values(&self, curves: &[Curve]) -> Vec<(Vec<Vec<f64>>, &'static str, f64)> {
+        let mut panels = vec![
+            (
+                curves.iter().map(|c| c.db.clone()).collect(),
+                "Magnitude [dB]",
+                3.0,
+            ),
+            (
+                curves.iter().map(|c| c.deg.clone()).collect(),
+                "Phase [deg]",
+                2.0,
+            ),
+        ];
+        if self.residual {
+            let residuals = match curves.first() {
+                Some(reference) => {
+                    let at = Interp::new(&reference.f, &reference.db);
+                    let residual = |c: &Curve| {
+                        c.f.iter()
+                            .zip(&c.db)
+                            .map(|(&f, db)| db - at.at(f))
+                            .collect()
+                    };
+                    curves.iter().map(residual).collect()
+                }
+                None => Vec::new(),
+            };
+            panels.push((residuals, "Residual [dB]", 1.6));
+        }
+        panels
+    }
+}
+
+/// Legend rows down from `(x0, y0)`: a swatch 24 px wide, then the label,
+/// cut to `max_chars`.
+fn push_legend<'a>(
+    scene: &mut Scene,
+    entries: impl Iterator<Item = (&'a str, Swatch)>,
+    (x0, y0): (f64, f64),
+    max_chars: usize,
+) {
+    for (k, (label, swatch)) in entries.enumerate() {
+        let row = y0 + 18.0 * k as f64;
+        match swatch {
+            Swatch::Trace(style, color) => {
+                if style.line {
+                    let stroke = Stroke {
+                        color,
+                        width: style.width,
+                        dash: style.dash,
+                    };
+                    let points = vec![(x0, row), (x0 + 24.0, row)];
+                    scene.overlay.push(Mark::Line(Line { points, stroke }));
+                }
+                if let Some(shape) = style.marker {
+                    let (points, size) = (vec![(x0 + 12.0, row)], marker_size(style.width));
+                    scene.overlay.push(Mark::Markers(Markers {
+                        points,
+                        shape,
+                        size,
+                        color,
+                    }));
+                }
+            }
+            Swatch::Band(fill) => {
+                scene
+                    .overlay
+                    .push(Mark::Rect(Rect::new(x0, row - 6.0, 24.0, 12.0), fill));
+            }
+        }
+        let label: String = if label.chars().count() <= max_chars {
+            label.to_string()
+        } else {
+            label
+                .chars()
+                .take(max_chars - 3)
+                .chain("...".chars())
+                .collect()
+        };
+        scene.overlay.push(Mark::Text(Text::new(
+            x0 + 30.0,
+            row + 4.0,
+            label,
+            LEGEND_SIZE,
+        )));
+    }
+}
+
+/// What a legend row shows left of its label.
+enum Swatch {
+    Trace(Style, Color),
+    Band(Color),
+}
+
+/// Smallest and largest finite value, if any.
+fn finite_range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    values
+        .filter(|v| v.is_finite())
+        .fold(None, |range, v| match range {
+            None => Some((v, v)),
+            Some((lo, hi)) => Some((v.min(lo), v.max(hi))),
+        })
+}
+
+const LEGEND_SIZE: f64 = 11.0;
+
+fn marker_size(line_width: f64) -> f64 {
+    (2.5 * line_width).max(4.0)
+}
+
+/// One trace in plotted units; every vector has the trace's length, with
+/// NaN for gaps (a NaN frequency gaps all three).
+struct Curve {
+    f: Vec<f64>,
+    db: Vec<f64>,
+    deg: Vec<f64>,
+}
+
+impl Curve {
+    fn new(trace: &Trace) -> Curve {
+        let n = trace.freq_hz.len();
+        let (mut f, mut db, mut deg) = (vec![f64::NAN; n], vec![f64::NAN; n], vec![f64::NAN; n]);
+        let mut last: Option<f64> = None;
+        for (i, (&fi, h)) in trace.freq_hz.iter().zip(&trace.response).enumerate() {
+            if !(fi > 0.0 && fi.is_finite()) {
+                continue;
+            }
+            f[i] = fi;
+            let mag = h.norm();
+            if !(mag > 0.0 && mag.is_finite()) {
+                continue;
+            }
+            db[i] = 20.0 * mag.log10();
+            let raw = h.arg().to_degrees();
+            let value = match last {
+                // Start in [-180, 180): atan2 gives (-180, 180].
+                None if raw >= 180.0 - 1e-9 => raw - 360.0,
+                None => raw,
+                Some(prev) => raw + 360.0 * ((prev - raw) / 360.0).round(),
+            };
+            deg[i] = value;
+            last = Some(value);
+        }
+        Curve { f, db, deg }
+    }
+}
+
+/// Shifts every trace after the first by the multiple of 360 degrees that
+/// brings it nearest the first one.
+fn align_phases(mut curves: Vec<Curve>) -> Vec<Curve> {
+    let Some((first, rest)) = curves.split_first_mut() else {
+        return curves;
+    };
+    let reference = Interp::new(&first.f, &first.deg);
+    let mean = |v: &mut dyn Iterator<Item = f64>| {
+        let (sum, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
+        (n > 0).then(|| sum / n as f64)
+    };
+    let first_mean = mean(&mut first.deg.iter().copied().filter(|v| v.is_finite()));
+    for c in rest {
+        let mut diffs =
+            c.f.iter()
+                .zip(&c.deg)
+                .map(|(&f, &d)| d - reference.at(f))
+                .filter(|d| d.is_finite());
+        let offset = mean(&mut diffs).or_else(|| {
+            let own = mean(&mut c.deg.iter().copied().filter(|v| v.is_finite()));
+            Some(own? - first_mean?)
+        });
+        if let Some(offset) = offset {
+            let turns = (offset / 360.0).round();
+            c.deg.iter_mut().for_each(|d| *d -= 360.0 * turns);
+        }
+    }
+    curves
+}
+
+/// Linear interpolation over log frequency, NaN outside the data or next
+/// to a gap.
+struct Interp {
+    points: Vec<(f64, f64)>,
+}
+
+impl Interp {
+    fn new(f: &[f64], y: &[f64]) -> Interp {
+        let mut points: Vec<(f64, f64)> = f
+            .iter()
+            .zip(y)
+            .filter(|(f, _)| f.is_finite())
+            .map(|(f, y)| (f.log10(), *y))
+            .collect();
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Interp { points }
+    }
+
+    fn at(&self, f: f64) -> f64 {
+        let x = f.log10();
+        let i = self.points.partition_point(|p| p.0 < x);
+        match (self.points.get(i), i.checked_sub(1).map(|j| self.points[j])) {
+            (Some(&(xi, yi)), _) if xi == x => yi,
+            (Some(&(x1, y1)), Some((x0, y0))) => y0 + (y1 - y0) * (x - x0) / (x1 - x0),
+            _ => f64::NAN,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn trace(f: &[f64], h: &[Complex64]) -> Trace {
+        Trace {
+            label: String::new(),
+            freq_hz: f.to_vec(),
+            response: h.to_vec(),
+            style: Style::line(),
+        }
+    }
+
+    fn polar(deg: f64) -> Complex64 {
+        Complex64::from_polar(1.0, deg.to_radians())
+    }
+
+    #[test]
+    fn phase_is_unwrapped_and_starts_lagging() {
+        let f = [1.0, 2.0, 3.0, 4.0, 5.0];
+        let h: Vec<_> = [-170.0, -190.0, -260.0, -350.0, -370.0].map(polar).to_vec();
+        let c = Curve::new(&trace(&f, &h));
+        let expected = [-170.0, -190.0, -260.0, -350.0, -370.0];
+        assert!(
+            c.deg
+                .iter()
+                .zip(expected)
+                .all(|(a, b)| (a - b).abs() < 1e-9),
+            "{:?}",
+            c.deg
+        );
+        // A real negative response starts at -180, not +180.
+        let c = Curve::new(&trace(&[1.0], &[Complex64::new(-1.0, 0.0)]));
+        assert_eq!(c.deg, [-180.0]);
+    }
+
+    #[test]
+    fn gaps_are_nan_and_unwrapping_spans_them() {
+        let f = [1.0, 2.0, 0.0, 4.0, f64::NAN, 6.0];
+        let h = [
+            polar(170.0),
+            polar(179.0),
+            polar(0.0),
+            Complex64::new(f64::NAN, 0.0),
+            polar(0.0),
+            polar(-170.0),
+        ];
+        let c = Curve::new(&trace(&f, &h));
+        assert!(c.f[2].is_nan() && c.f[4].is_nan() && c.db[3].is_nan() && c.deg[3].is_nan());
+        assert!((c.deg[5] - 190.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn later_traces_move_next_to_the_first() {
+        let f = [1.0, 10.0, 100.0];
+        let first = Curve::new(&trace(&f, &[-170.0, -185.0, -200.0].map(polar)));
+        // Starts at +175 on its own: the same as -185, one turn away.
+        let second = Curve::new(&trace(&f, &[175.0, 170.0, 165.0].map(polar)));
+        // Does not overlap the first trace: compared by means.
+        let third = Curve::new(&trace(&[1e4, 1e5], &[100.0, 90.0].map(polar)));
+        let aligned = align_phases(vec![first, second, third]);
+        assert!(
+            (aligned[1].deg[0] + 185.0).abs() < 1e-9,
+            "{:?}",
+            aligned[1].deg
+        );
+        assert!(
+            (aligned[2].deg[0] + 260.0).abs() < 1e-9,
+            "{:?}",
+            aligned[2].deg
+        );
+    }
+
+    #[test]
+    fn interpolation_over_log_frequency() {
+        let at = Interp::new(&[100.0, 1.0, 10.0, f64::NAN], &[2.0, 0.0, 1.0, 5.0]);
+        assert_eq!(at.at(10.0), 1.0);
+        assert!((at.at(10f64.sqrt()) - 0.5).abs() < 1e-12);
+        assert!(at.at(0.5).is_nan() && at.at(1000.0).is_nan() && at.at(-1.0).is_nan());
+    }
+}
