@@ -73,26 +73,29 @@ pub fn sensor_advice(
     let Some(n) = candidates.iter().map(|c| c.model.n_masses()).min() else {
         return Ok(Vec::new());
     };
-    // readings[c][k][f]: dB and phase of x_k under candidate c.
-    let mut readings = Vec::with_capacity(candidates.len());
+    // by_mass[k][c][f]: the reading of a sensor at mass k+1 under
+    // candidate c at line f.
+    let mut by_mass = vec![Vec::with_capacity(candidates.len()); n];
     for c in candidates {
         let g = ChainResponse::new(&c.model, Output::Position);
         let mut per_mass = vec![Vec::with_capacity(freq_hz.len()); n];
         for &f in freq_hz {
             let x = g.mass_positions(c.parameters.values(), f)?;
-            for (k, slot) in per_mass.iter_mut().enumerate() {
-                slot.push(x[k] * c.gain);
+            for (slot, xk) in per_mass.iter_mut().zip(x) {
+                slot.push(xk * c.gain);
             }
         }
-        readings.push(per_mass);
+        for (k, reading) in per_mass.into_iter().enumerate() {
+            by_mass[k].push(reading);
+        }
     }
     let mut out = Vec::new();
-    for k in 0..n {
+    for (k, readings) in by_mass.iter().enumerate() {
         let mut separates = Vec::new();
         let mut min_diff = f64::INFINITY;
         for i in 0..candidates.len() {
             for j in i + 1..candidates.len() {
-                let d = rms_db(&readings[i][k], &readings[j][k]);
+                let d = rms_db(&readings[i], &readings[j]);
                 if d > threshold_db {
                     separates.push((candidates[i].name.clone(), candidates[j].name.clone()));
                     min_diff = min_diff.min(d);

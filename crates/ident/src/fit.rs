@@ -192,19 +192,18 @@ impl Problem<'_> {
             if want_jac {
                 // d ln G / d ln p = p (dG/dp) / G; the gain scales G and
                 // its derivatives alike.
-                let mut re_row = Vec::with_capacity(nc);
-                let mut im_row = Vec::with_capacity(nc);
-                for &i in &self.free {
-                    let d = grad[i] * gain * p[i] / g;
-                    re_row.push(w * d.re);
-                    im_row.push(w * d.im);
+                // Two rows: real parts, then imaginary parts.
+                let base = j.len();
+                j.resize(base + 2 * nc, 0.0);
+                let inv = gain / g;
+                for (k, &i) in self.free.iter().enumerate() {
+                    let d = grad[i] * inv * p[i];
+                    j[base + k] = w * d.re;
+                    j[base + nc + k] = w * d.im;
                 }
                 if self.fit_gain {
-                    re_row.push(w);
-                    im_row.push(0.0);
+                    j[base + nc - 1] = w;
                 }
-                j.extend(re_row);
-                j.extend(im_row);
             }
         }
         if let Some(out) = jac {
@@ -377,7 +376,8 @@ pub fn fit(
                 c = tc;
                 iterations += 1;
                 accepted = true;
-                if rel < options.tolerance || c < 1e-28 * rows as f64 {
+                let max_step = step.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                if rel < options.tolerance || max_step < 1e-10 || c < 1e-28 * rows as f64 {
                     converged = true;
                 }
                 break;

@@ -8,3 +8,4 @@
 
 pub mod advice;
 pub mod fit;
+pub mod synth;

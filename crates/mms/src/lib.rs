@@ -57,7 +57,7 @@ pub mod paper;
 pub mod render;
 pub mod response;
 mod tf;
-mod xorshift;
+pub mod xorshift;
 
 pub use crate::enumerate::{
     basic_models, counts, degradation_free_models, equivalence_classes, redundancy_report,

@@ -293,7 +293,7 @@ impl ChainResponse {
     /// `G(j 2 pi f)` at one frequency `f` in Hz.
     pub fn eval(&self, values: &[f64], freq_hz: f64) -> Result<Complex64, ResponseError> {
         let mut solver = self.solver(values, freq_hz)?;
-        Ok(solver.response(false))
+        Ok(self.solve(&mut solver, false))
     }
 
     /// `G(j 2 pi f)` and `dG/dp` for every parameter `p` (written into
@@ -306,8 +306,8 @@ impl ChainResponse {
     ) -> Result<Complex64, ResponseError> {
         assert_eq!(gradient.len(), self.n_parameters(), "gradient length");
         let mut solver = self.solver(values, freq_hz)?;
-        let g = solver.response(true);
-        let scale = solver.output_factor();
+        let g = self.solve(&mut solver, true);
+        let scale = solver.factor;
         let (x, w) = (&solver.x, &solver.w);
         let omega = solver.omega;
         let node = |v: &[Complex64], k: usize| {
@@ -354,9 +354,9 @@ impl ChainResponse {
         freq_hz: f64,
     ) -> Result<Vec<Complex64>, ResponseError> {
         let mut solver = self.solver(values, freq_hz)?;
-        solver.response(false);
+        self.solve(&mut solver, false);
         let e = solver.effect;
-        Ok(solver.x.iter().map(|&x| x * e).collect())
+        Ok(solver.x[..self.n].iter().map(|&x| x * e).collect())
     }
 
     /// `G` over a vector of frequencies.
@@ -368,7 +368,7 @@ impl ChainResponse {
         freq_hz.iter().map(|&f| self.eval(values, f)).collect()
     }
 
-    fn solver(&self, values: &[f64], freq_hz: f64) -> Result<Solver<'_>, ResponseError> {
+    fn solver(&self, values: &[f64], freq_hz: f64) -> Result<Solver, ResponseError> {
         if values.len() != self.n_parameters() {
             return Err(ResponseError::Count {
                 expected: self.n_parameters(),
@@ -380,138 +380,169 @@ impl ChainResponse {
         }
         let n = self.n;
         let omega = 2.0 * PI * freq_hz;
-        let mut z = vec![Complex64::new(0.0, 0.0); n * n];
+        // Z is tridiagonal: diagonal `d`, off-diagonal `e` (Z[i][i+1] =
+        // Z[i+1][i] = e[i]).
+        let mut d = [ZERO; MAX];
+        let mut e = [ZERO; MAX];
         for i in 0..n {
-            z[i * n + i] -= omega * omega * values[i];
+            d[i] = Complex64::new(-omega * omega * values[i], 0.0);
         }
         let nl = self.links.len();
         let spring = Complex64::new(1.0, self.effects.loss_factor.unwrap_or(0.0));
         if let Some(b) = self.effects.viscous_friction {
-            let d = self.driven - 1;
-            z[d * n + d] += Complex64::new(0.0, omega * b);
+            d[self.driven - 1] += Complex64::new(0.0, omega * b);
         }
         for (k, l) in self.links.iter().enumerate() {
             let y = spring * values[n + k] + Complex64::new(0.0, omega * values[n + nl + k]);
-            for (p, q, sign) in [
-                (l.a, l.a, 1.0),
-                (l.b, l.b, 1.0),
-                (l.a, l.b, -1.0),
-                (l.b, l.a, -1.0),
-            ] {
-                if p > 0 && q > 0 {
-                    z[(p - 1) * n + (q - 1)] += y * sign;
-                }
+            if l.a > 0 {
+                d[l.a - 1] += y;
+                e[l.a - 1] = -y;
             }
+            d[l.b - 1] += y;
         }
-        let lu = Lu::factor(z, n).ok_or(ResponseError::Singular(freq_hz))?;
-        Ok(Solver {
-            lu,
-            omega,
-            input: &self.input,
-            sensor: &self.sensor,
-            output: self.output,
-            effect: self.effects.output_factor(omega),
-            x: Vec::new(),
-            w: Vec::new(),
-        })
-    }
-}
-
-struct Solver<'a> {
-    lu: Lu,
-    omega: f64,
-    input: &'a [f64],
-    sensor: &'a [f64],
-    output: Output,
-    /// Gain, delay and lag of the [`Effects`].
-    effect: Complex64,
-    x: Vec<Complex64>,
-    w: Vec<Complex64>,
-}
-
-impl Solver<'_> {
-    /// The factor `(j w)^k` that turns position into the output, times
-    /// the effects' gain, delay and lag.
-    fn output_factor(&self) -> Complex64 {
-        let jw = Complex64::new(0.0, self.omega);
+        let lu = Tridiagonal::factor(d, e, n).ok_or(ResponseError::Singular(freq_hz))?;
+        let jw = Complex64::new(0.0, omega);
         let k = match self.output {
             Output::Position => Complex64::new(1.0, 0.0),
             Output::Velocity => jw,
             Output::Acceleration => jw * jw,
         };
-        k * self.effect
+        let effect = self.effects.output_factor(omega);
+        Ok(Solver {
+            lu,
+            omega,
+            factor: k * effect,
+            effect,
+            x: [ZERO; MAX],
+            w: [ZERO; MAX],
+        })
     }
 
-    fn response(&mut self, with_adjoint: bool) -> Complex64 {
-        let cplx = |v: &[f64]| {
-            v.iter()
-                .map(|&a| Complex64::new(a, 0.0))
-                .collect::<Vec<_>>()
-        };
-        self.x = self.lu.solve(cplx(self.input));
+    /// `G` and, if asked, the adjoint solution; see [`Solver`].
+    fn solve(&self, solver: &mut Solver, with_adjoint: bool) -> Complex64 {
+        let n = self.n;
+        for i in 0..n {
+            solver.x[i] = Complex64::new(self.input[i], 0.0);
+        }
+        solver.lu.solve(&mut solver.x[..n]);
         if with_adjoint {
             // Z is symmetric, so Z^-T c = Z^-1 c.
-            self.w = self.lu.solve(cplx(self.sensor));
+            for i in 0..n {
+                solver.w[i] = Complex64::new(self.sensor[i], 0.0);
+            }
+            solver.lu.solve(&mut solver.w[..n]);
         }
-        let y: Complex64 = self.sensor.iter().zip(&self.x).map(|(&c, &x)| x * c).sum();
-        y * self.output_factor()
+        let y: Complex64 = (0..n).map(|i| solver.x[i] * self.sensor[i]).sum();
+        y * solver.factor
     }
 }
 
-/// Dense LU factorisation with partial pivoting of a small complex matrix
-/// (row-major). Partial pivoting keeps it exact enough near the
-/// resonances of sub-chains, where the diagonal of `Z` passes through 0.
-struct Lu {
+const MAX: usize = crate::model::MAX_MASSES;
+const ZERO: Complex64 = Complex64::new(0.0, 0.0);
+
+/// One frequency's factorised dynamic stiffness and solutions: `x = Z^-1
+/// b` and (for gradients) `w = Z^-1 c`; fixed-size arrays, no allocation
+/// per line.
+struct Solver {
+    lu: Tridiagonal,
+    omega: f64,
+    /// `(j w)^k` of the output times the effects' factor.
+    factor: Complex64,
+    /// Gain, delay and lag of the [`Effects`].
+    effect: Complex64,
+    x: [Complex64; MAX],
+    w: [Complex64; MAX],
+}
+
+/// LU factorisation with partial pivoting of a complex symmetric
+/// tridiagonal matrix (row interchanges fill a second superdiagonal).
+/// Pivoting matters: the diagonal `c - w^2 m` passes through zero at the
+/// resonances of sub-chains.
+struct Tridiagonal {
     n: usize,
-    a: Vec<Complex64>,
-    perm: Vec<usize>,
+    /// Multipliers (sub-diagonal of L).
+    l: [Complex64; MAX],
+    /// Diagonal of U.
+    d: [Complex64; MAX],
+    /// First and second superdiagonals of U.
+    u1: [Complex64; MAX],
+    u2: [Complex64; MAX],
+    /// Whether rows i and i+1 were interchanged at step i.
+    swapped: [bool; MAX],
 }
 
-impl Lu {
-    fn factor(mut a: Vec<Complex64>, n: usize) -> Option<Lu> {
-        let mut perm: Vec<usize> = (0..n).collect();
-        let scale = a.iter().map(|z| z.norm()).fold(0.0, f64::max);
-        for k in 0..n {
-            let p = (k..n).max_by(|&i, &j| a[i * n + k].norm().total_cmp(&a[j * n + k].norm()))?;
-            if a[p * n + k].norm() <= scale * 1e-15 {
-                return None;
-            }
-            if p != k {
-                for c in 0..n {
-                    a.swap(p * n + c, k * n + c);
+impl Tridiagonal {
+    fn factor(mut d: [Complex64; MAX], e: [Complex64; MAX], n: usize) -> Option<Tridiagonal> {
+        let scale = d[..n]
+            .iter()
+            .chain(&e[..n.saturating_sub(1)])
+            .map(|z| z.norm())
+            .fold(0.0, f64::max);
+        let tiny = scale * 1e-15;
+        let mut l = [ZERO; MAX];
+        let mut u1 = e; // superdiagonal, before interchanges
+        let mut u2 = [ZERO; MAX];
+        let mut swapped = [false; MAX];
+        for i in 0..n.saturating_sub(1) {
+            let sub = e[i]; // Z[i+1][i]
+            if d[i].norm() >= sub.norm() {
+                if d[i].norm() <= tiny {
+                    return None;
                 }
-                perm.swap(p, k);
-            }
-            let pivot = a[k * n + k];
-            for i in k + 1..n {
-                let f = a[i * n + k] / pivot;
-                a[i * n + k] = f;
-                for c in k + 1..n {
-                    let t = a[k * n + c];
-                    a[i * n + c] -= f * t;
+                let f = sub / d[i];
+                l[i] = f;
+                d[i + 1] -= f * u1[i];
+            } else {
+                // Row i+1 becomes the pivot row: it holds (sub, d[i+1],
+                // u1[i+1]) in columns i, i+1, i+2.
+                let f = d[i] / sub;
+                l[i] = f;
+                swapped[i] = true;
+                let (a, b) = (u1[i], d[i + 1]);
+                d[i] = sub;
+                u1[i] = b;
+                d[i + 1] = a - f * b;
+                if i + 2 < n {
+                    u2[i] = u1[i + 1];
+                    u1[i + 1] = -f * u1[i + 1];
                 }
             }
         }
-        Some(Lu { n, a, perm })
+        if n == 0 || d[n - 1].norm() <= tiny {
+            return None;
+        }
+        Some(Tridiagonal {
+            n,
+            l,
+            d,
+            u1,
+            u2,
+            swapped,
+        })
     }
 
-    fn solve(&self, b: Vec<Complex64>) -> Vec<Complex64> {
+    fn solve(&self, b: &mut [Complex64]) {
         let n = self.n;
-        let mut x: Vec<Complex64> = self.perm.iter().map(|&i| b[i]).collect();
-        for i in 0..n {
-            for k in 0..i {
-                let t = self.a[i * n + k] * x[k];
-                x[i] -= t;
+        for i in 0..n.saturating_sub(1) {
+            if self.swapped[i] {
+                b.swap(i, i + 1);
+                let t = b[i];
+                b[i + 1] -= self.l[i] * t;
+            } else {
+                let t = b[i];
+                b[i + 1] -= self.l[i] * t;
             }
         }
         for i in (0..n).rev() {
-            for k in i + 1..n {
-                let t = self.a[i * n + k] * x[k];
-                x[i] -= t;
+            let mut s = b[i];
+            if i + 1 < n {
+                s -= self.u1[i] * b[i + 1];
             }
-            x[i] /= self.a[i * n + i];
+            if i + 2 < n {
+                s -= self.u2[i] * b[i + 2];
+            }
+            b[i] = s / self.d[i];
         }
-        x
     }
 }
 
@@ -532,7 +563,7 @@ mod tests {
                 } else {
                     0.02
                 };
-                base * (0.3 + 2.0 * (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64)
+                base * (0.3 + 2.0 * rng.uniform())
             })
             .collect()
     }

@@ -1,23 +1,51 @@
 //! A small deterministic pseudo-random generator (xorshift64*), so that
-//! sample points, and with them every output, are the same on every run.
+//! sample points, synthetic recordings, and with them every output, are
+//! the same on every run.
+//!
+//! ```
+//! use mms::xorshift::XorShift;
+//! let mut a = XorShift::new(42);
+//! let mut b = XorShift::new(42);
+//! assert_eq!(a.next_u64(), b.next_u64());
+//! let u = a.uniform();
+//! assert!((0.0..1.0).contains(&u));
+//! ```
 
 /// xorshift64* (Vigna): 64 bits of state, never 0.
 #[derive(Clone, Debug)]
-pub(crate) struct XorShift(u64);
+pub struct XorShift(u64);
 
 impl XorShift {
     /// A generator from a seed (0 is taken as 1).
-    pub(crate) fn new(seed: u64) -> XorShift {
+    pub fn new(seed: u64) -> XorShift {
         XorShift(seed.max(1))
     }
 
     /// The next 64 bits.
-    pub(crate) fn next_u64(&mut self) -> u64 {
+    pub fn next_u64(&mut self) -> u64 {
         let mut x = self.0;
         x ^= x >> 12;
         x ^= x << 25;
         x ^= x >> 27;
         self.0 = x;
         x.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+
+    /// Uniform in `[0, 1)`, from the top 53 bits.
+    pub fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Log-uniform in `[lo, hi]` (both positive).
+    pub fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        (lo.ln() + (hi.ln() - lo.ln()) * self.uniform()).exp()
+    }
+
+    /// Standard normal (Box-Muller; one of the pair is discarded, which
+    /// keeps the generator's state the only state).
+    pub fn normal(&mut self) -> f64 {
+        let u1 = 1.0 - self.uniform(); // in (0, 1]
+        let u2 = self.uniform();
+        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
     }
 }
