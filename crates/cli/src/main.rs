@@ -7,6 +7,7 @@ mod check;
 mod derive;
 mod enumerate;
 mod output;
+mod recording;
 mod study;
 
 use clap::{Parser, Subcommand, ValueEnum};
@@ -96,6 +97,17 @@ enum Command {
         /// The JSON file written by `mms analyze --format json`.
         #[arg(value_name = "FILE")]
         file: PathBuf,
+    },
+    /// Estimate or convert the FRF of a recording (H1 with Welch averaging
+    /// for time-domain data) and write it as CSV or UFF58.
+    Frf {
+        #[command(flatten)]
+        recording: recording::RecordingArgs,
+        #[arg(long, value_enum, default_value_t = recording::FrfFormat::Csv)]
+        format: recording::FrfFormat,
+        /// Write to this file (atomically) instead of stdout.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
     },
     /// The full study of N masses as one report (default: the paper's 3 masses).
     Study {
@@ -237,6 +249,11 @@ fn run(cli: Cli) -> Result<(), String> {
         }
         Command::Check { file } => output::emit(None, &check::run(&file)?),
         Command::Algebra { masses, format } => output::emit(None, &algebra::run(masses, format)?),
+        Command::Frf {
+            recording,
+            format,
+            out,
+        } => output::emit(out.as_deref(), &recording::run(&recording, format)?),
         Command::Study {
             masses,
             format,

@@ -1,0 +1,90 @@
+//! The recording flags shared by every command that reads a measurement
+//! (`mms frf`, `mms identify`), and `mms frf` itself: read a recording,
+//! estimate its FRF, write it as CSV or UFF58.
+
+use crate::OutputArg;
+use frf::{read_recording, Recording, RecordingOptions, SignalRef, WelchOptions};
+use std::path::PathBuf;
+
+/// Where the data come from and what they measure.
+#[derive(clap::Args, Clone)]
+pub struct RecordingArgs {
+    /// The recording: FRF CSV (freq_hz,re,im or freq_hz,mag_db,phase_deg),
+    /// UFF dataset 58 (.uff/.unv), time-domain CSV (t,u,y), MATLAB v5
+    /// .mat, or a headerless numeric matrix (.dat/.txt).
+    #[arg(value_name = "RECORDING")]
+    pub recording: PathBuf,
+    /// Input signal of a time-domain recording: VAR[:COL] (a .mat variable
+    /// or CSV column; COL picks a channel of a matrix, counted from 1; a
+    /// column number for headerless matrices).
+    #[arg(long, value_name = "VAR[:COL]")]
+    pub u: Option<String>,
+    /// Output signal of a time-domain recording, as for --u.
+    #[arg(long, value_name = "VAR[:COL]")]
+    pub y: Option<String>,
+    /// Sample rate in Hz where the file has none (overrides the file's).
+    #[arg(long, value_name = "HZ")]
+    pub fs: Option<f64>,
+    /// The measured quantity.
+    #[arg(long, value_enum, default_value_t = OutputArg::Position)]
+    pub output: OutputArg,
+    /// Segment length of the H1 estimate (default: the largest power of two
+    /// giving at least 8 averages).
+    #[arg(long, value_name = "SAMPLES")]
+    pub nfft: Option<usize>,
+    /// Samples per period of a periodic excitation (multisine): rectangular
+    /// window, one period per segment, the first period dropped.
+    #[arg(long, value_name = "SAMPLES")]
+    pub period: Option<usize>,
+    /// UFF files with several FRFs: the dataset to read (from 1).
+    #[arg(long, value_name = "N")]
+    pub dataset: Option<usize>,
+}
+
+impl RecordingArgs {
+    /// Reads the recording; errors are one line naming the file and place.
+    pub fn read(&self) -> Result<Recording, String> {
+        let signal = |flag: &str, s: &Option<String>| -> Result<Option<SignalRef>, String> {
+            s.as_deref()
+                .map(|v| {
+                    v.parse::<SignalRef>()
+                        .map_err(|e| format!("--{flag} {v}: {e}"))
+                })
+                .transpose()
+        };
+        let opts = RecordingOptions {
+            u: signal("u", &self.u)?,
+            y: signal("y", &self.y)?,
+            fs: self.fs,
+            welch: WelchOptions {
+                nfft: self.nfft,
+                period: self.period,
+                ..WelchOptions::default()
+            },
+            dataset: self.dataset,
+        };
+        read_recording(&self.recording, &opts).map_err(|e| e.to_string())
+    }
+}
+
+/// Output formats of `mms frf`.
+#[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
+pub enum FrfFormat {
+    /// freq_hz,re,im[,coherence]
+    Csv,
+    /// freq_hz,mag_db,phase_deg[,coherence]
+    CsvDb,
+    /// Universal File Format dataset 58 (ASCII), with a coherence dataset.
+    Uff,
+}
+
+/// `mms frf`: the FRF of a recording in the chosen format.
+pub fn run(args: &RecordingArgs, format: FrfFormat) -> Result<String, String> {
+    let rec = args.read()?;
+    match format {
+        FrfFormat::Csv => Ok(frf::write_csv(&rec.frf, frf::CsvLayout::ReIm)),
+        FrfFormat::CsvDb => Ok(frf::write_csv(&rec.frf, frf::CsvLayout::MagDbPhaseDeg)),
+        FrfFormat::Uff => frf::write_frf_uff(&rec.frf, frf::Spacing::Uneven)
+            .map_err(|e| format!("{}: {e}", args.recording.display())),
+    }
+}
