@@ -7,5 +7,10 @@
 #![warn(missing_docs)]
 
 pub mod advice;
+pub mod classify;
 pub mod fit;
 pub mod synth;
+
+pub use crate::classify::{
+    classify, Classification, ClassifiedFeature, ClassifyError, ClassifyOptions, NmDip, NmEvidence,
+};
