@@ -37,9 +37,12 @@ pub struct SynthOptions {
     pub lines: usize,
     /// Log-spaced grid (else linear).
     pub log_grid: bool,
-    /// Modal damping ratio of the first resonance, drawn log-uniformly in
-    /// this range; the dampers are stiffness-proportional to it, each
-    /// scaled by a log-uniform factor in `[0.5, 2]`.
+    /// Damping ratio of each spring-damper link on its own, drawn
+    /// log-uniformly in this range: `d = 2 zeta sqrt(c m)` with `m` the
+    /// reduced mass of the two bodies it joins (the mass itself for a link
+    /// to the ground). Modes then have damping ratios of the same order,
+    /// however far apart they are (stiffness-proportional damping would
+    /// damp the upper modes out).
     pub damping_ratio: (f64, f64),
     /// Masses drawn log-uniformly in this range (kg).
     pub mass_range: (f64, f64),
@@ -154,21 +157,21 @@ pub fn synthetic(
         let separated = features
             .windows(2)
             .all(|w| w[1].1 >= w[0].1 * options.min_separation);
-        let Some(first_resonance) = features
-            .iter()
-            .find(|(k, _)| *k == Feature::Resonance)
-            .map(|f| f.1)
-        else {
-            continue;
-        };
-        if !separated {
+        if !separated || features.is_empty() {
             continue;
         }
-        let zeta = rng.log_uniform(options.damping_ratio.0, options.damping_ratio.1);
-        let alpha = 2.0 * zeta / (2.0 * PI * first_resonance);
-        let dampers: Vec<f64> = stiff
-            .iter()
-            .map(|c| alpha * c * rng.log_uniform(0.5, 2.0))
+        let dampers: Vec<f64> = (0..n)
+            .filter(|&i| model.has_link(i))
+            .zip(&stiff)
+            .map(|(i, c)| {
+                let m = if i == 0 {
+                    masses[0]
+                } else {
+                    masses[i - 1] * masses[i] / (masses[i - 1] + masses[i])
+                };
+                let zeta = rng.log_uniform(options.damping_ratio.0, options.damping_ratio.1);
+                2.0 * zeta * (c * m).sqrt()
+            })
             .collect();
         let mut values = masses;
         values.extend(&stiff);
@@ -223,17 +226,19 @@ fn undamped_features(
     let frf_type = mms::analysis::frf_type_of(&n, &d)?;
     let g = n.gcd(&d);
     let (n, d) = (n.div_exact(&g)?, d.div_exact(&g)?);
-    let features = interleave_roots(&[n, d])
-        .iter()
-        .filter(|r| r.is_positive())
-        .map(|r| {
-            let kind = if r.multiplicities[0] > 0 {
-                Feature::Antiresonance
-            } else {
-                Feature::Resonance
-            };
-            (kind, r.to_f64().sqrt() / (2.0 * PI))
-        })
-        .collect();
+    let polys = [n, d];
+    let mut roots = interleave_roots(&polys);
+    let mut features = Vec::new();
+    for r in roots.iter_mut().filter(|r| r.is_positive()) {
+        // Isolating intervals are coarse; refine to ~1e-12 relative.
+        let width = Rat::from_f64(r.to_f64().abs() * 1e-12).filter(|w| w.signum() > 0)?;
+        r.refine(&polys, &width).ok()?;
+        let kind = if r.multiplicities[0] > 0 {
+            Feature::Antiresonance
+        } else {
+            Feature::Resonance
+        };
+        features.push((kind, r.to_f64().sqrt() / (2.0 * PI)));
+    }
     Some((frf_type, features))
 }
