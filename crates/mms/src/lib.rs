@@ -21,6 +21,9 @@
 //!   equivalence of models ([`mod@identifiability`], [`structural_equivalences`]);
 //! - the numeric damped frequency response and its parameter derivatives
 //!   ([`response`]), for fitting, and model files in TOML ([`model_file`]);
+//! - analytic back-solving: every positive parameter set of a structure
+//!   reproducing a given undamped inertance, or its families, or why there
+//!   is none ([`backsolve`]);
 //! - FRF-type analysis with witnesses and certificates ([`analysis`]), and
 //!   an independent exact checker of its output ([`check`]).
 //!
@@ -48,6 +51,7 @@
 #![warn(missing_docs)]
 
 pub mod analysis;
+pub mod backsolve;
 pub mod check;
 mod enumerate;
 pub mod identifiability;
@@ -59,6 +63,9 @@ pub mod response;
 mod tf;
 pub mod xorshift;
 
+pub use crate::backsolve::{
+    back_solve, back_solve_with, invariant_relations, BackSolution, BackSolveError, Target,
+};
 pub use crate::enumerate::{
     basic_models, counts, degradation_free_models, equivalence_classes, redundancy_report,
     rule3_models, Counts, RedundancyReport, Symmetry,
