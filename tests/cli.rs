@@ -1,19 +1,8 @@
 //! End-to-end tests of the `mms` binary: results against the paper's printed
 //! numbers, and the behaviour on bad input.
 
-use std::process::Command;
-
-fn mms(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_mms"))
-        .args(args)
-        .output()
-        .expect("run mms");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8(out.stdout).expect("utf-8 stdout"),
-        String::from_utf8(out.stderr).expect("utf-8 stderr"),
-    )
-}
+mod common;
+use common::mms;
 
 fn json(args: &[&str]) -> serde_json::Value {
     let (code, out, err) = mms(args);

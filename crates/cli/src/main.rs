@@ -6,6 +6,7 @@ mod analyze;
 mod check;
 mod derive;
 mod enumerate;
+mod identify;
 mod output;
 mod recording;
 mod study;
@@ -109,6 +110,30 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         out: Option<PathBuf>,
     },
+    /// Identify structure and parameters from a measured FRF: classify its
+    /// type, fit every candidate structure, rank them, name the
+    /// indistinguishable ones and the extra sensor that would separate them.
+    Identify {
+        #[command(flatten)]
+        recording: recording::RecordingArgs,
+        /// Number of masses (default: one more than the resonances found).
+        #[arg(long, value_name = "N")]
+        masses: Option<usize>,
+        /// The FRF is not in SI units (e.g. volts in, encoder counts out):
+        /// fit a gain and hold m1, so only parameter ratios are identified.
+        #[arg(long)]
+        fit_gain: bool,
+        /// Only use the lines in this band (e.g. the excitation band of a
+        /// multisine), as LO:HI in Hz.
+        #[arg(long, value_name = "LO:HI")]
+        band: Option<String>,
+        #[arg(long, value_enum, default_value_t = identify::IdentifyFormat::Md)]
+        format: identify::IdentifyFormat,
+        /// Write report, Bode plots (SVG, PNG) and the best model
+        /// (model.toml) into this directory instead of the report to stdout.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
     /// The full study of N masses as one report (default: the paper's 3 masses).
     Study {
         /// Number of masses.
@@ -204,6 +229,19 @@ pub fn select(sel: &Selection) -> Result<Vec<mms::Model>, String> {
     }
 }
 
+/// `LO:HI` in Hz, `0 <= LO < HI`.
+fn parse_band(s: &str) -> Result<(f64, f64), String> {
+    let bad = || format!("--band {s}: expected LO:HI in Hz with 0 <= LO < HI, e.g. 2:15");
+    let (lo, hi) = s.split_once(':').ok_or_else(bad)?;
+    let lo: f64 = lo.trim().parse().map_err(|_| bad())?;
+    let hi: f64 = hi.trim().parse().map_err(|_| bad())?;
+    if lo.is_finite() && hi.is_finite() && lo >= 0.0 && lo < hi {
+        Ok((lo, hi))
+    } else {
+        Err(bad())
+    }
+}
+
 fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
         Command::Enumerate { masses, format } => {
@@ -254,6 +292,27 @@ fn run(cli: Cli) -> Result<(), String> {
             format,
             out,
         } => output::emit(out.as_deref(), &recording::run(&recording, format)?),
+        Command::Identify {
+            recording,
+            masses,
+            fit_gain,
+            band,
+            format,
+            out,
+        } => {
+            let args = identify::IdentifyArgs {
+                recording: &recording,
+                masses,
+                fit_gain,
+                band: band.as_deref().map(parse_band).transpose()?,
+                format,
+                out: out.as_deref(),
+            };
+            match identify::run(&args)? {
+                Some(text) => output::emit(None, &text),
+                None => Ok(()),
+            }
+        }
         Command::Study {
             masses,
             format,

@@ -53,7 +53,9 @@ use serde::Serialize;
 pub enum Gain {
     /// The FRF is `gain * G(p)` with this known gain (1: SI units).
     Known(f64),
-    /// Fit the gain from this start value; the parameter named by
+    /// Fit the gain (its magnitude, and its sign: a sensor mounted the
+    /// other way round gives a negative gain) from this start value; the
+    /// parameter named by
     /// [`FitOptions::scale_parameter`] (default: the first mass) is held
     /// at its start value to fix the scale.
     Fit(f64),
@@ -304,6 +306,14 @@ pub fn fit(
     }
 
     let cost = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
+    // A fitted gain may be negative (a sensor or actuator mounted the
+    // other way round): start from the sign that fits better.
+    if fit_gain {
+        let flipped = problem.eval(&p, -gain, None)?;
+        if cost(&flipped) < cost(&problem.eval(&p, gain, None)?) {
+            gain = -gain;
+        }
+    }
     let mut jac = Vec::new();
     let mut r = problem.eval(&p, gain, Some(&mut jac))?;
     let mut c = cost(&r);
@@ -349,7 +359,7 @@ pub fn fit(
                 trial[i] = ln.exp();
             }
             let trial_gain = if fit_gain {
-                (gain.ln() - step[nc - 1]).exp()
+                gain.signum() * (gain.abs().ln() - step[nc - 1]).exp()
             } else {
                 gain
             };
@@ -390,8 +400,21 @@ pub fn fit(
             break;
         }
     }
-    let _ = r;
-    let (rms_db, rms_deg) = rms_errors(&problem.response, &p, gain, data)?;
+    // With unit weights the residuals are the log errors themselves.
+    let (rms_db, rms_deg) = if problem.weights.iter().all(|&w| w == 1.0) {
+        let n = (r.len() / 2) as f64;
+        let (mut sm, mut sp) = (0.0, 0.0);
+        for pair in r.chunks_exact(2) {
+            sm += pair[0] * pair[0];
+            sp += pair[1] * pair[1];
+        }
+        (
+            (sm / n).sqrt() * 20.0 / std::f64::consts::LN_10,
+            (sp / n).sqrt().to_degrees(),
+        )
+    } else {
+        rms_errors(&problem.response, &p, gain, data)?
+    };
     Ok(Fit {
         parameters: Parameters::from_values(model, p)?,
         gain,

@@ -9,6 +9,8 @@
 pub mod advice;
 pub mod classify;
 pub mod fit;
+pub mod identify;
+pub mod start;
 pub mod synth;
 
 pub use crate::classify::{

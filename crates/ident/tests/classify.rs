@@ -9,6 +9,7 @@
 use frf::{Complex64, Frf};
 use ident::{classify, Classification, ClassifyError, ClassifyOptions};
 use mms::analysis::Feature;
+use mms::xorshift::XorShift;
 use mms::{Model, Output};
 use poly::{Poly, Rat};
 use std::collections::BTreeMap;
@@ -16,31 +17,6 @@ use std::f64::consts::PI;
 
 /// Relative tolerance of feature frequencies.
 const FREQ_TOL: f64 = 0.02;
-
-/// xorshift64* (Vigna), deterministic.
-struct XorShift(u64);
-
-impl XorShift {
-    fn next_u64(&mut self) -> u64 {
-        let mut x = self.0;
-        x ^= x >> 12;
-        x ^= x << 25;
-        x ^= x >> 27;
-        self.0 = x;
-        x.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
-    /// Uniform in (0, 1).
-    fn uniform(&mut self) -> f64 {
-        ((self.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    }
-
-    /// Standard normal (Box-Muller).
-    fn normal(&mut self) -> f64 {
-        let (u, v) = (self.uniform(), self.uniform());
-        (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos()
-    }
-}
 
 /// A factor of the inertance numerator off the positive real Omega axis.
 #[derive(Clone, Copy, Debug)]
@@ -131,7 +107,7 @@ impl Grid {
 /// normal `n1`, `n2`.
 fn noisy(response: impl Fn(f64) -> Complex64, grid: Grid, noise: f64, seed: u64) -> Frf {
     let freq = grid.lines();
-    let mut rng = XorShift(seed.max(1));
+    let mut rng = XorShift::new(seed);
     let response = freq
         .iter()
         .map(|&f| response(f) * Complex64::new(1.0 + noise * rng.normal(), noise * rng.normal()))
@@ -588,7 +564,7 @@ fn h1_measurement(synth: &Synth, output: Output, seed: u64) -> Frf {
     let mut sorted = level.clone();
     sorted.sort_by(f64::total_cmp);
     let noise = 0.02 * sorted[sorted.len() / 2];
-    let mut rng = XorShift(seed);
+    let mut rng = XorShift::new(seed);
     let mut coherence = Vec::new();
     let mut response = Vec::new();
     for (i, &f) in freq.iter().enumerate() {

@@ -462,7 +462,7 @@ struct Tridiagonal {
     n: usize,
     /// Multipliers (sub-diagonal of L).
     l: [Complex64; MAX],
-    /// Diagonal of U.
+    /// Reciprocals of the diagonal of U.
     d: [Complex64; MAX],
     /// First and second superdiagonals of U.
     u1: [Complex64; MAX],
@@ -473,20 +473,22 @@ struct Tridiagonal {
 
 impl Tridiagonal {
     fn factor(mut d: [Complex64; MAX], e: [Complex64; MAX], n: usize) -> Option<Tridiagonal> {
+        // Squared moduli throughout: `norm()` is a hypot call, too slow for
+        // the inner loop of a fit.
         let scale = d[..n]
             .iter()
             .chain(&e[..n.saturating_sub(1)])
-            .map(|z| z.norm())
+            .map(|z| z.norm_sqr())
             .fold(0.0, f64::max);
-        let tiny = scale * 1e-15;
+        let tiny = scale * 1e-30;
         let mut l = [ZERO; MAX];
         let mut u1 = e; // superdiagonal, before interchanges
         let mut u2 = [ZERO; MAX];
         let mut swapped = [false; MAX];
         for i in 0..n.saturating_sub(1) {
             let sub = e[i]; // Z[i+1][i]
-            if d[i].norm() >= sub.norm() {
-                if d[i].norm() <= tiny {
+            if d[i].norm_sqr() >= sub.norm_sqr() {
+                if d[i].norm_sqr() <= tiny {
                     return None;
                 }
                 let f = sub / d[i];
@@ -508,13 +510,19 @@ impl Tridiagonal {
                 }
             }
         }
-        if n == 0 || d[n - 1].norm() <= tiny {
+        if n == 0 || d[n - 1].norm_sqr() <= tiny {
             return None;
+        }
+        // Solves multiply by the reciprocal pivots: one division each here
+        // instead of one per solve.
+        let mut inv = [ZERO; MAX];
+        for i in 0..n {
+            inv[i] = d[i].inv();
         }
         Some(Tridiagonal {
             n,
             l,
-            d,
+            d: inv,
             u1,
             u2,
             swapped,
@@ -541,7 +549,7 @@ impl Tridiagonal {
             if i + 2 < n {
                 s -= self.u2[i] * b[i + 2];
             }
-            b[i] = s / self.d[i];
+            b[i] = s * self.d[i];
         }
     }
 }

@@ -41,11 +41,16 @@ impl XorShift {
         (lo.ln() + (hi.ln() - lo.ln()) * self.uniform()).exp()
     }
 
-    /// Standard normal (Box-Muller; one of the pair is discarded, which
-    /// keeps the generator's state the only state).
+    /// Uniform in the open interval `(0, 1)`: the midpoints of the 2^53
+    /// cells, so a logarithm of it is always finite.
+    pub fn uniform_open(&mut self) -> f64 {
+        ((self.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+
+    /// Standard normal (Box-Muller; the second value of the pair is
+    /// discarded, which keeps the generator's state the only state).
     pub fn normal(&mut self) -> f64 {
-        let u1 = 1.0 - self.uniform(); // in (0, 1]
-        let u2 = self.uniform();
-        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+        let (u, v) = (self.uniform_open(), self.uniform_open());
+        (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
     }
 }

@@ -1,0 +1,406 @@
+//! `mms identify`: classify a recording, fit the candidate structures,
+//! report (Markdown, HTML or JSON), with Bode plots and the best model as
+//! a model file when `--out DIR` is given.
+
+use crate::output::write_atomic_bytes;
+use crate::recording::RecordingArgs;
+use frf::Frf;
+use ident::identify::{identify, CandidateFit, Identification, IdentifyOptions};
+use mms::model_file::{ModelFile, Motion};
+use mms::response::{ChainResponse, Effects};
+use mms::Output;
+use plot::{Bode, Style};
+use serde_json::{json, Value};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Report formats of `mms identify`.
+#[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
+pub enum IdentifyFormat {
+    /// Markdown.
+    Md,
+    /// One self-contained HTML page with inline SVG plots.
+    Html,
+    /// JSON for machines.
+    Json,
+}
+
+/// Options of `mms identify` beyond the recording.
+pub struct IdentifyArgs<'a> {
+    pub recording: &'a RecordingArgs,
+    pub masses: Option<usize>,
+    pub fit_gain: bool,
+    pub band: Option<(f64, f64)>,
+    pub format: IdentifyFormat,
+    pub out: Option<&'a Path>,
+}
+
+/// Runs the identification; returns the report text for stdout when no
+/// `--out` directory is given.
+pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
+    let rec = args.recording.read()?;
+    let output: Output = args.recording.output.into();
+    let options = IdentifyOptions {
+        masses: args.masses,
+        gain: if args.fit_gain {
+            ident::fit::Gain::Fit(1.0)
+        } else {
+            ident::fit::Gain::Known(1.0)
+        },
+        classify: ident::ClassifyOptions {
+            band_hz: args.band,
+            ..ident::ClassifyOptions::default()
+        },
+        ..IdentifyOptions::default()
+    };
+    let name = args.recording.recording.display().to_string();
+    let id = identify(&rec.frf, output, &options).map_err(|e| format!("{name}: {e}"))?;
+    let plots = bode(&rec.frf, output, &id);
+    let report = match args.format {
+        IdentifyFormat::Json => {
+            let mut s =
+                serde_json::to_string_pretty(&to_json(&id)).map_err(|e| format!("JSON: {e}"))?;
+            s.push('\n');
+            s
+        }
+        IdentifyFormat::Md => markdown(&name, &id, args.out.map(|_| "bode.svg")),
+        IdentifyFormat::Html => html(&name, &id, &plots.to_svg()),
+    };
+    let Some(dir) = args.out else {
+        return Ok(Some(report));
+    };
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
+    let ext = match args.format {
+        IdentifyFormat::Md => "md",
+        IdentifyFormat::Html => "html",
+        IdentifyFormat::Json => "json",
+    };
+    write_atomic_bytes(&dir.join("bode.svg"), plots.to_svg().as_bytes())?;
+    write_atomic_bytes(&dir.join("bode.png"), &plots.to_png())?;
+    if let Some(best) = id.candidates.first() {
+        let file = ModelFile {
+            model: best.model,
+            output,
+            parameters: best.fit.parameters.clone(),
+            gain: best.fit.gain,
+            motion: Motion::Translational,
+            effects: Effects::default(),
+        };
+        write_atomic_bytes(&dir.join("model.toml"), file.to_toml().as_bytes())?;
+    }
+    // The report last: its presence means the rest is complete.
+    write_atomic_bytes(&dir.join(format!("report.{ext}")), report.as_bytes())?;
+    Ok(None)
+}
+
+fn candidate_json(c: &CandidateFit) -> Value {
+    let m = &c.model;
+    let params: serde_json::Map<String, Value> = c
+        .fit
+        .parameters
+        .iter()
+        .map(|(k, v)| (k.to_string(), json!(v)))
+        .collect();
+    json!({
+        "id": c.id,
+        "masses": m.n_masses(),
+        "gap": m.gap(),
+        "actuator": [m.actuator().plus, m.actuator().minus],
+        "sensor": [m.sensor().plus, m.sensor().minus],
+        "parameters": params,
+        "gain": c.fit.gain,
+        "fit": {"rms_db": c.fit.rms_db, "rms_deg": c.fit.rms_deg},
+        "start": c.start,
+        "back_solutions": c.back_solutions,
+        "rank": c.rank,
+        "notes": c.notes,
+    })
+}
+
+/// The JSON of the issue's schema.
+fn to_json(id: &Identification) -> Value {
+    let c = &id.classification;
+    json!({
+        "classification": {
+            "type": c.frf_type.to_string(),
+            "confidence": c.confidence,
+            "band_hz": [c.band_hz.0, c.band_hz.1],
+            "noise_db": c.noise_db,
+            "features": c.features.iter().map(|f| json!({
+                "kind": match f.kind {
+                    mms::analysis::Feature::Resonance => "resonance",
+                    mms::analysis::Feature::Antiresonance => "antiresonance",
+                },
+                "freq_hz": f.freq_hz,
+                "multiplicity": f.multiplicity,
+                "confidence": f.confidence,
+                "damping_ratio": f.damping_ratio,
+                "in_type": f.in_type,
+            })).collect::<Vec<_>>(),
+            "notes": c.notes,
+        },
+        "masses": id.masses,
+        "candidates": id.candidates.iter().map(candidate_json).collect::<Vec<_>>(),
+        "indistinguishable": id.indistinguishable,
+        "sensor_advice": id.sensor_advice,
+        "notes": id.notes,
+    })
+}
+
+/// Data, the best fit and the rest of its indistinguishable group.
+fn bode(frf: &Frf, output: Output, id: &Identification) -> Bode {
+    let (lo, hi) = id.classification.band_hz;
+    let f = frf.freq_hz();
+    let mut b = Bode::new(format!(
+        "Measured FRF ({}) and fitted models",
+        id.classification.frf_type
+    ))
+    .trace("measured", f, frf.response(), Style::points());
+    let group = id.indistinguishable.first().map_or(1, Vec::len);
+    for (k, c) in id.candidates.iter().take(group.clamp(1, 4)).enumerate() {
+        let g = ChainResponse::new(&c.model, output);
+        let h: Vec<_> = f
+            .iter()
+            .map(|&x| {
+                g.eval(c.fit.parameters.values(), x)
+                    .map(|z| z * c.fit.gain)
+                    .unwrap_or(num_complex::Complex64::new(f64::NAN, f64::NAN))
+            })
+            .collect();
+        let style = if k == 0 {
+            Style::line()
+        } else {
+            Style::dashed()
+        };
+        b = b.trace(
+            format!("{} (fit {:.2} dB)", c.id, c.fit.rms_db),
+            f,
+            &h,
+            style,
+        );
+    }
+    if lo > f[0] || hi < f[f.len() - 1] {
+        b = b.band(f[0], lo, "outside trusted band");
+        b = b.band(hi, f[f.len() - 1], "outside trusted band");
+    }
+    b.residual()
+}
+
+fn fmt_sig(x: f64) -> String {
+    // Four significant digits, deterministic.
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let digits = 3 - x.abs().log10().floor() as i32;
+    if (0..=8).contains(&digits) {
+        format!("{:.*}", digits as usize, x)
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+fn markdown(name: &str, id: &Identification, plot: Option<&str>) -> String {
+    let c = &id.classification;
+    let mut s = String::new();
+    let _ = writeln!(s, "# Identification of `{name}`\n");
+    let best = id.candidates.first();
+    let group = id.indistinguishable.first().cloned().unwrap_or_default();
+    let _ = writeln!(
+        s,
+        "**FRF type {}** (confidence {:.2}) in the trusted band {}-{} Hz; {} candidate \
+         structures of {} masses. {}\n",
+        c.frf_type,
+        c.confidence,
+        fmt_sig(c.band_hz.0),
+        fmt_sig(c.band_hz.1),
+        id.candidates.len(),
+        id.masses,
+        match (best, group.len()) {
+            (Some(b), 1) => format!("Best fit: **{}** ({:.3} dB, {:.2} deg RMS).", b.id, b.fit.rms_db, b.fit.rms_deg),
+            (Some(b), n) => format!(
+                "Best fit: **{}** ({:.3} dB, {:.2} deg RMS); {} structures fit equally well and cannot be told apart from this FRF: {}.",
+                b.id, b.fit.rms_db, b.fit.rms_deg, n, group.join(", ")
+            ),
+            (None, _) => "No candidate.".into(),
+        }
+    );
+    if let Some(p) = plot {
+        let _ = writeln!(s, "![Bode plot: measured and fitted]({p})\n");
+    }
+    s.push_str("## Features\n\n| kind | f (Hz) | damping ratio | confidence | in type |\n|---|---:|---:|---:|---|\n");
+    for f in &c.features {
+        let _ = writeln!(
+            s,
+            "| {}{} | {} | {} | {:.2} | {} |",
+            match f.kind {
+                mms::analysis::Feature::Resonance => "resonance",
+                mms::analysis::Feature::Antiresonance => "antiresonance",
+            },
+            if f.multiplicity > 1 {
+                format!(" (x{})", f.multiplicity)
+            } else {
+                String::new()
+            },
+            fmt_sig(f.freq_hz),
+            f.damping_ratio.map_or("-".into(), |z| format!("{z:.4}")),
+            f.confidence,
+            if f.in_type { "yes" } else { "no" }
+        );
+    }
+    s.push_str("\n## Candidates\n\n| rank | structure | RMS dB | RMS deg | start | notes |\n|---:|---|---:|---:|---|---|\n");
+    for cand in &id.candidates {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.3} | {:.2} | {} | {} |",
+            cand.rank,
+            cand.id,
+            cand.fit.rms_db,
+            cand.fit.rms_deg,
+            match cand.start {
+                ident::identify::StartKind::BackSolved =>
+                    format!("back-solved ({})", cand.back_solutions),
+                ident::identify::StartKind::FeatureMatched => "feature-matched".into(),
+                ident::identify::StartKind::MultiStart => "multi-start".into(),
+            },
+            cand.notes.join("; ")
+        );
+    }
+    s.push_str("\n## Parameters\n\n");
+    for cand in id.candidates.iter().take(group.len().max(1)) {
+        let _ = writeln!(s, "**{}** (gain {}):\n", cand.id, fmt_sig(cand.fit.gain));
+        s.push_str("| parameter | value |\n|---|---:|\n");
+        for (k, v) in cand.fit.parameters.iter() {
+            let _ = writeln!(s, "| {k} | {} |", fmt_sig(v));
+        }
+        s.push('\n');
+    }
+    if group.len() > 1 {
+        s.push_str("## Which extra sensor would separate them\n\n");
+        if id.sensor_advice.is_empty() {
+            s.push_str(
+                "No single extra position sensor separates them by more than the threshold.\n\n",
+            );
+        }
+        for a in &id.sensor_advice {
+            let pairs: Vec<String> = a
+                .separates
+                .iter()
+                .map(|(x, y)| format!("{x}/{y}"))
+                .collect();
+            let _ = writeln!(
+                s,
+                "- a position sensor at mass {} separates {} (by at least {:.1} dB RMS)",
+                a.mass,
+                pairs.join(", "),
+                a.min_difference_db
+            );
+        }
+        s.push('\n');
+    }
+    s.push_str("## Notes\n\n");
+    for n in id.notes.iter().chain(&c.notes) {
+        let _ = writeln!(s, "- {n}");
+    }
+    s
+}
+
+fn html(name: &str, id: &Identification, svg: &str) -> String {
+    let md = markdown(name, id, None);
+    let mut s = String::from(
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>mms identify</title>\n\
+         <style>body{font-family:sans-serif;max-width:60em;margin:2em auto}\
+         table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px}</style>\n\
+         </head><body>\n",
+    );
+    s.push_str(&markdown_to_html(&md));
+    s.push_str("<h2>Bode plot</h2>\n");
+    s.push_str(svg);
+    s.push_str("</body></html>\n");
+    s
+}
+
+/// The small Markdown subset the report uses (headings, tables, lists,
+/// paragraphs, bold, code) as HTML, escaped.
+fn markdown_to_html(md: &str) -> String {
+    let esc = |t: &str| {
+        let t = t
+            .replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;");
+        let mut out = String::new();
+        for (i, part) in t.split("**").enumerate() {
+            if i % 2 == 1 {
+                let _ = write!(out, "<b>{part}</b>");
+            } else {
+                for (j, q) in part.split('`').enumerate() {
+                    if j % 2 == 1 {
+                        let _ = write!(out, "<code>{q}</code>");
+                    } else {
+                        out.push_str(q);
+                    }
+                }
+            }
+        }
+        out
+    };
+    let mut out = String::new();
+    let mut in_table = false;
+    let mut in_list = false;
+    for line in md.lines() {
+        let cells = |l: &str| -> Vec<String> {
+            l.trim()
+                .trim_matches('|')
+                .split('|')
+                .map(|c| esc(c.trim()))
+                .collect()
+        };
+        if line.starts_with('|') {
+            if line.contains("---") {
+                continue;
+            }
+            if !in_table {
+                out.push_str("<table>\n<tr>");
+                for c in cells(line) {
+                    let _ = write!(out, "<th>{c}</th>");
+                }
+                out.push_str("</tr>\n");
+                in_table = true;
+            } else {
+                out.push_str("<tr>");
+                for c in cells(line) {
+                    let _ = write!(out, "<td>{c}</td>");
+                }
+                out.push_str("</tr>\n");
+            }
+            continue;
+        } else if in_table {
+            out.push_str("</table>\n");
+            in_table = false;
+        }
+        if let Some(item) = line.strip_prefix("- ") {
+            if !in_list {
+                out.push_str("<ul>\n");
+                in_list = true;
+            }
+            let _ = writeln!(out, "<li>{}</li>", esc(item));
+            continue;
+        } else if in_list {
+            out.push_str("</ul>\n");
+            in_list = false;
+        }
+        if let Some(h) = line.strip_prefix("## ") {
+            let _ = writeln!(out, "<h2>{}</h2>", esc(h));
+        } else if let Some(h) = line.strip_prefix("# ") {
+            let _ = writeln!(out, "<h1>{}</h1>", esc(h));
+        } else if !line.trim().is_empty() {
+            let _ = writeln!(out, "<p>{}</p>", esc(line));
+        }
+    }
+    if in_table {
+        out.push_str("</table>\n");
+    }
+    if in_list {
+        out.push_str("</ul>\n");
+    }
+    out
+}

@@ -1,0 +1,838 @@
+//! The paper's procedure for a user (Sec. 4.4 and 5) in one call: classify
+//! the measured FRF, take the candidate structures that can show its type,
+//! fit each, rank them, and say which stay indistinguishable and which
+//! extra sensor would separate them.
+//!
+//! Starts of the fits:
+//!
+//! 1. **Back-solved** (the undamped closed forms): the classified
+//!    antiresonances and resonances and the measured level give an undamped
+//!    inertance `K prod(Omega - z_i) / prod(Omega - p_k)`; every positive
+//!    parameter set of the candidate with exactly this inertance
+//!    ([`mms::backsolve`]) is a start, with dampers from the measured
+//!    damping ratios. When the candidate can reproduce the type, this
+//!    start is already the undamped answer and the fit only adds damping.
+//! 2. **Multi-start**, when the target cannot be formed (features outside
+//!    the band, zeros off the axis) or the candidate has no exact solution:
+//!    deterministic pseudo-random parameter sets scaled to the measured
+//!    level and band, each briefly fitted, the best finished.
+//!
+//! ```
+//! use ident::identify::{identify, IdentifyOptions};
+//! use ident::synth::{synthetic, SynthOptions};
+//! use mms::xorshift::XorShift;
+//! use mms::Model;
+//!
+//! // A recording of the paper's B2 (Tab. 6 parameters), noise-free.
+//! let b2 = Model::from_id("B2")?;
+//! let mut rng = XorShift::new(3);
+//! let s = synthetic(&mut rng, Some(b2), &SynthOptions { lines: 800, ..SynthOptions::default() })?;
+//! let id = identify(&s.frf, s.output, &IdentifyOptions::default())?;
+//! assert_eq!(id.classification.frf_type, s.frf_type);
+//! // The generating structure fits (within 0.05 dB) and is ranked first
+//! // or among the indistinguishable.
+//! let best = &id.candidates[0];
+//! assert!(best.fit.rms_db < 0.05);
+//! assert!(id.candidates.iter().any(|c| c.model == b2 && c.fit.rms_db < 0.05));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use crate::advice::{sensor_advice, Candidate, SensorAdvice};
+use crate::classify::{classify, Classification, ClassifyError, ClassifyOptions};
+use crate::fit::{fit, Fit, FitError, FitOptions, Gain};
+use crate::start::{feature_starts, roots, FeatureTarget};
+use frf::Frf;
+use mms::analysis::{analyze, Feature, SearchLimits, Status};
+use mms::backsolve::{back_solve, BackSolution, Target};
+use mms::response::{ChainResponse, Parameters};
+use mms::xorshift::XorShift;
+use mms::{Model, Output};
+use num_complex::Complex64;
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// Options of [`identify`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct IdentifyOptions {
+    /// Number of masses; `None`: one more than the resonances found (a
+    /// single rigid mass when there are none).
+    pub masses: Option<usize>,
+    /// The actuator and sensor constants: known (the FRF in SI units) or
+    /// fitted with the first mass held (see [`Gain`]).
+    pub gain: Gain,
+    /// Options of the classification.
+    pub classify: ClassifyOptions,
+    /// Multi-starts per candidate when no back-solved start exists.
+    pub multistarts: usize,
+    /// Seed of the multi-starts.
+    pub seed: u64,
+    /// Candidates whose fit is worse than the best by less than this
+    /// (RMS of the complex log error, in dB-equivalent) or half the noise
+    /// level, whichever is larger, are indistinguishable from it. Default
+    /// 0.25 dB: about the repeatability of a good FRF measurement, and
+    /// enough for structures whose undamped FRFs agree exactly but whose
+    /// dampers cannot copy one another's damping to the last digit.
+    pub indistinguishable_db: f64,
+    /// An extra sensor separates two candidates when their predicted
+    /// readings differ by more than this (RMS dB).
+    pub sensor_threshold_db: f64,
+}
+
+impl Default for IdentifyOptions {
+    fn default() -> IdentifyOptions {
+        IdentifyOptions {
+            masses: None,
+            gain: Gain::Known(1.0),
+            classify: ClassifyOptions::default(),
+            multistarts: 12,
+            seed: 1,
+            indistinguishable_db: 0.25,
+            sensor_threshold_db: 3.0,
+        }
+    }
+}
+
+/// How a candidate's fit was started.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StartKind {
+    /// From an exact back-solved undamped parameter set.
+    BackSolved,
+    /// From the parameters whose undamped features match the measured ones
+    /// best (no exact solution exists).
+    FeatureMatched,
+    /// From the best of several pseudo-random starts.
+    MultiStart,
+}
+
+/// One fitted candidate structure.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CandidateFit {
+    /// Paper ID (3 masses) or generic ID.
+    pub id: String,
+    /// The structure.
+    #[serde(skip)]
+    pub model: Model,
+    /// The fit.
+    pub fit: Fit,
+    /// RMS of the complex log error `ln(G/H)` in dB-equivalent (the cost the
+    /// ranking uses: magnitude and phase together).
+    pub score_db: f64,
+    /// How the fit was started.
+    pub start: StartKind,
+    /// Exact undamped parameter sets that reproduce the classified
+    /// features (0 when none or not tried).
+    pub back_solutions: usize,
+    /// 1 for the best.
+    pub rank: usize,
+    /// Remarks on plausibility (parameter spread, damping).
+    pub notes: Vec<String>,
+}
+
+/// The result of [`identify`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Identification {
+    /// The measured FRF's type and features.
+    pub classification: Classification,
+    /// Number of masses of the candidates.
+    pub masses: usize,
+    /// Every candidate, best first.
+    pub candidates: Vec<CandidateFit>,
+    /// Groups of candidates that fit equally well (the first group holds
+    /// the best).
+    pub indistinguishable: Vec<Vec<String>>,
+    /// Extra sensors that would separate the best group, best first.
+    pub sensor_advice: Vec<SensorAdvice>,
+    /// How the scale was fixed, how candidates were chosen, and the like.
+    pub notes: Vec<String>,
+}
+
+/// Why identification failed.
+#[derive(Debug, thiserror::Error)]
+pub enum IdentifyError {
+    /// The FRF could not be classified.
+    #[error(transparent)]
+    Classify(#[from] ClassifyError),
+    /// A fit could not run.
+    #[error(transparent)]
+    Fit(#[from] FitError),
+    /// No structure of that many masses.
+    #[error("no models of {0} masses (1 to {max})", max = mms::MAX_MASSES)]
+    Masses(usize),
+    /// Evaluating a model failed.
+    #[error(transparent)]
+    Response(#[from] mms::response::ResponseError),
+}
+
+/// Identifies the structure and parameters behind `frf` (see the module
+/// docs).
+pub fn identify(
+    frf: &Frf,
+    output: Output,
+    options: &IdentifyOptions,
+) -> Result<Identification, IdentifyError> {
+    let classification = classify(frf, output, &options.classify)?;
+    let (lo, hi) = classification.band_hz;
+    let data = frf.band(lo, hi).unwrap_or_else(|| frf.clone());
+    // Lines at 0 Hz carry no rigid-body information a chain can match.
+    let data = data.band(f64::MIN_POSITIVE, f64::INFINITY).unwrap_or(data);
+    let mut notes = Vec::new();
+    let resonances = classification.frf_type.resonances() as usize;
+    let masses = options.masses.unwrap_or(resonances + 1);
+    if masses == 0 || masses > mms::MAX_MASSES {
+        return Err(IdentifyError::Masses(masses));
+    }
+    let all = mms::rule3_models(masses).map_err(|_| IdentifyError::Masses(masses))?;
+    let t = &classification.frf_type;
+    let mut candidates: Vec<Model> = if masses <= 3 {
+        notes.push(format!(
+            "candidates: the {masses}-mass structures whose exact FRF-type table lists {t} as possible"
+        ));
+        all.iter()
+            .copied()
+            .filter(|m| {
+                analyze(m, &SearchLimits::default())
+                    .types
+                    .iter()
+                    .any(|v| v.frf_type == *t && v.status == Status::Possible)
+            })
+            .collect()
+    } else {
+        notes.push(format!(
+            "candidates: the {masses}-mass structures whose transfer function has the degrees {t} needs \
+             (the exact type table is not used above 3 masses)"
+        ));
+        all.iter()
+            .copied()
+            .filter(|m| {
+                let tf = m.undamped_tf();
+                tf.den.degree(mms::OMEGA) as usize == resonances
+                    && tf.num.degree(mms::OMEGA) >= t.antiresonances()
+            })
+            .collect()
+    };
+    if candidates.is_empty() {
+        notes.push(format!(
+            "no {masses}-mass structure can show {t}: every structure is fitted instead"
+        ));
+        candidates = all.clone();
+    }
+    match options.gain {
+        Gain::Known(g) => notes.push(format!(
+            "scale: the actuator/sensor gain is taken as known ({g}); parameters are absolute"
+        )),
+        Gain::Fit(_) => notes.push(
+            "scale: the gain is fitted and m1 held at its start value; only ratios of \
+             parameters are identified"
+                .into(),
+        ),
+    }
+
+    let target = undamped_target(&data, output, &classification);
+    let zeta = mean_damping(&classification);
+    let mut fits = Vec::new();
+    for model in candidates {
+        // One candidate that cannot be fitted (e.g. its model is singular
+        // on the grid) does not stop the others.
+        let (fit_result, start, back_solutions, why_not) =
+            match fit_candidate(&model, output, &data, target.as_ref(), zeta, options) {
+                Ok(r) => r,
+                Err(e) => {
+                    notes.push(format!("{}: not fitted: {e}", model.name()));
+                    continue;
+                }
+            };
+        let score_db = score(&fit_result);
+        let mut notes = plausibility(&model, &fit_result);
+        notes.extend(why_not);
+        fits.push(CandidateFit {
+            id: model.name(),
+            model,
+            fit: fit_result,
+            score_db,
+            start,
+            back_solutions,
+            rank: 0,
+            notes,
+        });
+    }
+    fits.sort_by(|a, b| {
+        a.score_db
+            .total_cmp(&b.score_db)
+            .then_with(|| a.model.cmp(&b.model))
+    });
+    for (i, f) in fits.iter_mut().enumerate() {
+        f.rank = i + 1;
+    }
+    let tolerance = options
+        .indistinguishable_db
+        .max(classification.noise_db * 0.5);
+    let mut indistinguishable: Vec<Vec<String>> = Vec::new();
+    let mut group_best = f64::NAN;
+    for f in &fits {
+        match indistinguishable.last_mut() {
+            Some(g) if f.score_db <= group_best + tolerance => g.push(f.id.clone()),
+            _ => {
+                group_best = f.score_db;
+                indistinguishable.push(vec![f.id.clone()]);
+            }
+        }
+    }
+    let best_group: Vec<Candidate> = fits
+        .iter()
+        .take(indistinguishable.first().map_or(0, Vec::len))
+        .map(|f| Candidate {
+            name: f.id.clone(),
+            model: f.model,
+            parameters: f.fit.parameters.clone(),
+            gain: f.fit.gain,
+        })
+        .collect();
+    let sensor_advice = if best_group.len() > 1 {
+        sensor_advice(&best_group, data.freq_hz(), options.sensor_threshold_db)?
+    } else {
+        Vec::new()
+    };
+    Ok(Identification {
+        classification,
+        masses,
+        candidates: fits,
+        indistinguishable,
+        sensor_advice,
+        notes,
+    })
+}
+
+/// Fits one given structure to `frf` from the automatic start (classify,
+/// back-solve, fit; multi-start when that fails): the fit of one candidate
+/// of [`identify`], for a user who already knows the structure.
+///
+/// ```
+/// use ident::identify::{fit_structure, IdentifyOptions};
+/// use ident::synth::{synthetic, SynthOptions};
+/// use mms::{xorshift::XorShift, Model};
+///
+/// let a1 = Model::from_id("A1")?;
+/// let s = synthetic(&mut XorShift::new(5), Some(a1), &SynthOptions::default())?;
+/// let fit = fit_structure(&s.frf, s.output, &a1, &IdentifyOptions::default())?;
+/// assert!(fit.rms_db < 0.01);
+/// // A1 has all 5 undamped parameters determinable (Tab. 5): they come back.
+/// for (got, want) in fit.parameters.values().iter().zip(s.parameters.values()).take(5) {
+///     assert!((got / want - 1.0).abs() < 1e-3);
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn fit_structure(
+    frf: &Frf,
+    output: Output,
+    model: &Model,
+    options: &IdentifyOptions,
+) -> Result<Fit, IdentifyError> {
+    let classification = classify(frf, output, &options.classify)?;
+    let (lo, hi) = classification.band_hz;
+    let data = frf.band(lo, hi).unwrap_or_else(|| frf.clone());
+    let target = undamped_target(&data, output, &classification);
+    let zeta = mean_damping(&classification);
+    Ok(fit_candidate(model, output, &data, target.as_ref(), zeta, options)?.0)
+}
+
+/// RMS of `ln(G/H)` over the lines, in dB-equivalent: magnitude (dB) and
+/// phase (one radian counts as one neper, 8.69 dB) together.
+fn score(f: &Fit) -> f64 {
+    let db_per_rad = 20.0 / std::f64::consts::LN_10;
+    (f.rms_db.powi(2) + (f.rms_deg.to_radians() * db_per_rad).powi(2)).sqrt()
+}
+
+/// Mean damping ratio of the classified resonances (2 % if none known).
+fn mean_damping(c: &Classification) -> f64 {
+    let z: Vec<f64> = c
+        .features
+        .iter()
+        .filter(|f| f.in_type && f.kind == Feature::Resonance)
+        .filter_map(|f| f.damping_ratio)
+        .filter(|z| z.is_finite() && *z > 0.0)
+        .collect();
+    if z.is_empty() {
+        0.02
+    } else {
+        (z.iter().sum::<f64>() / z.len() as f64).clamp(1e-4, 0.5)
+    }
+}
+
+/// The undamped inertance the classified features and the measured level
+/// imply: `K prod(Omega - z_i) / prod(Omega - p_k)` (coefficients,
+/// ascending), or `None` if the type has zeros off the axis or too few
+/// lines agree on the level.
+fn undamped_target(data: &Frf, output: Output, c: &Classification) -> Option<(Vec<f64>, Vec<f64>)> {
+    if c.frf_type.nonminimum_phase {
+        return None;
+    }
+    let omega2 = |f: f64| (2.0 * PI * f).powi(2);
+    let mut num = vec![1.0];
+    let mut den = vec![1.0];
+    for feat in c.features.iter().filter(|f| f.in_type) {
+        let root = omega2(feat.freq_hz);
+        for _ in 0..feat.multiplicity {
+            let p = if feat.kind == Feature::Antiresonance {
+                &mut num
+            } else {
+                &mut den
+            };
+            // Multiply by (Omega - root).
+            let mut next = vec![0.0; p.len() + 1];
+            for (i, &a) in p.iter().enumerate() {
+                next[i] -= a * root;
+                next[i + 1] += a;
+            }
+            *p = next;
+        }
+    }
+    let eval = |p: &[f64], x: f64| p.iter().rev().fold(0.0, |acc, &a| acc * x + a);
+    // K from the lines: the measured inertance over the shape, real part;
+    // the median shrugs off the lines near features, where damping makes
+    // the ratio complex.
+    let k_power = output.s_power() as i32;
+    let mut ratios: Vec<f64> = data
+        .freq_hz()
+        .iter()
+        .zip(data.response())
+        .filter_map(|(&f, &h)| {
+            let jw = Complex64::new(0.0, 2.0 * PI * f);
+            let inertance = h * jw.powi(2 - k_power);
+            let shape = eval(&num, omega2(f)) / eval(&den, omega2(f));
+            let r = inertance / shape;
+            (shape.is_finite() && r.re.is_finite() && r.im.abs() < 0.2 * r.re.abs()).then_some(r.re)
+        })
+        .collect();
+    if ratios.len() < 5 {
+        return None;
+    }
+    ratios.sort_by(f64::total_cmp);
+    let k = ratios[ratios.len() / 2];
+    if k == 0.0 {
+        return None;
+    }
+    Some((num.iter().map(|a| a * k).collect(), den))
+}
+
+/// The exact target of a measured undamped inertance. Measured feature
+/// frequencies carry a few significant digits, not 53 bits: each
+/// coefficient becomes the simplest rational within 1e-9 of it (relative),
+/// which keeps the exact back-solving's numbers small and fast.
+fn measured_target(num: &[f64], den: &[f64]) -> Result<Target, mms::BackSolveError> {
+    let r =
+        |v: &[f64]| -> Vec<poly::Rat> { v.iter().map(|&x| simplest_rational(x, 1e-9)).collect() };
+    Target::new(r(num), r(den))
+}
+
+/// The rational with the smallest denominator within `rel * |x|` of `x`
+/// (continued fraction convergents; 0 for 0 and non-finite input).
+fn simplest_rational(x: f64, rel: f64) -> poly::Rat {
+    if !x.is_finite() || x == 0.0 {
+        return poly::Rat::from(0);
+    }
+    let tol = rel * x.abs();
+    // Convergents h/k of the continued fraction of |x|, scaled so the
+    // integers stay within i64 for the magnitudes of TF coefficients.
+    let (sign, ax) = (x.signum(), x.abs());
+    let (mut h0, mut h1) = (0i128, 1i128);
+    let (mut k0, mut k1) = (1i128, 0i128);
+    let mut r = ax;
+    for _ in 0..64 {
+        let a = r.floor();
+        if a > 1e18 {
+            break;
+        }
+        let a = a as i128;
+        let (h2, k2) = (a * h1 + h0, a * k1 + k0);
+        if h2.abs() > i64::MAX as i128 || k2 > i64::MAX as i128 {
+            break;
+        }
+        (h0, h1, k0, k1) = (h1, h2, k1, k2);
+        if (h1 as f64 / k1 as f64 - ax).abs() <= tol {
+            break;
+        }
+        let frac = r - r.floor();
+        if frac == 0.0 {
+            break;
+        }
+        r = 1.0 / frac;
+    }
+    if k1 == 0 || (h1 as f64 / k1 as f64 - ax).abs() > tol {
+        // Too large or too small for i64 convergents: the exact binary value.
+        return poly::Rat::from_f64(x).unwrap_or_else(|| poly::Rat::from(0));
+    }
+    let q = &poly::Rat::from(h1 as i64) / &poly::Rat::from(k1 as i64);
+    if sign < 0.0 {
+        -q
+    } else {
+        q
+    }
+}
+
+/// Dampers for a start: each link with damping ratio `zeta` on its own,
+/// `d = 2 zeta sqrt(c m)` with `m` the reduced mass of the bodies it joins.
+fn with_dampers(model: &Model, undamped: &[f64], zeta: f64) -> Vec<f64> {
+    let n = model.n_masses();
+    let masses = &undamped[..n];
+    let springs = &undamped[n..];
+    let mut v = undamped.to_vec();
+    for (i, c) in (0..n).filter(|&i| model.has_link(i)).zip(springs) {
+        let m = if i == 0 {
+            masses[0]
+        } else {
+            masses[i - 1] * masses[i] / (masses[i - 1] + masses[i])
+        };
+        v.push(2.0 * zeta * (c * m).sqrt());
+    }
+    v
+}
+
+/// A fit with `options.fixed` held first, then released: damping can make
+/// determinable what the undamped structure leaves free, and the first
+/// phase brings the fit close without creeping along the valley.
+fn fit_two_phase(
+    model: &Model,
+    output: Output,
+    data: &Frf,
+    start: &Parameters,
+    options: &FitOptions,
+) -> Result<Fit, FitError> {
+    let first = fit(model, output, data, start, options)?;
+    if options.fixed.is_empty() {
+        return Ok(first);
+    }
+    let release = FitOptions {
+        fixed: Vec::new(),
+        gain: match options.gain {
+            Gain::Known(g) => Gain::Known(g),
+            Gain::Fit(_) => Gain::Fit(first.gain),
+        },
+        ..options.clone()
+    };
+    let second = fit(model, output, data, &first.parameters, &release)?;
+    Ok(if score(&second) <= score(&first) {
+        second
+    } else {
+        first
+    })
+}
+
+fn fit_options(options: &IdentifyOptions, max_iterations: usize) -> FitOptions {
+    FitOptions {
+        gain: options.gain,
+        max_iterations,
+        ..FitOptions::default()
+    }
+}
+
+/// The best fit of one candidate over its starts.
+fn fit_candidate(
+    model: &Model,
+    output: Output,
+    data: &Frf,
+    target: Option<&(Vec<f64>, Vec<f64>)>,
+    zeta: f64,
+    options: &IdentifyOptions,
+) -> Result<(Fit, StartKind, usize, Option<String>), IdentifyError> {
+    // Structures with fewer determinable parameters than parameters
+    // (Tab. 5) have valleys of equally good fits; holding the surplus
+    // parameters at their start values keeps the fit from creeping along
+    // them. A family from the back-solution names its free parameters;
+    // otherwise the first masses are held.
+    let surplus =
+        model.undamped_parameters().len() - mms::identifiability(model).determinable_parameters;
+    let mut default_fixed: Vec<String> = model
+        .masses()
+        .into_iter()
+        .filter(|m| !(matches!(options.gain, Gain::Fit(_)) && m == "m1"))
+        .take(surplus)
+        .collect();
+    let mut starts: Vec<Vec<f64>> = Vec::new();
+    let mut why_not: Option<String> = None;
+    if let Some((num, den)) = target {
+        let tf = model.undamped_tf();
+        let degrees_match = tf.num.degree(mms::OMEGA) as usize + 1 == num.len()
+            && tf.den.degree(mms::OMEGA) as usize + 1 == den.len();
+        if degrees_match {
+            if let Ok(t) = measured_target(num, den) {
+                if let Ok(solution) = back_solve(model, &t) {
+                    if let BackSolution::NoSolution(reason) = &solution {
+                        let n = model.undamped_parameters().len();
+                        why_not = Some(format!(
+                            "no positive undamped parameter set reproduces the classified features: {reason}{}",
+                            if surplus > 0 {
+                                format!(
+                                    " ({} of {n} parameters determinable, Tab. 5: the structure has {surplus} degree(s) of freedom fewer than its FRF type has numbers)",
+                                    n - surplus
+                                )
+                            } else {
+                                String::new()
+                            }
+                        ));
+                    }
+                    starts = undamped_starts(&solution);
+                    if let Some(f) = solution.families().first() {
+                        default_fixed = f.free.clone();
+                    }
+                }
+            }
+        }
+    }
+    let back_solutions = starts.len();
+    let mut kind = StartKind::BackSolved;
+    if starts.is_empty() {
+        if let Some(ft) = target.and_then(feature_target) {
+            let tf = model.undamped_tf();
+            if tf.num.degree(mms::OMEGA) as usize == ft.antiresonances.len()
+                && tf.den.degree(mms::OMEGA) as usize == ft.resonances.len()
+            {
+                starts = feature_starts(model, &ft, 24, options.seed)
+                    .into_iter()
+                    .take(6)
+                    .map(|(x, _)| x)
+                    .collect();
+                kind = StartKind::FeatureMatched;
+            }
+        }
+    }
+    // Screen every start briefly with the surplus parameters held, then
+    // finish the two best.
+    let screen = FitOptions {
+        fixed: default_fixed.clone(),
+        ..fit_options(options, 4)
+    };
+    // Screening on every k-th line (at most ~300): ranking the starts
+    // needs the shape of the cost, not its last digit.
+    let step = data.len().div_ceil(300).max(1);
+    let coarse = if step > 1 {
+        let keep: Vec<usize> = (0..data.len()).step_by(step).collect();
+        Frf::new(
+            keep.iter().map(|&i| data.freq_hz()[i]).collect(),
+            keep.iter().map(|&i| data.response()[i]).collect(),
+            None,
+        )
+        .unwrap_or_else(|_| data.clone())
+    } else {
+        data.clone()
+    };
+    let mut screened: Vec<Parameters> = Vec::new();
+    let mut scores: Vec<f64> = Vec::new();
+    for undamped in &starts {
+        let Ok(p) = Parameters::from_values(model, with_dampers(model, undamped, zeta)) else {
+            continue;
+        };
+        if starts.len() <= 2 {
+            // Few starts: finish them all, no screening pass.
+            scores.push(0.0);
+            screened.push(p);
+        } else {
+            let f = fit(model, output, &coarse, &p, &screen)?;
+            scores.push(score(&f));
+            screened.push(f.parameters);
+        }
+    }
+    let mut order: Vec<usize> = (0..screened.len()).collect();
+    order.sort_by(|&a, &b| scores[a].total_cmp(&scores[b]));
+    let screened: Vec<Parameters> = order.into_iter().map(|i| screened[i].clone()).collect();
+    let full = FitOptions {
+        fixed: default_fixed.clone(),
+        ..fit_options(options, 200)
+    };
+    let mut best: Option<Fit> = None;
+    for s in screened.iter().take(2) {
+        let f = fit_two_phase(model, output, data, s, &full)?;
+        let good = score(&f) < 1.0;
+        if best.as_ref().is_none_or(|b| score(&f) < score(b)) {
+            best = Some(f);
+        }
+        if good {
+            break;
+        }
+    }
+    if let Some(b) = best.take() {
+        // A start from the features that fits this well needs no more.
+        if score(&b) < 1.0 {
+            return Ok((b, kind, back_solutions, why_not));
+        }
+        best = Some(b);
+    }
+    let ms = multistart(model, output, data, zeta, &default_fixed, options)?;
+    match best {
+        Some(b) if score(&b) <= score(&ms) => Ok((b, kind, back_solutions, why_not)),
+        _ => Ok((ms, StartKind::MultiStart, back_solutions, why_not)),
+    }
+}
+
+/// The features of an undamped target `(num, den)`: its roots and static
+/// level (`None` if a root is off the positive real axis).
+fn feature_target((num, den): &(Vec<f64>, Vec<f64>)) -> Option<FeatureTarget> {
+    let real = |c: &[f64]| -> Option<Vec<f64>> {
+        roots(c)
+            .iter()
+            .map(|z| (z.im.abs() <= 1e-9 * z.norm() && z.re > 0.0).then_some(z.re))
+            .collect()
+    };
+    Some(FeatureTarget {
+        antiresonances: real(num)?,
+        resonances: real(den)?,
+        static_inertance: (num[0] / den[0]).abs(),
+    })
+}
+
+/// The undamped starts a back-solution offers: its points, and members of
+/// each family spread over the family's intervals (the damped data often
+/// single out a member near an end of an interval, so the spread is
+/// logistic: dense towards both ends).
+fn undamped_starts(solution: &BackSolution) -> Vec<Vec<f64>> {
+    let mut out: Vec<Vec<f64>> = solution.points().iter().map(|s| s.values.clone()).collect();
+    for fam in solution.families() {
+        let before = out.len();
+        if fam.dimension() == 1 {
+            for iv in &fam.intervals {
+                let lo = iv.lo.value;
+                let hi = iv.hi.as_ref().map(|h| h.value);
+                for k in 0..12 {
+                    let u = -4.0 + 8.0 * k as f64 / 11.0;
+                    let t = 1.0 / (1.0 + (-u).exp());
+                    let x = match hi {
+                        Some(hi) => lo + (hi - lo) * t,
+                        // Unbounded above: spread over two decades.
+                        None => lo.max(f64::MIN_POSITIVE) * (1.0 + 100.0 * t),
+                    };
+                    out.extend(fam.members_f64(&[x]));
+                }
+            }
+        }
+        if out.len() == before {
+            out.extend(fam.samples.iter().cloned());
+        }
+    }
+    out.retain(|v| v.iter().all(|x| x.is_finite() && *x > 0.0));
+    out
+}
+
+/// Deterministic multi-start: masses around the level's total mass,
+/// springs placing the uncoupled frequencies across the band; each start
+/// briefly fitted, the best finished.
+fn multistart(
+    model: &Model,
+    output: Output,
+    data: &Frf,
+    zeta: f64,
+    fixed: &[String],
+    options: &IdentifyOptions,
+) -> Result<Fit, IdentifyError> {
+    let n = model.n_masses();
+    let n_springs = model.springs().len();
+    let f = data.freq_hz();
+    let (f_lo, f_hi) = (f[0], f[f.len() - 1]);
+    // Total mass from the low-frequency inertance level (the rigid body).
+    let k_power = output.s_power() as i32;
+    let low = data.response()[..(data.len() / 20).max(1)]
+        .iter()
+        .zip(f)
+        .map(|(&h, &fr)| (h * Complex64::new(0.0, 2.0 * PI * fr).powi(2 - k_power)).norm())
+        .sum::<f64>()
+        / (data.len() / 20).max(1) as f64;
+    let total = if low > 0.0 && low.is_finite() {
+        1.0 / low
+    } else {
+        1.0
+    };
+    let mut rng = XorShift::new(options.seed ^ (model.id().len() as u64) << 8 ^ model_hash(model));
+    let short = FitOptions {
+        fixed: fixed.to_vec(),
+        ..fit_options(options, 25)
+    };
+    let mut trials: Vec<Fit> = Vec::new();
+    for _ in 0..options.multistarts.max(1) {
+        let masses: Vec<f64> = (0..n)
+            .map(|_| total / n as f64 * rng.log_uniform(0.2, 5.0))
+            .collect();
+        let mean_mass = masses.iter().sum::<f64>() / n as f64;
+        let springs: Vec<f64> = (0..n_springs)
+            .map(|_| {
+                let w = 2.0 * PI * rng.log_uniform(f_lo, f_hi);
+                mean_mass * w * w
+            })
+            .collect();
+        let mut undamped = masses;
+        undamped.extend(springs);
+        let p = Parameters::from_values(model, with_dampers(model, &undamped, zeta))?;
+        if let Ok(t) = fit(model, output, data, &p, &short) {
+            trials.push(t);
+        }
+    }
+    trials.sort_by(|a, b| score(a).total_cmp(&score(b)));
+    let full = FitOptions {
+        fixed: fixed.to_vec(),
+        ..fit_options(options, 200)
+    };
+    let mut best: Option<Fit> = None;
+    for t in trials.iter().take(3) {
+        let f = fit_two_phase(
+            model,
+            output,
+            data,
+            &t.parameters,
+            &FitOptions {
+                gain: match options.gain {
+                    Gain::Known(g) => Gain::Known(g),
+                    Gain::Fit(_) => Gain::Fit(t.gain),
+                },
+                ..full.clone()
+            },
+        )?;
+        if best.as_ref().is_none_or(|b| score(&f) < score(b)) {
+            best = Some(f);
+        }
+    }
+    match best {
+        Some(b) => Ok(b),
+        None => {
+            // Every start failed to evaluate: report the plain start.
+            let p = Parameters::from_values(model, vec![1.0; model.parameters().len()])?;
+            Ok(fit(model, output, data, &p, &full)?)
+        }
+    }
+}
+
+fn model_hash(m: &Model) -> u64 {
+    m.id().bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
+    })
+}
+
+/// Remarks an engineer would make about a fitted parameter set.
+fn plausibility(model: &Model, f: &Fit) -> Vec<String> {
+    let mut notes = Vec::new();
+    let n = model.n_masses();
+    let v = f.parameters.values();
+    let masses = &v[..n];
+    let (mn, mx) = masses
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &m| (a.min(m), b.max(m)));
+    if mx / mn > 1e3 {
+        notes.push(format!("masses span a factor {:.0}", mx / mn));
+    }
+    let g = ChainResponse::new(model, Output::Position);
+    let _ = g;
+    let names = model.parameters();
+    let n_links = model.springs().len();
+    for k in 0..n_links {
+        let c = v[n + k];
+        let d = v[n + n_links + k];
+        // Damping ratio of the link on its own, against the lighter of the
+        // two bodies it joins.
+        let m = masses.iter().cloned().fold(f64::INFINITY, f64::min);
+        let zeta = d / (2.0 * (c * m).sqrt());
+        if zeta > 0.5 {
+            notes.push(format!(
+                "{} is heavily damped (link damping ratio {zeta:.2})",
+                names[n + n_links + k]
+            ));
+        }
+    }
+    notes
+}

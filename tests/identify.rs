@@ -1,0 +1,308 @@
+//! End-to-end tests of `mms frf` and `mms identify` on recordings made by
+//! the project's own simulator (known truth) and on the real recordings in
+//! ../shared/data/real, and their behaviour on bad input.
+
+use ident::synth::{synthetic, SynthOptions};
+use mms::xorshift::XorShift;
+use mms::Model;
+use std::path::{Path, PathBuf};
+mod common;
+use common::mms;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("mms-identify-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A noise-free recording of `id` as FRF CSV, with 1 % noise if asked.
+fn recording(dir: &Path, id: &str, noise: f64, seed: u64) -> (PathBuf, ident::synth::Synthetic) {
+    let model = Model::from_id(id).unwrap();
+    let s = synthetic(
+        &mut XorShift::new(seed),
+        Some(model),
+        &SynthOptions {
+            lines: 1200,
+            noise,
+            ..SynthOptions::default()
+        },
+    )
+    .unwrap();
+    let path = dir.join(format!("{id}.csv"));
+    std::fs::write(&path, frf::write_csv(&s.frf, frf::CsvLayout::ReIm)).unwrap();
+    (path, s)
+}
+
+/// A file of the shared real recordings (see ../shared/data/real/README.md).
+fn real_data(rel: &str) -> String {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/data/real")
+        .join(rel);
+    assert!(p.exists(), "real recording {} missing", p.display());
+    p.to_string_lossy().into_owned()
+}
+
+#[test]
+fn identify_json_names_the_generating_structure_among_the_best() {
+    let dir = temp_dir("json");
+    for (id, seed) in [("A1", 3), ("B2", 4), ("C1", 5)] {
+        let (path, s) = recording(&dir, id, 0.0, seed);
+        let (code, out, err) = mms(&["identify", path.to_str().unwrap(), "--format", "json"]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        // The schema of the issue.
+        assert_eq!(v["classification"]["type"], s.frf_type.to_string());
+        let band = v["classification"]["band_hz"].as_array().unwrap();
+        assert!(band[0].as_f64().unwrap() < band[1].as_f64().unwrap());
+        let features = v["classification"]["features"].as_array().unwrap();
+        let found: Vec<f64> = features
+            .iter()
+            .filter(|f| f["in_type"] == true)
+            .map(|f| f["freq_hz"].as_f64().unwrap())
+            .collect();
+        assert_eq!(found.len(), s.features.len());
+        for (got, (_, want)) in found.iter().zip(&s.features) {
+            assert!((got / want - 1.0).abs() < 0.02, "{id}: {got} vs {want}");
+        }
+        let cands = v["candidates"].as_array().unwrap();
+        assert!(cands
+            .iter()
+            .all(|c| c["fit"]["rms_db"].is_number() && c["rank"].is_number()));
+        // The generating structure is in the first indistinguishable group
+        // and fits within 0.05 dB.
+        let group = v["indistinguishable"][0].as_array().unwrap();
+        assert!(group.iter().any(|g| g == id), "{id} not in {group:?}");
+        let me = cands.iter().find(|c| c["id"] == id).unwrap();
+        assert!(me["fit"]["rms_db"].as_f64().unwrap() < 0.05, "{me}");
+        assert_eq!(me["masses"], 3);
+    }
+}
+
+#[test]
+fn identify_out_dir_writes_report_plots_and_model_file() {
+    let dir = temp_dir("out");
+    let (path, s) = recording(&dir, "A1", 0.01, 9);
+    let out = dir.join("report");
+    let (code, stdout, err) = mms(&[
+        "identify",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.is_empty());
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("![Bode plot: measured and fitted](bode.svg)"));
+    assert!(md.contains(&format!("**FRF type {}**", s.frf_type)));
+    let svg = std::fs::read_to_string(out.join("bode.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    let png = std::fs::read(out.join("bode.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    // The best model, ready for `mms diagnose`: it reads back, and its FRF
+    // matches the recording to within the noise.
+    let toml = std::fs::read_to_string(out.join("model.toml")).unwrap();
+    let file = mms::model_file::ModelFile::parse(&toml).unwrap();
+    let g = mms::response::ChainResponse::new(&file.model, file.output);
+    let mut sq = 0.0;
+    for (&f, &h) in s.frf.freq_hz().iter().zip(s.frf.response()) {
+        let e = (g.eval(file.parameters.values(), f).unwrap() * file.gain / h)
+            .norm()
+            .log10()
+            * 20.0;
+        sq += e * e;
+    }
+    let rms = (sq / s.frf.len() as f64).sqrt();
+    // 1 % complex noise is about 0.06 dB RMS in magnitude.
+    assert!(rms < 0.2, "{rms}");
+    // No temporary files left behind.
+    let names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.starts_with('.')), "{names:?}");
+    // HTML: one self-contained page with the SVG inline.
+    let (code, html, _) = mms(&["identify", path.to_str().unwrap(), "--format", "html"]);
+    assert_eq!(code, 0);
+    assert!(html.starts_with("<!DOCTYPE html>") && html.contains("<svg"));
+}
+
+#[test]
+fn frf_estimates_from_time_domain_and_converts_formats() {
+    let dir = temp_dir("frf");
+    let (path, s) = recording(&dir, "A2", 0.0, 1);
+    // CSV -> UFF58 -> CSV keeps the FRF (UFF stores 13 significant digits
+    // for values, 7 for frequencies).
+    let uff = dir.join("a2.uff");
+    let (code, _, err) = mms(&[
+        "frf",
+        path.to_str().unwrap(),
+        "--format",
+        "uff",
+        "--out",
+        uff.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, csv, err) = mms(&["frf", uff.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let back = frf::parse_frf_csv(&csv).unwrap();
+    assert_eq!(back.len(), s.frf.len());
+    for (a, b) in back.response().iter().zip(s.frf.response()) {
+        assert!((a - b).norm() <= 1e-9 * b.norm());
+    }
+    // A real time-domain recording: H1 with coherence.
+    let mat = real_data("sperte/setup18_motor_side_v0.3.mat");
+    let (code, csv, err) = mms(&["frf", &mat, "--fs", "4000"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(csv
+        .lines()
+        .any(|l| l.starts_with("freq_hz,re,im,coherence")));
+}
+
+#[test]
+fn identify_runs_on_the_real_recordings() {
+    // Each recording with the flags its README describes; the run must
+    // succeed and name a type, a band inside the measured range and ranked
+    // candidates.
+    let cases: &[&[&str]] = &[
+        &[
+            "sperte/setup18_motor_side_v0.3.mat",
+            "--fs",
+            "4000",
+            "--fit-gain",
+        ],
+        &[
+            "sperte/setup29_load_side_v0.5.mat",
+            "--fs",
+            "4000",
+            "--fit-gain",
+        ],
+        &[
+            "f16_gvt/F16Data_FullMSine_Level1.mat",
+            "--u",
+            "Force",
+            "--y",
+            "Acceleration:1",
+            "--period",
+            "8192",
+            "--output",
+            "acceleration",
+            "--band",
+            "2:15",
+        ],
+        &[
+            "robot_arm/robot_arm.dat",
+            "--u",
+            "1",
+            "--y",
+            "2",
+            "--fs",
+            "1",
+            "--output",
+            "acceleration",
+            "--fit-gain",
+        ],
+        &[
+            "emps/DATA_EMPS.mat",
+            "--u",
+            "vir",
+            "--y",
+            "qm",
+            "--fit-gain",
+        ],
+    ];
+    for case in cases {
+        let file = real_data(case[0]);
+        let mut args = vec!["identify", file.as_str(), "--format", "json"];
+        args.extend_from_slice(&case[1..]);
+        let (code, out, err) = mms(&args);
+        assert_eq!(code, 0, "{case:?}: {err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert!(v["classification"]["type"].is_string());
+        let cands = v["candidates"].as_array().unwrap();
+        assert!(!cands.is_empty(), "{case:?}");
+        assert_eq!(cands[0]["rank"], 1);
+    }
+}
+
+#[test]
+fn bad_recordings_are_one_line_errors_with_exit_2() {
+    let dir = temp_dir("bad");
+    let write = |name: &str, text: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_string_lossy().into_owned()
+    };
+    let rows = |f: &dyn Fn(usize) -> String| (1..=12).map(f).collect::<Vec<_>>().join("\n");
+    let cases = [
+        (
+            write("noheader.csv", &rows(&|k| format!("{k},1,0"))),
+            "noheader.csv:1:",
+        ),
+        (
+            write(
+                "cols.csv",
+                &format!("freq,re,im\n{}", rows(&|k| format!("{k},1,0"))),
+            ),
+            "cols.csv:1:",
+        ),
+        (
+            write(
+                "nan.csv",
+                &format!(
+                    "freq_hz,re,im\n{}",
+                    rows(&|k| if k == 5 {
+                        "5,nan,0".into()
+                    } else {
+                        format!("{k},1,0")
+                    })
+                ),
+            ),
+            "nan.csv:6:",
+        ),
+        (
+            write(
+                "order.csv",
+                &format!(
+                    "freq_hz,re,im\n{}",
+                    rows(&|k| if k == 7 {
+                        "3,1,0".into()
+                    } else {
+                        format!("{k},1,0")
+                    })
+                ),
+            ),
+            "order.csv:8:",
+        ),
+        (
+            write("short.csv", "freq_hz,re,im\n1,1,0\n2,1,0\n"),
+            "short.csv",
+        ),
+        (
+            real_data("sperte/setup18_motor_side_v0.3.mat"),
+            "sample rate",
+        ),
+    ];
+    for (file, want) in &cases {
+        let out_dir = dir.join("never");
+        let (code, out, err) = mms(&["identify", file, "--out", out_dir.to_str().unwrap()]);
+        assert_eq!(code, 2, "{file}: {err}");
+        assert!(out.is_empty());
+        assert!(
+            err.starts_with("mms: error: ") && err.contains(want),
+            "{file}: {err}"
+        );
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(
+            !out_dir.join("report.md").exists(),
+            "no report after an error"
+        );
+    }
+    let mat = real_data("f16_gvt/F16Data_FullMSine_Level1.mat");
+    let (code, _, err) = mms(&["identify", &mat, "--u", "Force", "--y", "Missing"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("variable 'Missing'"), "{err}");
+    let (code, _, err) = mms(&["identify", &mat, "--band", "15:2"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--band 15:2"), "{err}");
+}
