@@ -143,6 +143,7 @@ fn to_json(id: &Identification) -> Value {
         "candidates": id.candidates.iter().map(candidate_json).collect::<Vec<_>>(),
         "indistinguishable": id.indistinguishable,
         "sensor_advice": id.sensor_advice,
+        "equivalents": id.equivalents,
         "notes": id.notes,
     })
 }
@@ -294,6 +295,49 @@ fn markdown(name: &str, id: &Identification, plot: Option<&str>) -> String {
                 pairs.join(", "),
                 a.min_difference_db
             );
+        }
+        s.push('\n');
+    }
+    if let Some(best) = id.candidates.first() {
+        let _ = writeln!(
+            s,
+            "## Equivalent parameter sets (undamped, from the {} fit)\n\n\
+             Every positive parameter set of each candidate whose undamped FRF equals \
+             the best fit's exactly (the paper's Tab. 7), by exact back-solving.\n",
+            best.id
+        );
+        for e in &id.equivalents {
+            if let Some(why) = &e.none {
+                let _ = writeln!(s, "- **{}**: none: {why}", e.id);
+                continue;
+            }
+            let sets: Vec<String> = e
+                .sets
+                .iter()
+                .map(|v| {
+                    let kv: Vec<String> = e
+                        .parameters
+                        .iter()
+                        .zip(v)
+                        .map(|(k, x)| format!("{k} = {}", fmt_sig(*x)))
+                        .collect();
+                    kv.join(", ")
+                })
+                .collect();
+            match &e.family {
+                Some(f) => {
+                    let _ = writeln!(s, "- **{}**: {f}; e.g. {}", e.id, sets.join(" | "));
+                }
+                None => {
+                    let _ = writeln!(
+                        s,
+                        "- **{}**: {} set(s): {}",
+                        e.id,
+                        sets.len(),
+                        sets.join(" | ")
+                    );
+                }
+            }
         }
         s.push('\n');
     }

@@ -83,11 +83,14 @@ fn main() {
             // The start the automatic pipeline used is not kept; the LM
             // phase is timed from the generating structure's start made the
             // same way: the fitted result perturbed by 20 % per parameter.
+            // A generator of its own, so the problems are the same with and
+            // without --export.
+            let mut perturb = XorShift::new(1000 + k as u64);
             let start: Vec<f64> = f
                 .parameters
                 .values()
                 .iter()
-                .map(|v| v * rng.log_uniform(1.0 / 1.2, 1.2))
+                .map(|v| v * perturb.log_uniform(1.0 / 1.2, 1.2))
                 .collect();
             let p = mms::response::Parameters::from_values(&s.model, start.clone()).unwrap();
             let t = Instant::now();

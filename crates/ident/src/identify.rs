@@ -143,8 +143,30 @@ pub struct Identification {
     pub indistinguishable: Vec<Vec<String>>,
     /// Extra sensors that would separate the best group, best first.
     pub sensor_advice: Vec<SensorAdvice>,
+    /// The paper's Tab. 7 for this recording: from the best fit's undamped
+    /// transfer function, every positive parameter set of each other
+    /// candidate that reproduces it exactly (damping aside).
+    pub equivalents: Vec<Equivalent>,
     /// How the scale was fixed, how candidates were chosen, and the like.
     pub notes: Vec<String>,
+}
+
+/// The undamped parameter sets of one structure that reproduce the best
+/// fit's undamped transfer function exactly (analytic back-solving).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Equivalent {
+    /// The structure.
+    pub id: String,
+    /// Parameter names (masses, then springs).
+    pub parameters: Vec<String>,
+    /// Finitely many sets (two for A4 and B1, Tab. 7), in the order of
+    /// `parameters`.
+    pub sets: Vec<Vec<f64>>,
+    /// A family instead: its description (free parameters and their
+    /// range), with sample members in `sets`.
+    pub family: Option<String>,
+    /// Why there is none, if there is none.
+    pub none: Option<String>,
 }
 
 /// Why identification failed.
@@ -293,14 +315,76 @@ pub fn identify(
     } else {
         Vec::new()
     };
+    let equivalents = fits
+        .first()
+        .map(|best| equivalents(best, &fits))
+        .unwrap_or_default();
     Ok(Identification {
         classification,
         masses,
         candidates: fits,
         indistinguishable,
         sensor_advice,
+        equivalents,
         notes,
     })
+}
+
+/// Back-solves every candidate from the best fit's undamped transfer
+/// function (the paper's Tab. 7).
+fn equivalents(best: &CandidateFit, all: &[CandidateFit]) -> Vec<Equivalent> {
+    let nu = best.model.undamped_parameters().len();
+    let Ok(target) = Target::from_model_f64(&best.model, &best.fit.parameters.values()[..nu])
+    else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for c in all {
+        let parameters = c.model.undamped_parameters();
+        let mut e = Equivalent {
+            id: c.id.clone(),
+            parameters,
+            sets: Vec::new(),
+            family: None,
+            none: None,
+        };
+        match back_solve(&c.model, &target) {
+            Ok(BackSolution::NoSolution(reason)) => e.none = Some(reason.to_string()),
+            Ok(sol) => {
+                e.sets = sol.points().iter().map(|p| p.values.clone()).collect();
+                if let Some(f) = sol.families().first() {
+                    let ranges: Vec<String> = f
+                        .intervals
+                        .iter()
+                        .map(|iv| {
+                            format!(
+                                "{:.4e} < {} < {}",
+                                iv.lo.value,
+                                f.free.join(", "),
+                                iv.hi
+                                    .as_ref()
+                                    .map_or("inf".to_string(), |h| format!("{:.4e}", h.value))
+                            )
+                        })
+                        .collect();
+                    e.family = Some(format!(
+                        "a {}-parameter family, free: {}{}",
+                        f.dimension(),
+                        f.free.join(", "),
+                        if ranges.is_empty() {
+                            String::new()
+                        } else {
+                            format!(" ({})", ranges.join("; "))
+                        }
+                    ));
+                    e.sets.extend(f.samples.iter().take(3).cloned());
+                }
+            }
+            Err(err) => e.none = Some(format!("not back-solved: {err}")),
+        }
+        out.push(e);
+    }
+    out
 }
 
 /// Fits one given structure to `frf` from the automatic start (classify,
