@@ -201,6 +201,8 @@ fn identify_runs_on_the_real_recordings() {
             "--output",
             "acceleration",
             "--fit-gain",
+            "--nfft",
+            "256",
         ],
         &[
             "emps/DATA_EMPS.mat",
