@@ -13,11 +13,12 @@
 //! use mms::response::Parameters;
 //! use mms::Model;
 //!
-//! // The paper's Sec. 5: A5 reproduces the FRF of A2 exactly (Tab. 4).
+//! // The paper's Sec. 5: A5 reproduces the FRF of A2 exactly (Tab. 4's A2;
+//! // this A5 is its mirror image, one member of the exact family).
 //! let a2 = Model::from_id("A2")?;
 //! let a5 = Model::from_id("A5")?;
 //! let p2 = Parameters::from_values(&a2, vec![0.01, 0.01, 0.02, 100.0, 100.0, 0.01, 0.01])?;
-//! let p5 = Parameters::from_values(&a5, vec![0.063, 0.015, 0.010, 444.0, 173.0, 0.039, 0.016])?;
+//! let p5 = Parameters::from_values(&a5, vec![0.02, 0.01, 0.01, 100.0, 100.0, 0.01, 0.01])?;
 //! let freq: Vec<f64> = (1..=200).map(|k| 0.5 * k as f64).collect();
 //! let advice = sensor_advice(
 //!     &[Candidate { name: "A2".into(), model: a2, parameters: p2, gain: 1.0 },

@@ -36,8 +36,8 @@ fn same_undamped(a: &Model, pa: &[f64], b: &Model, pb: &[f64]) -> bool {
 fn a5_reproduces_the_frf_of_a2() {
     let a2 = Model::from_id("A2").unwrap();
     let a5 = Model::from_id("A5").unwrap();
-    let a2_tab4 = [0.01, 0.01, 0.02, 100.0, 100.0];
-    let a5_tab4 = [0.063, 0.015, 0.010, 444.0, 173.0];
+    let a2_tab4: [f64; 5] = mms::paper::TAB4[0].1[..5].try_into().unwrap();
+    let a5_tab4: [f64; 5] = mms::paper::TAB4[1].1[..5].try_into().unwrap();
     let target = Target::from_model_f64(&a2, &a2_tab4).unwrap();
     let sol = back_solve(&a5, &target).unwrap();
     // A5 has 4 determinable parameters of 5 (Tab. 5): a one-parameter
@@ -96,7 +96,7 @@ fn a5_reproduces_the_frf_of_a2() {
 fn c2_cannot_reproduce_the_arra_frf_of_b2() {
     let b2 = Model::from_id("B2").unwrap();
     let c2 = Model::from_id("C2").unwrap();
-    let b2_tab6 = [0.01, 0.01, 0.01, 100.0, 200.0];
+    let b2_tab6: [f64; 5] = mms::paper::TAB6[0].1[..5].try_into().unwrap();
     let target = Target::from_model_f64(&b2, &b2_tab6).unwrap();
     match back_solve(&c2, &target).unwrap() {
         BackSolution::NoSolution(reason) => {
@@ -132,7 +132,7 @@ fn c2_cannot_reproduce_the_arra_frf_of_b2() {
         fc2.notes
     );
     // Our C2 fits at least as well as the paper's optimised C2 of Tab. 6.
-    let paper_c2 = [0.011, 0.0044, 0.030, 190.0, 96.0, 0.01, 0.01];
+    let paper_c2 = mms::paper::TAB6[1].1;
     let g = ChainResponse::new(&c2, Output::Position);
     let (rms_db, _) = ident::fit::rms_errors(&g, &paper_c2, 1.0, &data).unwrap();
     assert!(
@@ -147,32 +147,24 @@ fn c2_cannot_reproduce_the_arra_frf_of_b2() {
 #[test]
 fn collocated_alternatives_of_tab7() {
     let a1 = Model::from_id("A1").unwrap();
-    let a1_tab7 = [0.0044, 0.0173, 0.0184, 46.8, 14.3];
+    let a1_tab7 = mms::paper::TAB7[0].1;
     let target = Target::from_model_f64(&a1, &a1_tab7).unwrap();
-    let printed: &[(&str, &[[f64; 5]])] = &[
-        (
-            "A4",
-            &[
-                [0.0084, 0.0044, 0.0273, 31.4, 15.3],
-                [0.0273, 0.0044, 0.0084, 15.3, 31.4],
-            ],
-        ),
-        (
-            "B1",
-            &[
-                [0.038, 0.0049, 0.0351, 53.5, 58.9],
-                [0.0056, 0.0194, 0.0206, 76.7, 14.2],
-            ],
-        ),
-        ("C1", &[[0.0049, 0.0091, 0.040, 31.5, 27.4]]),
-        ("C3", &[[0.0421, 0.0049, 0.040, 67.7, 58.9]]),
-    ];
-    for (id, sets) in printed {
+    let printed: Vec<(&str, Vec<[f64; 5]>)> = ["A4", "B1", "C1", "C3"]
+        .iter()
+        .map(|id| {
+            let rows = mms::paper::TAB7
+                .iter()
+                .filter(|(r, _)| r == id)
+                .map(|(_, v)| *v);
+            (*id, rows.collect())
+        })
+        .collect();
+    for (id, sets) in &printed {
         let m = Model::from_id(id).unwrap();
         let sol = back_solve(&m, &target).unwrap();
         let points = sol.points();
         assert_eq!(points.len(), sets.len(), "{id}: {points:?}");
-        for set in *sets {
+        for set in sets {
             // The A1 input is itself rounded to 3 digits: 5 % on the result.
             let close = points.iter().any(|p| {
                 p.values
@@ -197,10 +189,10 @@ fn collocated_alternatives_of_tab7() {
     // The report's equivalents are the paper's Tab. 7, from whichever
     // collocated fit ranks first (their undamped FRFs agree with A1's, so
     // the printed sets come back within the rounding of the table).
-    for (name, sets) in printed {
+    for (name, sets) in &printed {
         let e = id.equivalents.iter().find(|e| e.id == *name).expect(name);
         assert_eq!(e.sets.len(), sets.len(), "{name}: {e:?}");
-        for set in *sets {
+        for set in sets {
             assert!(
                 e.sets
                     .iter()

@@ -1042,18 +1042,6 @@ impl Structure {
     }
 }
 
-/// +1 / -1 when every coefficient of `p` is positive / negative (then `p`
-/// cannot vanish where all variables are positive), else `None`.
-fn definite_sign(p: &Poly) -> Option<i32> {
-    if p.all_coefs_positive() {
-        Some(1)
-    } else if p.all_coefs_negative() {
-        Some(-1)
-    } else {
-        None
-    }
-}
-
 // ---------------------------------------------------------------------------
 // Exact linear algebra over Q
 
@@ -1685,7 +1673,7 @@ fn simplify(e: &Poly) -> Simplified {
     } else {
         e.clone()
     };
-    if e.is_constant() || definite_sign(&e).is_some() {
+    if e.is_constant() || e.orthant_sign().is_some() {
         return Simplified::Infeasible;
     }
     // Full factorization only for moderate sizes: it removes factors that
@@ -1699,7 +1687,7 @@ fn simplify(e: &Poly) -> Simplified {
         .factors
         .into_iter()
         .map(|(f, _)| f)
-        .filter(|f| !f.is_constant() && definite_sign(f).is_none())
+        .filter(|f| !f.is_constant() && f.orthant_sign().is_none())
         .collect();
     if out.is_empty() {
         Simplified::Infeasible
@@ -1880,7 +1868,7 @@ impl Engine<'_> {
                     if num.is_zero() {
                         return Ok(());
                     }
-                    if let (Some(sn), Some(sd)) = (definite_sign(num), definite_sign(den)) {
+                    if let (Some(sn), Some(sd)) = (num.orthant_sign(), den.orthant_sign()) {
                         if sn != sd {
                             return Ok(());
                         }
@@ -2043,7 +2031,7 @@ fn best_linear(eqs: &[Poly]) -> Option<(usize, String, bool)> {
                 continue;
             }
             let a = e.lead_in(x);
-            let definite = a.is_constant() || definite_sign(&a).is_some();
+            let definite = a.is_constant() || a.orthant_sign().is_some();
             let key = (!definite, a.num_terms(), e.num_terms(), e.vars().len());
             if best.as_ref().is_none_or(|(k, ..)| key < *k) {
                 best = Some((key, i, x.clone()));
@@ -2630,7 +2618,7 @@ fn quick_obstruction(s: &Structure, target: &Target) -> Option<NoSolution> {
     let sn = s.num.len().saturating_sub(1);
     let sd = s.den.len() - 1;
     let (tn, td) = (target.num_degree(), target.den_degree());
-    let fixed_top = |v: &[Poly]| v.last().is_some_and(|p| definite_sign(p).is_some());
+    let fixed_top = |v: &[Poly]| v.last().is_some_and(|p| p.orthant_sign().is_some());
     let relative = |num: usize, den: usize| den as i64 - num as i64;
     let degree_bad = td > sd
         || tn > sn
@@ -2641,7 +2629,7 @@ fn quick_obstruction(s: &Structure, target: &Target) -> Option<NoSolution> {
             target: (tn, td),
         });
     }
-    if td != sd || definite_sign(&s.den[sd]) != Some(1) {
+    if td != sd || s.den[sd].orthant_sign() != Some(1) {
         return None;
     }
     // num_S = lambda * n, den_S = lambda * d with lambda = lc(den_S)/lc(d) > 0.
@@ -2651,7 +2639,7 @@ fn quick_obstruction(s: &Structure, target: &Target) -> Option<NoSolution> {
             let ss = match sv.get(k) {
                 None => Some(0),
                 Some(p) if p.is_zero() => Some(0),
-                Some(p) => definite_sign(p),
+                Some(p) => p.orthant_sign(),
             };
             if let Some(ss) = ss {
                 if ss != ts {

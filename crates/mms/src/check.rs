@@ -256,17 +256,6 @@ fn ratio(p: &Poly, q: &Poly) -> Option<Rat> {
     Some(&p.leading_coef() / &q.leading_coef())
 }
 
-/// +1 / -1 when every coefficient is positive / negative, else `None`.
-fn fixed_sign(p: &Poly) -> Option<i64> {
-    if p.all_coefs_positive() {
-        Some(1)
-    } else if p.all_coefs_negative() {
-        Some(-1)
-    } else {
-        None
-    }
-}
-
 /// No coefficient is negative (the zero polynomial included).
 fn nonnegative_coefs(p: &Poly) -> bool {
     p.terms().iter().all(|t| t.coef.signum() >= 0)
@@ -1388,7 +1377,7 @@ fn check_descartes(open: &Value, jp: &str, s: &Stratum, t: &Ty) -> Result<(), St
         if c.is_zero() {
             continue;
         }
-        signs.push(fixed_sign(c).ok_or_else(|| {
+        signs.push(c.orthant_sign().map(i64::from).ok_or_else(|| {
             format!("descartes: the coefficient of Omega^{k} ({c}) has no fixed sign")
         })?);
     }
@@ -1478,7 +1467,7 @@ fn check_sign_conditions(open: &Value, jp: &str, s: &Stratum, t: &Ty) -> Result<
     let mut lin = Vec::new();
     for p in &parts {
         let c = p.poly.coeffs_in(OMEGA);
-        let sa = fixed_sign(&c[1]).ok_or_else(|| {
+        let sa = c[1].orthant_sign().map(i64::from).ok_or_else(|| {
             format!(
                 "sign_conditions: the leading coefficient of linear part {} has no fixed sign",
                 p.poly
@@ -1621,11 +1610,15 @@ fn check_case(
                         "roots_above is {above_claim}, the type gives {above}"
                     )));
                 }
-                let sl = fixed_sign(&other.lead_in(OMEGA)).ok_or_else(|| {
-                    step(format!(
-                        "the leading coefficient of {other} has no fixed sign"
-                    ))
-                })?;
+                let sl = other
+                    .lead_in(OMEGA)
+                    .orthant_sign()
+                    .map(i64::from)
+                    .ok_or_else(|| {
+                        step(format!(
+                            "the leading coefficient of {other} has no fixed sign"
+                        ))
+                    })?;
                 let want = if k == 0 {
                     sl * if above.is_multiple_of(2) { 1 } else { -1 }
                 } else {

@@ -141,35 +141,27 @@ fn matches_printed(s: &Solution, printed: &[f64]) -> bool {
 }
 
 // Tab. 7: the A1 fit of the stacker crane and the other collocated models.
-const TAB7_A1: [f64; 5] = [0.0044, 0.0173, 0.0184, 46.8, 14.3];
+const TAB7_A1: [f64; 5] = mms::paper::TAB7[0].1;
 
 #[test]
 fn tab7_collocated_models_from_the_a1_fit() {
     let a1 = model("A1");
     let target = Target::from_model_f64(&a1, &TAB7_A1).unwrap();
     // (ID, printed solutions in m1 m2 m3 then the springs of the model).
-    let table: [(&str, &[[f64; 5]]); 5] = [
-        ("A1", &[TAB7_A1]),
-        (
-            "A4",
-            &[
-                [0.0084, 0.0044, 0.0273, 31.4, 15.3],
-                [0.0273, 0.0044, 0.0084, 15.3, 31.4],
-            ],
-        ),
-        (
-            "B1",
-            &[
-                // Exact: m2 = 0.004979 (printed 0.0049, 1.6 % off: within
-                // the rounding of the three-digit A1 input).
-                [0.038, 0.0049, 0.0351, 53.5, 58.9],
-                [0.0056, 0.0194, 0.0206, 76.7, 14.2],
-            ],
-        ),
-        ("C1", &[[0.0049, 0.0091, 0.040, 31.5, 27.4]]),
-        ("C3", &[[0.0421, 0.0049, 0.040, 67.7, 58.9]]),
-    ];
-    for (id, printed) in table {
+    // B1: exact m2 = 0.004979 (printed 0.0049, 1.6 % off: within the
+    // rounding of the three-digit A1 input).
+    let ids = ["A1", "A4", "B1", "C1", "C3"];
+    let table: Vec<(&str, Vec<[f64; 5]>)> = ids
+        .iter()
+        .map(|id| {
+            let rows = mms::paper::TAB7
+                .iter()
+                .filter(|(r, _)| r == id)
+                .map(|(_, v)| *v);
+            (*id, rows.collect())
+        })
+        .collect();
+    for (id, printed) in &table {
         let m = model(id);
         let (r, dt) = timed(&m, &target);
         let BackSolution::Points(points) = &r else {

@@ -1170,6 +1170,26 @@ impl Poly {
         !self.is_zero() && self.terms.iter().all(|t| t.coef.signum() < 0)
     }
 
+    /// `+1` / `-1` when every coefficient is positive / negative: then the
+    /// polynomial has that sign wherever all its variables are positive
+    /// (it cannot vanish on the open positive orthant). `None` otherwise.
+    ///
+    /// ```
+    /// let p: poly::Poly = "m1*c12 + 2*m2".parse().unwrap();
+    /// assert_eq!(p.orthant_sign(), Some(1));
+    /// assert_eq!((-&p).orthant_sign(), Some(-1));
+    /// assert_eq!("m1 - m2".parse::<poly::Poly>().unwrap().orthant_sign(), None);
+    /// ```
+    pub fn orthant_sign(&self) -> Option<i32> {
+        if self.all_coefs_positive() {
+            Some(1)
+        } else if self.all_coefs_negative() {
+            Some(-1)
+        } else {
+            None
+        }
+    }
+
     /// `sum_k ±a_k b_k` (the product subtracted when its flag is set) in
     /// one pass: all products are accumulated in a single table keyed by
     /// packed monomials, so the sum needs no intermediate polynomials.

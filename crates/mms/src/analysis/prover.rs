@@ -1125,17 +1125,6 @@ fn condition(rule: ConditionRule, derived: Poly, strict: bool) -> SignCondition 
     }
 }
 
-/// The sign of a polynomial that must be definite, or `None`.
-fn sign_of(p: &Poly) -> Option<i32> {
-    if p.all_coefs_positive() {
-        Some(1)
-    } else if p.all_coefs_negative() {
-        Some(-1)
-    } else {
-        None
-    }
-}
-
 /// `q(rho) * a^deg(q)` for the root `rho = -b/a` of `l = a*Omega + b`.
 pub(crate) fn eval_at_root(q: &Poly, l: &Poly) -> Poly {
     let c = l.coeffs_in(OMEGA);
@@ -1162,7 +1151,7 @@ fn conditions_for(
     a: &[Option<usize>],
 ) -> Option<Vec<SignCondition>> {
     let mut out = Vec::new();
-    let lead = |l: &LinearPart| sign_of(&l.poly.coeffs_in(OMEGA)[1]);
+    let lead = |l: &LinearPart| l.poly.coeffs_in(OMEGA)[1].orthant_sign();
     for (i, l) in linear.iter().enumerate() {
         let sa = lead(l)?;
         let b = l.poly.coeffs_in(OMEGA)[0].clone();
@@ -1257,7 +1246,7 @@ fn conditions_for(
                 true,
             ));
         }
-        let Some(slc) = sign_of(&o.lead_in(OMEGA)) else {
+        let Some(slc) = o.lead_in(OMEGA).orthant_sign() else {
             continue;
         };
         for (i, l) in linear.iter().enumerate() {
