@@ -448,9 +448,10 @@ fn mean_damping(c: &Classification) -> f64 {
 /// ascending), or `None` if the type has zeros off the axis or too few
 /// lines agree on the level.
 fn undamped_target(data: &Frf, output: Output, c: &Classification) -> Option<(Vec<f64>, Vec<f64>)> {
-    if c.frf_type.nonminimum_phase {
-        return None;
-    }
+    // Zeros off the axis are not in the shape: their factor is nearly
+    // constant only well below them, so the level is then read from the
+    // lowest tenth of the band alone.
+    let nm = c.frf_type.nonminimum_phase;
     let omega2 = |f: f64| (2.0 * PI * f).powi(2);
     let mut num = vec![1.0];
     let mut den = vec![1.0];
@@ -476,10 +477,16 @@ fn undamped_target(data: &Frf, output: Output, c: &Classification) -> Option<(Ve
     // the median shrugs off the lines near features, where damping makes
     // the ratio complex.
     let k_power = output.s_power() as i32;
+    let lines = if nm {
+        (data.len() / 10).max(5)
+    } else {
+        data.len()
+    };
     let mut ratios: Vec<f64> = data
         .freq_hz()
         .iter()
         .zip(data.response())
+        .take(lines)
         .filter_map(|(&f, &h)| {
             let jw = Complex64::new(0.0, 2.0 * PI * f);
             let inertance = h * jw.powi(2 - k_power);
@@ -668,7 +675,7 @@ fn fit_candidate(
     if starts.is_empty() {
         if let Some(ft) = target.and_then(feature_target) {
             let tf = model.undamped_tf();
-            if tf.num.degree(mms::OMEGA) as usize == ft.antiresonances.len()
+            if tf.num.degree(mms::OMEGA) as usize >= ft.antiresonances.len()
                 && tf.den.degree(mms::OMEGA) as usize == ft.resonances.len()
             {
                 starts = feature_starts(model, &ft, 24, options.seed)

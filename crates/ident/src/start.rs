@@ -40,6 +40,8 @@ use poly::Poly;
 #[derive(Clone, Debug, PartialEq)]
 pub struct FeatureTarget {
     /// Antiresonances, with multiplicity (a double zero appears twice).
+    /// Fewer than the structure's zeros when the rest are off the positive
+    /// real axis (type `(nm)`): those are then left free.
     pub antiresonances: Vec<f64>,
     /// Resonances, with multiplicity.
     pub resonances: Vec<f64>,
@@ -215,17 +217,31 @@ fn residuals(c: &UndampedCoefficients, t: &FeatureTarget, x: &[f64]) -> Option<V
     let (num, den) = c.eval(x);
     let zeros = roots(&num);
     let poles = roots(&den);
-    if zeros.len() != t.antiresonances.len() || poles.len() != t.resonances.len() {
+    if zeros.len() < t.antiresonances.len() || poles.len() != t.resonances.len() {
         return None;
     }
-    let mut r = Vec::with_capacity(poles.len() + 2 * zeros.len() + 1);
+    let mut r = Vec::with_capacity(poles.len() + 2 * t.antiresonances.len() + 1);
     for (p, &w) in poles.iter().zip(&t.resonances) {
         r.push((p.norm() / w).ln());
     }
-    for (z, &w) in zeros.iter().zip(&t.antiresonances) {
-        let e = (z / w).ln();
-        r.push(e.re);
-        r.push(e.im);
+    if zeros.len() == t.antiresonances.len() {
+        for (z, &w) in zeros.iter().zip(&t.antiresonances) {
+            let e = (z / w).ln();
+            r.push(e.re);
+            r.push(e.im);
+        }
+    } else {
+        // More zeros than measured antiresonances (the rest are off the
+        // axis, type "(nm)"): each antiresonance is matched by the zero
+        // nearest to it; the others are left free.
+        for &w in &t.antiresonances {
+            let e = zeros
+                .iter()
+                .map(|z| (z / w).ln())
+                .min_by(|a, b| a.norm().total_cmp(&b.norm()))?;
+            r.push(e.re);
+            r.push(e.im);
+        }
     }
     r.push(((num[0] / den[0]).abs() / t.static_inertance).ln());
     r.iter().all(|v| v.is_finite()).then_some(r)
