@@ -446,7 +446,7 @@ pub fn rms_errors(
 
 /// Solves the symmetric positive definite system `m x = b` by Cholesky;
 /// `None` if `m` is not numerically positive definite.
-fn solve_spd(m: &[f64], b: &[f64], n: usize) -> Option<Vec<f64>> {
+pub(crate) fn solve_spd(m: &[f64], b: &[f64], n: usize) -> Option<Vec<f64>> {
     let mut l = vec![0.0; n * n];
     for i in 0..n {
         for j in 0..=i {

@@ -8,6 +8,7 @@
 
 pub mod advice;
 pub mod classify;
+pub mod diagnose;
 pub mod fit;
 pub mod identify;
 pub mod start;
