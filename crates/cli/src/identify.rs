@@ -349,14 +349,19 @@ fn markdown(name: &str, id: &Identification, plot: Option<&str>) -> String {
 }
 
 fn html(name: &str, id: &Identification, svg: &str) -> String {
-    let md = markdown(name, id, None);
-    let mut s = String::from(
-        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>mms identify</title>\n\
-         <style>body{font-family:sans-serif;max-width:60em;margin:2em auto}\
-         table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px}</style>\n\
-         </head><body>\n",
+    html_page("mms identify", &markdown(name, id, None), svg)
+}
+
+/// One self-contained HTML page: the report's Markdown as HTML, then the
+/// Bode plot inline.
+pub fn html_page(title: &str, md: &str, svg: &str) -> String {
+    let mut s = format!(
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{title}</title>\n\
+         <style>body{{font-family:sans-serif;max-width:60em;margin:2em auto}}\
+         table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px}}</style>\n\
+         </head><body>\n"
     );
-    s.push_str(&markdown_to_html(&md));
+    s.push_str(&markdown_to_html(md));
     s.push_str("<h2>Bode plot</h2>\n");
     s.push_str(svg);
     s.push_str("</body></html>\n");

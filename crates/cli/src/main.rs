@@ -5,6 +5,7 @@ mod algebra;
 mod analyze;
 mod check;
 mod derive;
+mod diagnose;
 mod enumerate;
 mod identify;
 mod output;
@@ -131,6 +132,30 @@ enum Command {
         format: identify::IdentifyFormat,
         /// Write report, Bode plots (SVG, PNG) and the best model
         /// (model.toml) into this directory instead of the report to stdout.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
+    /// Diagnose where a model and a recording differ: calibrate the model's
+    /// parameters (within a tolerance), locate the mismatch bands, name the
+    /// missing physics (delay, lag, gain error, hysteretic damping,
+    /// friction, or nothing), add it and report the improvement.
+    Diagnose {
+        #[command(flatten)]
+        recording: recording::RecordingArgs,
+        /// The model file (TOML), e.g. the model.toml `mms identify --out` writes.
+        #[arg(long, value_name = "MODEL.toml")]
+        model: PathBuf,
+        /// How far calibration may move each parameter from its nominal
+        /// value (fraction).
+        #[arg(long, value_name = "FRACTION", default_value_t = 0.2)]
+        tolerance: f64,
+        /// Only use the lines in this band, as LO:HI in Hz (default: the
+        /// band the classification trusts).
+        #[arg(long, value_name = "LO:HI")]
+        band: Option<String>,
+        #[arg(long, value_enum, default_value_t = identify::IdentifyFormat::Md)]
+        format: identify::IdentifyFormat,
+        /// Write report, Bode plots and model_after.toml into this directory.
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
     },
@@ -309,6 +334,27 @@ fn run(cli: Cli) -> Result<(), String> {
                 out: out.as_deref(),
             };
             match identify::run(&args)? {
+                Some(text) => output::emit(None, &text),
+                None => Ok(()),
+            }
+        }
+        Command::Diagnose {
+            recording,
+            model,
+            tolerance,
+            band,
+            format,
+            out,
+        } => {
+            let args = diagnose::DiagnoseArgs {
+                recording: &recording,
+                model: &model,
+                tolerance,
+                band: band.as_deref().map(parse_band).transpose()?,
+                format,
+                out: out.as_deref(),
+            };
+            match diagnose::run(&args)? {
                 Some(text) => output::emit(None, &text),
                 None => Ok(()),
             }
