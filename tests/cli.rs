@@ -183,3 +183,153 @@ fn check_accepts_analyze_output_and_rejects_tampering() {
     assert!(err.contains("not valid JSON"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn analyze_output_does_not_depend_on_jobs() {
+    // The models finish in a different order with more jobs; the output
+    // keeps the order of the model list.
+    for format in ["json", "table"] {
+        let run = |jobs: &str| {
+            let (code, out, err) = mms(&[
+                "analyze", "--masses", "3", "--format", format, "--jobs", jobs,
+            ]);
+            assert_eq!(code, 0, "{err}");
+            // The closing timing line is on stderr, never on stdout.
+            assert!(
+                err.starts_with("mms: analyzed 11 models (0 from cache) in "),
+                "{err}"
+            );
+            out
+        };
+        let one = run("1");
+        assert_eq!(run("2"), one, "--format {format} --jobs 2");
+        assert_eq!(run("0"), one, "--format {format} --jobs 0");
+    }
+}
+
+#[test]
+fn analyze_timings_are_opt_in_and_json_only() {
+    let plain = json(&["analyze", "--masses", "3", "--format", "json"]);
+    assert!(plain.get("timing").is_none());
+    assert!(plain["models"][0].get("timing").is_none());
+    let mut timed = json(&["analyze", "--masses", "3", "--format", "json", "--timings"]);
+    assert_eq!(timed["timing"]["models_analysed"], 11);
+    assert_eq!(timed["timing"]["threads"], 1);
+    assert!(timed["timing"]["wall_seconds"].as_f64().unwrap() > 0.0);
+    // Without the timing fields, the output is the plain one.
+    timed.as_object_mut().unwrap().remove("timing");
+    for m in timed["models"].as_array_mut().unwrap() {
+        let t = m.as_object_mut().unwrap().remove("timing").unwrap();
+        assert!(t["seconds"].as_f64().unwrap() > 0.0);
+        assert_eq!(t["cached"], false);
+    }
+    assert_eq!(timed, plain);
+    let (code, out, err) = mms(&["analyze", "A2", "--format", "md", "--timings"]);
+    assert_eq!(code, 2);
+    assert!(out.is_empty());
+    assert_eq!(
+        err,
+        "mms: error: --timings adds timing fields to --format json only\n"
+    );
+}
+
+#[test]
+fn analyze_cache_resumes_and_recomputes_bad_files() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("mms-analyze-cache-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let cache = dir.join("cache");
+    let cache_arg = cache.to_str().unwrap();
+    let run = |format: &str, extra: &[&str]| {
+        let mut args = vec!["analyze", "--masses", "3", "--format", format];
+        args.extend_from_slice(extra);
+        let (code, out, err) = mms(&args);
+        assert_eq!(code, 0, "{err}");
+        (out, err)
+    };
+    let formats = ["json", "table", "md", "tex"];
+    let fresh: Vec<String> = formats.iter().map(|f| run(f, &[]).0).collect();
+
+    // A first run fills the cache, one file per model; a second run takes
+    // everything from it; every format renders the same from the cache.
+    let (out, err) = run("json", &["--cache", cache_arg, "--jobs", "2"]);
+    assert_eq!(out, fresh[0]);
+    assert!(err.contains("(0 from cache)"), "{err}");
+    let mut files: Vec<_> = std::fs::read_dir(&cache)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), 11, "{files:?}");
+    let a2 = cache.join("N3-g0-a1.0-s2.0.json");
+    let entry: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&a2).unwrap()).unwrap();
+    assert_eq!(entry["format"], "mms-analyze-cache");
+    assert_eq!(entry["model"], "N3-g0-a1.0-s2.0");
+    assert_eq!(entry["summary"]["id"], "A2");
+    for (f, want) in formats.iter().zip(&fresh) {
+        let (out, err) = run(f, &["--cache", cache_arg]);
+        assert_eq!(&out, want, "--format {f} from the cache");
+        assert!(err.contains("(11 from cache)"), "{err}");
+    }
+
+    // An interrupted run: a model without its file is recomputed alone.
+    std::fs::remove_file(&a2).unwrap();
+    let (out, err) = run("json", &["--cache", cache_arg]);
+    assert_eq!(out, fresh[0]);
+    assert!(err.contains("(10 from cache)"), "{err}");
+    assert!(!err.contains("warning"), "{err}");
+    assert!(a2.exists());
+
+    // Damaged, edited, stale or misplaced files: a warning naming the
+    // file, a recomputation, and a good file again; never a crash, never
+    // the bad content.
+    let good = std::fs::read_to_string(&a2).unwrap();
+    let mut edited: serde_json::Value = serde_json::from_str(&good).unwrap();
+    edited["summary"]["possible"] = serde_json::json!(["C"]);
+    let mut stale: serde_json::Value = serde_json::from_str(&good).unwrap();
+    stale["fingerprint"] = serde_json::json!("cache layout 0");
+    let other = std::fs::read_to_string(cache.join("N3-g0-a1.0-s1.0.json")).unwrap();
+    let bad = [
+        ("truncated", good[..good.len() / 2].to_string()),
+        ("garbage", "\u{0}not json".to_string()),
+        ("edited", edited.to_string()),
+        ("stale", stale.to_string()),
+        ("another model's", other),
+    ];
+    for (what, text) in bad {
+        std::fs::write(&a2, text).unwrap();
+        let (out, err) = run("table", &["--cache", cache_arg]);
+        assert_eq!(out, fresh[1], "{what} cache file");
+        let warning = format!("mms: warning: {}: ", a2.display());
+        assert!(err.starts_with(&warning), "{what}: {err}");
+        assert!(err.contains("; recomputing\n"), "{what}: {err}");
+        assert!(err.contains("(10 from cache)"), "{what}: {err}");
+        // Rewritten: the same entry but for the recorded time.
+        let entry = |text: &str| {
+            let mut v: serde_json::Value = serde_json::from_str(text).unwrap();
+            v.as_object_mut().unwrap().remove("seconds");
+            v
+        };
+        let now = std::fs::read_to_string(&a2).unwrap();
+        assert!(entry(&now) == entry(&good), "{what}: not rewritten");
+    }
+    // No temporary files are left behind.
+    assert_eq!(std::fs::read_dir(&cache).unwrap().count(), 11);
+
+    // A cache path that cannot be a directory is a one-line error.
+    let file = dir.join("a-file");
+    std::fs::write(&file, "").unwrap();
+    let (code, out, err) = mms(&["analyze", "A2", "--cache", file.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(out.is_empty());
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with(&format!(
+            "mms: error: {}: cannot create cache directory: ",
+            file.display()
+        )),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

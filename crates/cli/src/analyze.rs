@@ -1,75 +1,294 @@
 //! `mms analyze`: the FRF types each model can show, with witnesses and
 //! certificates (the paper's Tab. 3).
+//!
+//! Every model is analysed on its own (in parallel with `--jobs`) and
+//! reduced to a [`Summary`], everything any output format needs; the output
+//! is rendered from the summaries in the order of the model list. So the
+//! output does not depend on the number of jobs, on the order in which the
+//! jobs finish, or on which summaries came from the `--cache` directory.
 
+use crate::analyze_cache::Cache;
 use crate::TableFormat3;
+use indicatif::{ProgressBar, ProgressStyle};
 use mms::analysis::{analyze, ModelAnalysis, SearchLimits, Status};
 use mms::Model;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 use serde_json::json;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write;
+use std::path::PathBuf;
+use std::sync::Mutex;
+use std::time::Instant;
 
-/// Analyses of `models`, and for every possible type the other models (of
-/// `peers`, analysed too) that can show it.
+/// (model id, type) -> ids of the other models with that type possible.
+pub type Similar = BTreeMap<(String, String), Vec<String>>;
+
+/// Analyses of `models`, and for every possible type the other models that
+/// can show it (the study's Tab. 3).
 pub struct Table {
-    pub models: Vec<Model>,
     pub analyses: Vec<ModelAnalysis>,
-    /// (model id, type) -> ids of the other models with that type possible.
-    pub similar: BTreeMap<(String, String), Vec<String>>,
+    pub similar: Similar,
 }
 
-pub fn table(models: &[Model], peers: &[Model]) -> Table {
+pub fn table(models: &[Model]) -> Table {
     let limits = SearchLimits::default();
     let analyses: Vec<ModelAnalysis> = models.iter().map(|m| analyze(m, &limits)).collect();
-    let peer_analyses: Vec<ModelAnalysis> = peers
+    let types: Vec<Types> = analyses
         .iter()
-        .map(|p| {
-            analyses
-                .iter()
-                .find(|a| a.generic_id == p.id())
-                .cloned()
-                .unwrap_or_else(|| analyze(p, &limits))
+        .map(|a| Types {
+            id: &a.id,
+            generic_id: &a.generic_id,
+            possible: a.possible().iter().map(|t| t.to_string()).collect(),
         })
         .collect();
+    let similar = similar_map(&types, &types);
+    Table { analyses, similar }
+}
+
+/// What the lookup of similar systems needs of an analysis.
+struct Types<'a> {
+    id: &'a str,
+    generic_id: &'a str,
+    possible: Vec<String>,
+}
+
+/// For every possible type of every target, the other peers (by generic
+/// ID) with that type possible, in the order of `peers`.
+fn similar_map(targets: &[Types], peers: &[Types]) -> Similar {
     let mut similar = BTreeMap::new();
-    for a in &analyses {
-        for t in a.possible() {
-            let others: Vec<String> = peer_analyses
+    for a in targets {
+        for t in &a.possible {
+            let others: Vec<String> = peers
                 .iter()
                 .filter(|b| b.generic_id != a.generic_id)
-                .filter(|b| b.possible().contains(&t))
-                .map(|b| b.id.clone())
+                .filter(|b| b.possible.contains(t))
+                .map(|b| b.id.to_string())
                 .collect();
-            similar.insert((a.id.clone(), t.to_string()), others);
+            similar.insert((a.id.to_string(), t.clone()), others);
         }
     }
-    Table {
-        models: models.to_vec(),
-        analyses,
-        similar,
+    similar
+}
+
+/// One model's analysis as the output formats use it. Unlike
+/// [`ModelAnalysis`] it deserialises, so it can be cached (see
+/// [`crate::analyze_cache`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// The paper's ID for 3 masses, else the generic ID.
+    pub id: String,
+    pub generic_id: String,
+    /// The possible types, in the order of the analysis, as displayed.
+    pub possible: Vec<String>,
+    /// The undecided types, in the order of the analysis.
+    pub unknown: Vec<String>,
+    /// The number of types ruled out by a certificate.
+    pub impossible: usize,
+    /// Tab. 5: determinable parameters and non-constant moment invariants.
+    pub determinable_parameters: usize,
+    pub moment_invariants: usize,
+    /// The whole analysis as `--format json` prints it, before the similar
+    /// systems and the Tab. 5 numbers are added.
+    pub analysis: serde_json::Value,
+}
+
+impl Summary {
+    fn new(model: &Model, a: &ModelAnalysis) -> Result<Summary, String> {
+        let idf = mms::identifiability(model);
+        Ok(Summary {
+            id: a.id.clone(),
+            generic_id: a.generic_id.clone(),
+            possible: a.possible().iter().map(|t| t.to_string()).collect(),
+            unknown: a.unknown().iter().map(|t| t.to_string()).collect(),
+            impossible: a
+                .types
+                .iter()
+                .filter(|v| v.status == Status::Impossible)
+                .count(),
+            determinable_parameters: idf.determinable_parameters,
+            moment_invariants: idf.nonconstant_invariants,
+            analysis: serde_json::to_value(a).map_err(|e| e.to_string())?,
+        })
+    }
+
+    fn types(&self) -> Types<'_> {
+        Types {
+            id: &self.id,
+            generic_id: &self.generic_id,
+            possible: self.possible.clone(),
+        }
     }
 }
 
-/// Tab. 5 of a model: determinable parameters and non-constant moment
-/// invariants.
-fn tab5(t: &Table, a: &ModelAnalysis) -> (usize, usize) {
-    let m = t
-        .models
+/// How `mms analyze` runs: the command-line flags beyond the selection.
+pub struct Options {
+    /// Models analysed at a time; 0: one per core.
+    pub jobs: usize,
+    /// Where finished analyses are kept and looked up.
+    pub cache: Option<PathBuf>,
+    /// Add the per-model times to `--format json`.
+    pub timings: bool,
+}
+
+/// A finished model: its summary, the wall time of its analysis (as
+/// recorded in the cache for cached ones) and whether it came from the cache.
+struct Done {
+    summary: Summary,
+    seconds: f64,
+    cached: bool,
+}
+
+/// A finished batch.
+struct Batch {
+    done: Vec<Done>,
+    wall_seconds: f64,
+    threads: usize,
+}
+
+/// Analyses `models`, `opts.jobs` at a time, and returns their summaries in
+/// the order of `models`.
+fn analyse_all(models: &[Model], opts: &Options) -> Result<Batch, String> {
+    let limits = SearchLimits::default();
+    let cache = opts
+        .cache
+        .as_deref()
+        .map(|dir| Cache::open(dir, &limits))
+        .transpose()?;
+    // One tick per model on stderr, naming the models in progress;
+    // indicatif draws nothing when stderr is not a terminal.
+    let progress = ProgressBar::new(models.len() as u64);
+    progress.set_style(
+        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} models, {elapsed} {msg}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    progress.set_prefix("analyze");
+    let running = Mutex::new(BTreeSet::new());
+    let show = |f: &dyn Fn(&mut BTreeSet<String>)| {
+        // A poisoned lock only means another job panicked, and that panic
+        // ends the run anyway; the set itself is still usable.
+        let mut r = running.lock().unwrap_or_else(|e| e.into_inner());
+        f(&mut r);
+        progress.set_message(r.iter().cloned().collect::<Vec<_>>().join(", "));
+    };
+    let one = |m: &Model| {
+        let name = m.name();
+        show(&|r| {
+            r.insert(name.clone());
+        });
+        let done = analyse_one(m, &limits, cache.as_ref(), &progress);
+        show(&|r| {
+            r.remove(&name);
+        });
+        progress.inc(1);
+        done
+    };
+    let start = Instant::now();
+    let (done, threads) = if opts.jobs == 1 {
+        let done = models.iter().map(one).collect::<Result<Vec<_>, String>>();
+        (done, 1)
+    } else {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(opts.jobs)
+            // The exact algebra recurses; give the workers the stack of a
+            // main thread rather than the 2 MiB default of spawned threads.
+            .stack_size(8 << 20)
+            .build()
+            .map_err(|e| format!("--jobs {}: {e}", opts.jobs))?;
+        // An indexed parallel collect keeps the order of `models`.
+        let done = pool.install(|| {
+            models
+                .par_iter()
+                .map(one)
+                .collect::<Result<Vec<_>, String>>()
+        });
+        (done, pool.current_num_threads())
+    };
+    progress.finish_and_clear();
+    Ok(Batch {
+        done: done?,
+        wall_seconds: start.elapsed().as_secs_f64(),
+        threads,
+    })
+}
+
+/// One model, from the cache when it holds a usable file, else analysed
+/// (and stored).
+fn analyse_one(
+    model: &Model,
+    limits: &SearchLimits,
+    cache: Option<&Cache>,
+    progress: &ProgressBar,
+) -> Result<Done, String> {
+    if let Some(cache) = cache {
+        match cache.load(model) {
+            Ok(Some(hit)) => {
+                return Ok(Done {
+                    summary: hit.summary,
+                    seconds: hit.seconds,
+                    cached: true,
+                })
+            }
+            Ok(None) => {}
+            // A bad cache file costs a recomputation, never the run.
+            Err(why) => progress.suspend(|| eprintln!("mms: warning: {why}; recomputing")),
+        }
+    }
+    let start = Instant::now();
+    let a = analyze(model, limits);
+    let summary = Summary::new(model, &a)?;
+    let seconds = start.elapsed().as_secs_f64();
+    if let Some(cache) = cache {
+        cache.store(model, &summary, seconds)?;
+    }
+    Ok(Done {
+        summary,
+        seconds,
+        cached: false,
+    })
+}
+
+/// The stderr line closing a run: wall time, and total, median and maximum
+/// of the per-model analysis times.
+fn timing_line(batch: &Batch) -> String {
+    let n = batch.done.len();
+    let cached = batch.done.iter().filter(|d| d.cached).count();
+    let mut secs: Vec<f64> = batch.done.iter().map(|d| d.seconds).collect();
+    secs.sort_by(f64::total_cmp);
+    let median = match n {
+        0 => 0.0,
+        _ if n % 2 == 1 => secs[n / 2],
+        _ => (secs[n / 2 - 1] + secs[n / 2]) / 2.0,
+    };
+    let slowest = batch
+        .done
         .iter()
-        .find(|m| m.id() == a.generic_id)
-        .expect("analysed model");
-    let idf = mms::identifiability(m);
-    (idf.determinable_parameters, idf.nonconstant_invariants)
+        .max_by(|a, b| a.seconds.total_cmp(&b.seconds))
+        .map(|d| format!(" ({})", d.summary.id))
+        .unwrap_or_default();
+    format!(
+        "mms: analyzed {n} models ({cached} from cache) in {:.2} s with {} job{}; per model: total {:.2} s, median {:.2} s, max {:.2} s{slowest}",
+        batch.wall_seconds,
+        batch.threads,
+        if batch.threads == 1 { "" } else { "s" },
+        secs.iter().sum::<f64>(),
+        median,
+        secs.last().copied().unwrap_or(0.0),
+    )
 }
 
-fn status_count(a: &ModelAnalysis, s: Status) -> usize {
-    a.types.iter().filter(|v| v.status == s).count()
+/// The `--timings` fields of `--format json`.
+struct Timings<'a> {
+    models: &'a [Done],
+    batch: &'a Batch,
 }
 
-fn similar_cell(t: &Table, a: &ModelAnalysis, sep: &str) -> String {
-    a.possible()
+fn similar_cell(similar: &Similar, a: &Summary, sep: &str) -> String {
+    a.possible
         .iter()
         .map(|ty| {
-            let others = &t.similar[&(a.id.clone(), ty.to_string())];
+            let others = &similar[&(a.id.clone(), ty.clone())];
             if others.is_empty() {
                 "-".to_string()
             } else {
@@ -80,34 +299,48 @@ fn similar_cell(t: &Table, a: &ModelAnalysis, sep: &str) -> String {
         .join(sep)
 }
 
-pub fn render(t: &Table, format: TableFormat3) -> Result<String, String> {
+fn render(
+    summaries: &[Summary],
+    similar: &Similar,
+    format: TableFormat3,
+    timings: Option<&Timings>,
+) -> Result<String, String> {
     let mut s = String::new();
     match format {
         TableFormat3::Json => {
-            let models: Vec<serde_json::Value> = t
-                .analyses
+            let models: Vec<serde_json::Value> = summaries
                 .iter()
-                .map(|a| {
-                    let mut v = serde_json::to_value(a).map_err(|e| e.to_string())?;
+                .enumerate()
+                .map(|(i, a)| {
+                    let mut v = a.analysis.clone();
                     let similar: Vec<serde_json::Value> = a
-                        .possible()
+                        .possible
                         .iter()
                         .map(|ty| {
-                            json!({"type": ty.to_string(),
-                                   "models": t.similar[&(a.id.clone(), ty.to_string())]})
+                            json!({"type": ty,
+                                   "models": similar[&(a.id.clone(), ty.clone())]})
                         })
                         .collect();
                     v["similar"] = json!(similar);
-                    if let Some(m) = t.models.iter().find(|m| m.id() == a.generic_id) {
-                        let idf = mms::identifiability(m);
-                        v["determinable_parameters"] = json!(idf.determinable_parameters);
-                        v["moment_invariants"] = json!(idf.nonconstant_invariants);
+                    v["determinable_parameters"] = json!(a.determinable_parameters);
+                    v["moment_invariants"] = json!(a.moment_invariants);
+                    if let Some(t) = timings {
+                        let d = &t.models[i];
+                        v["timing"] = json!({"seconds": d.seconds, "cached": d.cached});
                     }
-                    Ok(v)
+                    v
                 })
-                .collect::<Result<_, String>>()?;
-            s = serde_json::to_string_pretty(&json!({ "models": models }))
-                .map_err(|e| e.to_string())?;
+                .collect();
+            let mut doc = json!({ "models": models });
+            if let Some(t) = timings {
+                doc["timing"] = json!({
+                    "wall_seconds": t.batch.wall_seconds,
+                    "threads": t.batch.threads,
+                    "models_analysed": t.batch.done.len(),
+                    "models_from_cache": t.batch.done.iter().filter(|d| d.cached).count(),
+                });
+            }
+            s = serde_json::to_string_pretty(&doc).map_err(|e| e.to_string())?;
             s.push('\n');
         }
         TableFormat3::Table => {
@@ -122,23 +355,21 @@ pub fn render(t: &Table, format: TableFormat3) -> Result<String, String> {
                 "determinable",
                 "moments"
             );
-            for a in &t.analyses {
-                let types: Vec<String> = a.possible().iter().map(|t| t.to_string()).collect();
-                let (det, mom) = tab5(t, a);
+            for a in summaries {
                 let _ = writeln!(
                     s,
                     "{:<16} {:<44} {:<40} {:>10} {:>7} {:>12} {:>8}",
                     a.id,
-                    types.join(", "),
-                    similar_cell(t, a, "; "),
-                    status_count(a, Status::Impossible),
-                    status_count(a, Status::Unknown),
-                    det,
-                    mom
+                    a.possible.join(", "),
+                    similar_cell(similar, a, "; "),
+                    a.impossible,
+                    a.unknown.len(),
+                    a.determinable_parameters,
+                    a.moment_invariants
                 );
             }
-            for a in &t.analyses {
-                for u in a.unknown() {
+            for a in summaries {
+                for u in &a.unknown {
                     let _ = writeln!(s, "unknown: {} {}", a.id, u);
                 }
             }
@@ -146,41 +377,38 @@ pub fn render(t: &Table, format: TableFormat3) -> Result<String, String> {
         TableFormat3::Md => {
             s.push_str("| ID | Possible FRF types | Pot. similar systems | Impossible (certified) | Unknown | Determinable parameters | Non-constant moment invariants |\n");
             s.push_str("|---|---|---|---|---|---|---|\n");
-            for a in &t.analyses {
-                let types: Vec<String> = a.possible().iter().map(|t| format!("`{t}`")).collect();
-                let unknown: Vec<String> = a.unknown().iter().map(|t| format!("`{t}`")).collect();
-                let (det, mom) = tab5(t, a);
+            for a in summaries {
+                let types: Vec<String> = a.possible.iter().map(|t| format!("`{t}`")).collect();
+                let unknown: Vec<String> = a.unknown.iter().map(|t| format!("`{t}`")).collect();
                 let _ = writeln!(
                     s,
-                    "| {} | {} | {} | {} | {} | {det} | {mom} |",
+                    "| {} | {} | {} | {} | {} | {} | {} |",
                     a.id,
                     types.join(", "),
-                    similar_cell(t, a, "; "),
-                    status_count(a, Status::Impossible),
+                    similar_cell(similar, a, "; "),
+                    a.impossible,
                     if unknown.is_empty() {
                         "0".to_string()
                     } else {
                         unknown.join(", ")
-                    }
+                    },
+                    a.determinable_parameters,
+                    a.moment_invariants
                 );
             }
         }
         TableFormat3::Tex => {
             s.push_str("\\begin{tabular}{lllrr}\n\\hline\nID & Possible FRF types & Pot. similar systems & Impossible & Unknown \\\\\n\\hline\n");
-            for a in &t.analyses {
-                let types: Vec<String> = a
-                    .possible()
-                    .iter()
-                    .map(|t| tex_type(&t.to_string()))
-                    .collect();
+            for a in summaries {
+                let types: Vec<String> = a.possible.iter().map(|t| tex_type(t)).collect();
                 let _ = writeln!(
                     s,
                     "{} & {} & {} & {} & {} \\\\",
                     a.id.replace('*', "$^*$"),
                     types.join(", "),
-                    similar_cell(t, a, "; "),
-                    status_count(a, Status::Impossible),
-                    status_count(a, Status::Unknown)
+                    similar_cell(similar, a, "; "),
+                    a.impossible,
+                    a.unknown.len()
                 );
             }
             s.push_str("\\hline\n\\end{tabular}\n");
@@ -208,7 +436,10 @@ pub fn tex_type(t: &str) -> String {
     out
 }
 
-pub fn run(models: &[Model], format: TableFormat3) -> Result<String, String> {
+pub fn run(models: &[Model], format: TableFormat3, opts: &Options) -> Result<String, String> {
+    if opts.timings && format != TableFormat3::Json {
+        return Err("--timings adds timing fields to --format json only".into());
+    }
     let n = models.first().map(|m| m.n_masses()).unwrap_or(0);
     // Similar systems are looked up among all classes of the same size,
     // which is cheap up to 3 masses; beyond, among the models given.
@@ -217,5 +448,31 @@ pub fn run(models: &[Model], format: TableFormat3) -> Result<String, String> {
     } else {
         models.to_vec()
     };
-    render(&table(models, &peers), format)
+    // The models, then the peers not among them, as one batch: one progress
+    // bar, one pool of jobs, one cache.
+    let mut work = models.to_vec();
+    for p in &peers {
+        if !work.iter().any(|m| m.id() == p.id()) {
+            work.push(*p);
+        }
+    }
+    let batch = analyse_all(&work, opts)?;
+    if batch.done.len() > 1 {
+        eprintln!("{}", timing_line(&batch));
+    }
+    let summaries: Vec<Summary> = batch.done.iter().map(|d| d.summary.clone()).collect();
+    let own = &summaries[..models.len()];
+    // Every peer is in `work`, whose summaries are in the same order.
+    let peer_types: Vec<Types> = peers
+        .iter()
+        .filter_map(|p| work.iter().position(|m| m.id() == p.id()))
+        .map(|i| summaries[i].types())
+        .collect();
+    let own_types: Vec<Types> = own.iter().map(Summary::types).collect();
+    let similar = similar_map(&own_types, &peer_types);
+    let timings = opts.timings.then(|| Timings {
+        models: &batch.done[..models.len()],
+        batch: &batch,
+    });
+    render(own, &similar, format, timings.as_ref())
 }

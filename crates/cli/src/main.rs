@@ -3,6 +3,7 @@
 
 mod algebra;
 mod analyze;
+mod analyze_cache;
 mod check;
 mod derive;
 mod diagnose;
@@ -76,11 +77,29 @@ enum Command {
         format: AlgebraFormat,
     },
     /// Which FRF types each model can show, with witnesses and certificates (Tab. 3).
+    ///
+    /// Long runs (--masses 4 and up): progress on stderr when it is a
+    /// terminal, and a closing line with the wall time and the total, median
+    /// and maximum analysis time per model.
     Analyze {
         #[command(flatten)]
         selection: Selection,
         #[arg(long, value_enum, default_value_t = TableFormat3::Table)]
         format: TableFormat3,
+        /// Analyse N models at a time (0: one per core). The output is the
+        /// same, byte for byte, for every N.
+        #[arg(long, value_name = "N", default_value_t = 1)]
+        jobs: usize,
+        /// Keep every finished model's analysis in DIR (one file per model,
+        /// written atomically) and reuse it when rerun with the same DIR: an
+        /// interrupted run resumes where it stopped. Unusable or stale files
+        /// are recomputed, with a warning.
+        #[arg(long, value_name = "DIR")]
+        cache: Option<PathBuf>,
+        /// Add analysis times to --format json (a "timing" object per model
+        /// and one for the run), which makes the output differ between runs.
+        #[arg(long)]
+        timings: bool,
     },
     /// Write out the derivation of one verdict: witness or certificate (eqs. 22-31 style).
     Prove {
@@ -283,9 +302,20 @@ fn run(cli: Cli) -> Result<(), String> {
             let text = derive::run(&models, format, output.into(), damped, abbreviate)?;
             output::emit(None, &text)
         }
-        Command::Analyze { selection, format } => {
+        Command::Analyze {
+            selection,
+            format,
+            jobs,
+            cache,
+            timings,
+        } => {
             let models = select(&selection)?;
-            output::emit(None, &analyze::run(&models, format)?)
+            let opts = analyze::Options {
+                jobs,
+                cache,
+                timings,
+            };
+            output::emit(None, &analyze::run(&models, format, &opts)?)
         }
         Command::Prove {
             id,

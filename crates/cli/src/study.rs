@@ -275,7 +275,7 @@ pub fn run(n: usize, format: ReportFormat) -> Result<String, String> {
     );
 
     // Tab. 3
-    let table = crate::analyze::table(&models, &models);
+    let table = crate::analyze::table(&models);
     d.heading(1, "FRF types (the paper's Tab. 3)");
     d.para(
         "For every model, every a-priori candidate type of the undamped TF (orders of \
