@@ -308,3 +308,97 @@ fn bad_recordings_are_one_line_errors_with_exit_2() {
     assert_eq!(code, 2);
     assert!(err.contains("--band 15:2"), "{err}");
 }
+
+/// `mms diagnose` on a recording of A1 with a concealed dead time, given
+/// a model file with parameters 10 % off: it names the delay and its size;
+/// without the delay it says nothing is missing; a bad model file is a
+/// one-line error naming the line.
+#[test]
+fn diagnose_names_a_concealed_delay_and_says_none_without_it() {
+    use mms::model_file::{ModelFile, Motion};
+    use mms::response::{ChainResponse, Effects, Parameters};
+    let dir = temp_dir("diagnose");
+    let a1 = Model::from_id("A1").unwrap();
+    let truth = [0.0044, 0.0173, 0.0184, 46.8, 14.3, 0.002, 0.001];
+    let f: Vec<f64> = (0..1500)
+        .map(|k| 2.0 * (40.0f64).powf(k as f64 / 1499.0))
+        .collect();
+    let delay = 4e-4;
+    let mut rng = XorShift::new(17);
+    let write = |name: &str, effects: &Effects, rng: &mut XorShift| {
+        let g = ChainResponse::with_effects(&a1, mms::Output::Position, effects);
+        let h: Vec<num_complex::Complex64> = f
+            .iter()
+            .map(|&x| {
+                let n = num_complex::Complex64::new(rng.normal(), rng.normal()) * 0.005;
+                g.eval(&truth, x).unwrap() * (1.0 + n)
+            })
+            .collect();
+        let path = dir.join(name);
+        let frf = frf::Frf::new(f.clone(), h, None).unwrap();
+        std::fs::write(&path, frf::write_csv(&frf, frf::CsvLayout::ReIm)).unwrap();
+        path
+    };
+    let delayed = write(
+        "delayed.csv",
+        &Effects {
+            time_delay_s: Some(delay),
+            ..Effects::default()
+        },
+        &mut rng,
+    );
+    let plain = write("plain.csv", &Effects::default(), &mut rng);
+    // The nominal model: every parameter 10 % off, alternately up and down.
+    let nominal: Vec<f64> = truth
+        .iter()
+        .enumerate()
+        .map(|(i, v)| v * if i % 2 == 0 { 1.1 } else { 0.9 })
+        .collect();
+    let file = ModelFile {
+        model: a1,
+        output: mms::Output::Position,
+        parameters: Parameters::from_values(&a1, nominal).unwrap(),
+        gain: 1.0,
+        motion: Motion::Translational,
+        effects: Effects::default(),
+    };
+    let model = dir.join("model.toml");
+    std::fs::write(&model, file.to_toml()).unwrap();
+    let run = |rec: &Path| {
+        let (code, out, err) = mms(&[
+            "diagnose",
+            rec.to_str().unwrap(),
+            "--model",
+            model.to_str().unwrap(),
+            "--format",
+            "json",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+    };
+    let v = run(&delayed);
+    assert_eq!(v["effects"][0]["kind"], "time_delay", "{}", v["effects"]);
+    let got = v["effects"][0]["parameters"]["delay_s"].as_f64().unwrap();
+    assert!((got / delay - 1.0).abs() < 0.1, "{got}");
+    let (before, after) = (&v["fit"]["before"], &v["fit"]["after"]);
+    assert!(after["rms_deg"].as_f64().unwrap() < 0.5 * before["rms_deg"].as_f64().unwrap());
+    assert!(!v["mismatch"].as_array().unwrap().is_empty());
+    let v = run(&plain);
+    assert_eq!(v["effects"][0]["kind"], "none", "{}", v["effects"]);
+    // A bad model file.
+    let bad = dir.join("bad.toml");
+    std::fs::write(
+        &bad,
+        "structure = \"A1\"\noutput = \"position\"\n[parameters]\nm1 = -1\n",
+    )
+    .unwrap();
+    let (code, _, err) = mms(&[
+        "diagnose",
+        plain.to_str().unwrap(),
+        "--model",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.toml:4:") && err.contains("m1"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1);
+}

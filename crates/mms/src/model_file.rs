@@ -23,7 +23,7 @@
 //!
 //! `structure = "A2"` (a paper ID, or a generic ID such as
 //! `"N4-g1-a2.1-s4.1"`) may stand in place of the four topology keys.
-//! Optional top-level keys: `gain` (the product of actuator and sensor
+//! Optional top-level keys: `gain` (the signed product of actuator and sensor
 //! constants the FRF is multiplied by; default 1) and `motion`
 //! (`"translational"` or `"rotary"`, for units in reports). Unknown keys,
 //! missing or non-positive parameters are errors that name the line.
@@ -80,8 +80,9 @@ pub struct ModelFile {
     pub output: Output,
     /// Every parameter of the model.
     pub parameters: Parameters,
-    /// Product of the actuator and sensor constants (1 if the FRF is in
-    /// force and position units).
+    /// Signed product of the actuator and sensor constants (1 if the FRF is
+    /// in force and position units; negative for a sensor or actuator
+    /// mounted the other way round).
     pub gain: f64,
     /// Translational or rotary units.
     pub motion: Motion,
@@ -260,8 +261,9 @@ impl ModelFile {
         let gain = match get("gain") {
             Some(v) => {
                 let g = r.number("gain", v)?;
-                if g <= 0.0 {
-                    return Err(r.err(v.span(), "'gain' must be positive"));
+                // Negative: a sensor or actuator mounted the other way round.
+                if g == 0.0 {
+                    return Err(r.err(v.span(), "'gain' must not be zero"));
                 }
                 g
             }
