@@ -2,7 +2,6 @@
 //! model left out, and how much adding it improves the fit.
 
 use crate::identify::IdentifyFormat;
-use crate::output::write_atomic_bytes;
 use crate::recording::RecordingArgs;
 use ident::diagnose::{diagnose, DiagnoseOptions, Diagnosis, EffectKind};
 use mms::model_file::ModelFile;
@@ -70,19 +69,13 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     let Some(dir) = args.out else {
         return Ok(Some(report));
     };
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
-    let ext = match args.format {
-        IdentifyFormat::Md => "md",
-        IdentifyFormat::Html => "html",
-        IdentifyFormat::Json => "json",
-    };
-    write_atomic_bytes(&dir.join("bode.svg"), plot.to_svg().as_bytes())?;
-    write_atomic_bytes(&dir.join("bode.png"), &plot.to_png())?;
-    write_atomic_bytes(
-        &dir.join("model_after.toml"),
-        d.model_after.to_toml().as_bytes(),
+    crate::identify::write_report_dir(
+        dir,
+        args.format,
+        &plot,
+        &[("model_after.toml", d.model_after.to_toml())],
+        &report,
     )?;
-    write_atomic_bytes(&dir.join(format!("report.{ext}")), report.as_bytes())?;
     Ok(None)
 }
 

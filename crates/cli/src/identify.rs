@@ -69,27 +69,19 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
     let Some(dir) = args.out else {
         return Ok(Some(report));
     };
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
-    let ext = match args.format {
-        IdentifyFormat::Md => "md",
-        IdentifyFormat::Html => "html",
-        IdentifyFormat::Json => "json",
-    };
-    write_atomic_bytes(&dir.join("bode.svg"), plots.to_svg().as_bytes())?;
-    write_atomic_bytes(&dir.join("bode.png"), &plots.to_png())?;
-    if let Some(best) = id.candidates.first() {
-        let file = ModelFile {
+    let model_file = id.candidates.first().map(|best| {
+        ModelFile {
             model: best.model,
             output,
             parameters: best.fit.parameters.clone(),
             gain: best.fit.gain,
             motion: Motion::Translational,
             effects: Effects::default(),
-        };
-        write_atomic_bytes(&dir.join("model.toml"), file.to_toml().as_bytes())?;
-    }
-    // The report last: its presence means the rest is complete.
-    write_atomic_bytes(&dir.join(format!("report.{ext}")), report.as_bytes())?;
+        }
+        .to_toml()
+    });
+    let files: Vec<(&str, String)> = model_file.into_iter().map(|t| ("model.toml", t)).collect();
+    write_report_dir(dir, args.format, &plots, &files, &report)?;
     Ok(None)
 }
 
@@ -115,6 +107,30 @@ fn candidate_json(c: &CandidateFit) -> Value {
         "rank": c.rank,
         "notes": c.notes,
     })
+}
+
+/// Writes a report directory: `bode.svg`, `bode.png`, the `extra` text
+/// files, then `report.{md,html,json}` last (its presence means the rest is
+/// complete); every file atomically.
+pub fn write_report_dir(
+    dir: &Path,
+    format: IdentifyFormat,
+    plot: &Bode,
+    extra: &[(&str, String)],
+    report: &str,
+) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
+    let ext = match format {
+        IdentifyFormat::Md => "md",
+        IdentifyFormat::Html => "html",
+        IdentifyFormat::Json => "json",
+    };
+    write_atomic_bytes(&dir.join("bode.svg"), plot.to_svg().as_bytes())?;
+    write_atomic_bytes(&dir.join("bode.png"), &plot.to_png())?;
+    for (name, text) in extra {
+        write_atomic_bytes(&dir.join(name), text.as_bytes())?;
+    }
+    write_atomic_bytes(&dir.join(format!("report.{ext}")), report.as_bytes())
 }
 
 /// The JSON of the schema.

@@ -463,23 +463,7 @@ impl Problem<'_> {
         let mut c = cost(&r);
         let mut lambda = 1e-3;
         for _ in 0..max_iterations {
-            let rows = r.len();
-            let mut a = vec![0.0; nx * nx];
-            let mut g = vec![0.0; nx];
-            for k in 0..rows {
-                let row = &jac[k * nx..(k + 1) * nx];
-                for i in 0..nx {
-                    g[i] += row[i] * r[k];
-                    for j in 0..=i {
-                        a[i * nx + j] += row[i] * row[j];
-                    }
-                }
-            }
-            for i in 0..nx {
-                for j in 0..i {
-                    a[j * nx + i] = a[i * nx + j];
-                }
-            }
+            let (a, g) = crate::fit::normal_equations(&jac, &r, nx);
             let mut accepted = None;
             while lambda < 1e12 {
                 let mut m = a.clone();

@@ -323,23 +323,7 @@ pub fn fit(
     let mut converged = false;
     let rows = r.len();
     for _ in 0..options.max_iterations {
-        // Normal equations A = J^T J, g = J^T r.
-        let mut a = vec![0.0; nc * nc];
-        let mut g = vec![0.0; nc];
-        for k in 0..rows {
-            let row = &jac[k * nc..(k + 1) * nc];
-            for i in 0..nc {
-                g[i] += row[i] * r[k];
-                for j in 0..=i {
-                    a[i * nc + j] += row[i] * row[j];
-                }
-            }
-        }
-        for i in 0..nc {
-            for j in 0..i {
-                a[j * nc + i] = a[i * nc + j];
-            }
-        }
+        let (a, g) = normal_equations(&jac, &r, nc);
         let mut accepted = false;
         while lambda < 1e16 {
             let mut m = a.clone();
@@ -442,6 +426,28 @@ pub fn rms_errors(
     }
     let n = data.len() as f64;
     Ok(((sdb / n).sqrt(), (sdeg / n).sqrt()))
+}
+
+/// The normal equations `A = J^T J`, `g = J^T r` of a row-major Jacobian
+/// with `n` columns (`A` row-major, symmetric).
+pub(crate) fn normal_equations(jac: &[f64], r: &[f64], n: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut a = vec![0.0; n * n];
+    let mut g = vec![0.0; n];
+    for (k, &rk) in r.iter().enumerate() {
+        let row = &jac[k * n..(k + 1) * n];
+        for i in 0..n {
+            g[i] += row[i] * rk;
+            for j in 0..=i {
+                a[i * n + j] += row[i] * row[j];
+            }
+        }
+    }
+    for i in 0..n {
+        for j in 0..i {
+            a[j * n + i] = a[i * n + j];
+        }
+    }
+    (a, g)
 }
 
 /// Solves the symmetric positive definite system `m x = b` by Cholesky;
