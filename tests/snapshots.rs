@@ -96,3 +96,40 @@ fn committed_study_reports_are_current() {
         "docs/study-3-masses.tex is stale: regenerate it"
     );
 }
+
+/// Issue 4: the 4-mass table as it stands (possible types with witnesses,
+/// impossible ones with certificates, and the unknown verdicts, counted),
+/// and the independent checker run over every witness and certificate of
+/// it. Both come from one analysis, through the resumable cache.
+#[test]
+fn analyze_n4_table_and_every_certificate_checked() {
+    let dir = std::env::temp_dir().join(format!("mms-n4-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let cache = dir.join("cache");
+    let json = mms(&[
+        "analyze",
+        "--masses",
+        "4",
+        "--format",
+        "json",
+        "--jobs",
+        "0",
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    let file = dir.join("n4.json");
+    std::fs::write(&file, &json).unwrap();
+    let report = mms(&["check", file.to_str().unwrap()]);
+    assert!(!report.is_empty());
+    let table = mms(&[
+        "analyze",
+        "--masses",
+        "4",
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    snap!("analyze_n4_table", table);
+    snap!("check_n4", report);
+    let _ = std::fs::remove_dir_all(&dir);
+}
