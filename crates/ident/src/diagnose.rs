@@ -133,6 +133,11 @@ pub enum EffectKind {
     /// Viscous damper from the driven mass to the ground; parameter
     /// `viscous_ns_per_m`.
     Friction,
+    /// An unmodelled mass and compliance: the model refitted with one more
+    /// mass (at the free end of the chain, or at its start for a free
+    /// chain); parameters `resonance_hz` and `antiresonance_hz`, the
+    /// features the extra mass adds.
+    ExtraMode,
     /// Nothing is missing: the calibrated model explains the data.
     None,
 }
@@ -155,13 +160,16 @@ impl EffectKind {
             EffectKind::GainError => "gain_error",
             EffectKind::HystereticDamping => "hysteretic_damping",
             EffectKind::Friction => "friction",
+            EffectKind::ExtraMode => "extra_mode",
             EffectKind::None => "none",
         }
     }
 
-    /// Name of the effect's parameter (`None` for [`EffectKind::None`]).
+    /// Name of the effect's parameter (`None` for [`EffectKind::None`] and
+    /// for [`EffectKind::ExtraMode`], which has two).
     pub fn parameter_name(self) -> Option<&'static str> {
         match self {
+            EffectKind::ExtraMode => None,
             EffectKind::TimeDelay => Some("delay_s"),
             EffectKind::Lowpass => Some("corner_hz"),
             EffectKind::GainError => Some("factor"),
@@ -180,7 +188,7 @@ impl EffectKind {
             EffectKind::GainError => e.gain_factor = Some(value),
             EffectKind::HystereticDamping => e.loss_factor = Some(value),
             EffectKind::Friction => e.viscous_friction = Some(value),
-            EffectKind::None => {}
+            EffectKind::ExtraMode | EffectKind::None => {}
         }
         e
     }
@@ -193,7 +201,7 @@ impl EffectKind {
             EffectKind::GainError => base.gain_factor,
             EffectKind::HystereticDamping => base.loss_factor,
             EffectKind::Friction => base.viscous_friction,
-            EffectKind::None => None,
+            EffectKind::ExtraMode | EffectKind::None => None,
         }
     }
 }
@@ -731,7 +739,7 @@ pub fn diagnose(
                 1e-4 * total_mass * 2.0 * PI * f_lo,
                 1e2 * total_mass * 2.0 * PI * f_hi,
             ),
-            EffectKind::None => continue,
+            EffectKind::ExtraMode | EffectKind::None => continue,
         };
         // Starts: the present value if the model has the effect already,
         // a value read off the residual where that is direct, else the
@@ -799,22 +807,49 @@ pub fn diagnose(
             state,
         ));
     }
+    // An extra mode: refit with one more mass; three more parameters.
+    let mut extra_after: Option<(ModelFile, FitSummary)> = None;
+    if let Some((verdict, file, summary_after)) = extra_mode(
+        &problem,
+        &calibrated,
+        &e_before,
+        rows,
+        o,
+        (before, calibrated.cost),
+    ) {
+        extra_after = Some((file, summary_after));
+        verdicts.push((
+            verdict,
+            State {
+                x: Vec::new(),
+                cost: f64::NAN,
+            },
+        ));
+    }
     // Best first; ties keep the fixed hypothesis order (stable sort).
     verdicts.sort_by(|a, b| b.0.score.total_cmp(&a.0.score));
     let (kept, rejected): (Vec<_>, Vec<_>) = verdicts.into_iter().partition(|v| v.0.score > 0.0);
 
-    let (after_kind, after_x) = match kept.first() {
-        Some((v, s)) => (v.kind, s.x.clone()),
-        None => (EffectKind::None, calibrated.x.clone()),
-    };
-    let after = summary(&problem.errors(after_kind, &after_x)?);
-    let model_after = ModelFile {
-        parameters: Parameters::from_values(
-            &model.model,
-            after_x[..np].iter().map(|v| v.exp()).collect(),
-        )?,
-        effects: problem.effects(after_kind, &after_x),
-        ..model.clone()
+    let (after, model_after) = match (kept.first(), extra_after) {
+        (Some((v, _)), Some((file, summary_after))) if v.kind == EffectKind::ExtraMode => {
+            (summary_after, file)
+        }
+        (first, _) => {
+            let (after_kind, after_x) = match first {
+                Some((v, s)) => (v.kind, s.x.clone()),
+                None => (EffectKind::None, calibrated.x.clone()),
+            };
+            let after = summary(&problem.errors(after_kind, &after_x)?);
+            let model_after = ModelFile {
+                parameters: Parameters::from_values(
+                    &model.model,
+                    after_x[..np].iter().map(|v| v.exp()).collect(),
+                )?,
+                effects: problem.effects(after_kind, &after_x),
+                ..model.clone()
+            };
+            (after, model_after)
+        }
     };
     let effects = if kept.is_empty() {
         vec![EffectVerdict {
@@ -846,4 +881,274 @@ pub fn diagnose(
         before,
         after,
     })
+}
+
+/// Places one more mass in the chain: at the free end, and (free chains
+/// only) before the first mass. Each placement is the extended model and,
+/// for every parameter of it, the index of the same parameter in the
+/// original model (`None` for the three new ones).
+fn extended_models(m: &mms::Model) -> Vec<(mms::Model, Vec<Option<usize>>)> {
+    let n = m.n_masses();
+    let old = m.parameters();
+    let mut out = Vec::new();
+    let mut placements: Vec<(mms::Model, usize)> = Vec::new();
+    if n < mms::MAX_MASSES {
+        if let Ok(e) = mms::Model::new(n + 1, m.gap(), m.actuator(), m.sensor()) {
+            placements.push((e, 0));
+        }
+        if m.gap() == 0 {
+            let shift = |p: mms::Port| mms::Port::new(p.plus + 1, p.minus);
+            if let Ok(e) = mms::Model::new(n + 1, 0, shift(m.actuator()), shift(m.sensor())) {
+                placements.push((e, 1));
+            }
+        }
+    }
+    for (e, offset) in placements {
+        // Masses and links of the original keep their names up to the
+        // index offset.
+        let rename = |name: &str| -> String {
+            let (kind, rest) = name.split_at(1);
+            if kind == "m" {
+                let i: usize = rest.parse().unwrap_or(0);
+                mms::mass_name(i + offset)
+            } else {
+                // Link names: the link's lower node index i (0 = ground).
+                let i = link_index(rest);
+                if kind == "c" {
+                    mms::spring_name(i + offset)
+                } else {
+                    mms::damper_name(i + offset)
+                }
+            }
+        };
+        let renamed: Vec<String> = old.iter().map(|p| rename(p)).collect();
+        let map = e
+            .parameters()
+            .iter()
+            .map(|p| renamed.iter().position(|r| r == p))
+            .collect();
+        out.push((e, map));
+    }
+    out
+}
+
+/// The lower node index of a link name's digits (`1` -> 0, `12` -> 1,
+/// `9_10` -> 9).
+fn link_index(digits: &str) -> usize {
+    if let Some((a, _)) = digits.split_once('_') {
+        return a.parse().unwrap_or(0);
+    }
+    if digits == "1" {
+        0
+    } else {
+        digits[..digits.len() - 1].parse().unwrap_or(0)
+    }
+}
+
+/// The extra-mode hypothesis: for each placement and each of the largest
+/// residual peaks, a small new mass tuned to the peak, then all parameters
+/// refitted (the old ones under the calibration's bounds and prior, the new
+/// ones free within two decades). Scored like the other hypotheses, with
+/// three parameters' price.
+fn extra_mode(
+    problem: &Problem,
+    calibrated: &State,
+    e_before: &[Complex64],
+    rows: f64,
+    o: &DiagnoseOptions,
+    (before, before_cost): (FitSummary, f64),
+) -> Option<(EffectVerdict, ModelFile, FitSummary)> {
+    let file = problem.file;
+    let n = file.model.n_masses();
+    let np = problem.np();
+    let old: Vec<f64> = calibrated.x[..np].iter().map(|v| v.exp()).collect();
+    let smallest = old[..n].iter().cloned().fold(f64::INFINITY, f64::min);
+    // The three largest local maxima of the residual's magnitude.
+    let mag: Vec<f64> = e_before.iter().map(|e| e.norm()).collect();
+    let mut peaks: Vec<usize> = (1..mag.len().saturating_sub(1))
+        .filter(|&k| mag[k] >= mag[k - 1] && mag[k] >= mag[k + 1])
+        .collect();
+    peaks.sort_by(|&a, &b| mag[b].total_cmp(&mag[a]));
+    peaks.truncate(3);
+    let price = 3.0 * rows.ln() + o.margin;
+    // (cost, extended model file, state, the problem's centre, prior and
+    // bounds).
+    type Best = (
+        f64,
+        ModelFile,
+        State,
+        Vec<f64>,
+        Vec<f64>,
+        Vec<f64>,
+        Vec<f64>,
+    );
+    let mut best: Option<Best> = None;
+    for (ext, map) in extended_models(&file.model) {
+        let names = ext.parameters();
+        let n_links = ext.springs().len();
+        for &k in &peaks {
+            let w = 2.0 * PI * problem.freq[k];
+            let m_new = 0.2 * smallest;
+            let c_new = m_new * w * w;
+            let d_new = 2.0 * 0.02 * (c_new * m_new).sqrt();
+            let values: Vec<f64> = names
+                .iter()
+                .enumerate()
+                .map(|(i, _)| match map[i] {
+                    Some(j) => old[j],
+                    None if i < ext.n_masses() => m_new,
+                    None if i < ext.n_masses() + n_links => c_new,
+                    None => d_new,
+                })
+                .collect();
+            let Ok(parameters) = Parameters::from_values(&ext, values.clone()) else {
+                continue;
+            };
+            let ext_file = ModelFile {
+                model: ext,
+                parameters,
+                ..file.clone()
+            };
+            let nominal_ln: Vec<f64> = values.iter().map(|v| v.ln()).collect();
+            let wide = 100f64.ln();
+            let index = |i: usize| map[i].map(|j| (problem.lo[j], problem.hi[j], problem.prior[j]));
+            let lo: Vec<f64> = (0..values.len())
+                .map(|i| index(i).map_or(nominal_ln[i] - wide, |b| b.0))
+                .collect();
+            let hi: Vec<f64> = (0..values.len())
+                .map(|i| index(i).map_or(nominal_ln[i] + wide, |b| b.1))
+                .collect();
+            // The old parameters keep their prior around their *nominal*
+            // values (as in the calibration); the new ones have none.
+            let prior: Vec<f64> = (0..values.len())
+                .map(|i| index(i).map_or(0.0, |b| b.2))
+                .collect();
+            let centre: Vec<f64> = (0..values.len())
+                .map(|i| map[i].map_or(nominal_ln[i], |j| problem.nominal_ln[j]))
+                .collect();
+            let ext_problem = Problem {
+                file: &ext_file,
+                freq: problem.freq,
+                data: problem.data,
+                inv_sigma: problem.inv_sigma.clone(),
+                nominal_ln: centre.clone(),
+                prior: prior.clone(),
+                lo: lo.clone(),
+                hi: hi.clone(),
+            };
+            // A short fit ranks the placements and peaks; only the best is
+            // finished (below), which keeps the hypothesis within the
+            // diagnosis's time budget.
+            let Ok(state) = ext_problem.fit(EffectKind::None, nominal_ln, &lo, &hi, 12) else {
+                continue;
+            };
+            if best.as_ref().is_none_or(|b| state.cost < b.0) {
+                best = Some((state.cost, ext_file.clone(), state, centre, prior, lo, hi));
+            }
+        }
+    }
+    let (_, ext_file, screened, centre, prior, lo, hi) = best?;
+    let ext = ext_file.model;
+    let ext_problem = Problem {
+        file: &ext_file,
+        freq: problem.freq,
+        data: problem.data,
+        inv_sigma: problem.inv_sigma.clone(),
+        nominal_ln: centre,
+        prior,
+        lo: lo.clone(),
+        hi: hi.clone(),
+    };
+    let state = ext_problem
+        .fit(EffectKind::None, screened.x, &lo, &hi, o.max_iterations)
+        .ok()?;
+    let cost = state.cost;
+    let score = before_cost - cost - price;
+    let errors = ext_problem.errors(EffectKind::None, &state.x).ok()?;
+    let after = summary(&errors);
+    let values: Vec<f64> = state.x.iter().map(|v| v.exp()).collect();
+    let parameters = Parameters::from_values(&ext, values).ok()?;
+    let added = added_features(&file.model, &old, &ext, parameters.values());
+    let mut params = BTreeMap::new();
+    if let Some((r, a)) = added {
+        params.insert("resonance_hz".to_string(), r);
+        if let Some(a) = a {
+            params.insert("antiresonance_hz".to_string(), a);
+        }
+    }
+    let evidence = format!(
+        "one more mass ({} masses, {}): cost {:.1} -> {:.1} noise units (price {:.1}); {:.3} dB / {:.2} deg -> {:.3} dB / {:.2} deg",
+        ext.n_masses(),
+        ext.id(),
+        before_cost,
+        cost,
+        price,
+        before.rms_db,
+        before.rms_deg,
+        after.rms_db,
+        after.rms_deg
+    );
+    let model_after = ModelFile {
+        model: ext,
+        parameters,
+        ..file.clone()
+    };
+    Some((
+        EffectVerdict {
+            kind: EffectKind::ExtraMode,
+            parameters: params,
+            evidence,
+            score,
+        },
+        model_after,
+        after,
+    ))
+}
+
+/// The resonance (and antiresonance, if any) the extended model has beyond
+/// the original's: the undamped features of each, matched by proximity,
+/// the unmatched ones reported (Hz).
+fn added_features(
+    m: &mms::Model,
+    p: &[f64],
+    ext: &mms::Model,
+    q: &[f64],
+) -> Option<(f64, Option<f64>)> {
+    let features = |model: &mms::Model, values: &[f64]| -> (Vec<f64>, Vec<f64>) {
+        let nu = model.undamped_parameters().len();
+        let (num, den) = crate::start::UndampedCoefficients::new(model).eval(&values[..nu]);
+        let hz = |c: &[f64]| -> Vec<f64> {
+            crate::start::roots(c)
+                .iter()
+                .filter(|z| z.re > 0.0 && z.im.abs() <= 1e-6 * z.norm())
+                .map(|z| z.re.sqrt() / (2.0 * PI))
+                .collect()
+        };
+        (hz(&num), hz(&den))
+    };
+    let (za, pa) = features(m, p);
+    let (zb, pb) = features(ext, q);
+    // The new feature is the one of the extended list farthest (in log
+    // frequency) from every feature of the original.
+    let extra = |old: &[f64], new: &[f64]| -> Option<f64> {
+        new.iter()
+            .map(|&f| {
+                let d = old
+                    .iter()
+                    .map(|&g| (f / g).ln().abs())
+                    .fold(f64::INFINITY, f64::min);
+                (d, f)
+            })
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, f)| f)
+    };
+    let r = extra(&pa, &pb)?;
+    Some((
+        r,
+        if zb.len() > za.len() {
+            extra(&za, &zb)
+        } else {
+            None
+        },
+    ))
 }
