@@ -83,15 +83,9 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
 /// mismatch bands shaded, and the residual panel.
 fn bode(frf: &frf::Frf, before: &ModelFile, d: &Diagnosis) -> Bode {
     let f = frf.freq_hz();
-    let eval = |m: &ModelFile| -> Vec<num_complex::Complex64> {
+    let eval = |m: &ModelFile| {
         let g = ChainResponse::with_effects(&m.model, m.output, &m.effects);
-        f.iter()
-            .map(|&x| {
-                g.eval(m.parameters.values(), x)
-                    .map(|z| z * m.gain)
-                    .unwrap_or(num_complex::Complex64::new(f64::NAN, f64::NAN))
-            })
-            .collect()
+        crate::identify::model_curve(&g, m.parameters.values(), m.gain, f)
     };
     let mut b = Bode::new("Recording, model, and model with the missing physics")
         .trace("recording", f, frf.response(), Style::points())

@@ -164,6 +164,24 @@ fn to_json(id: &Identification) -> Value {
     })
 }
 
+/// A model's FRF (times its gain) on the plot's lines; NaN where it cannot
+/// be evaluated, which the plot draws as a gap.
+pub fn model_curve(
+    g: &ChainResponse,
+    values: &[f64],
+    gain: f64,
+    freq_hz: &[f64],
+) -> Vec<num_complex::Complex64> {
+    freq_hz
+        .iter()
+        .map(|&x| {
+            g.eval(values, x)
+                .map(|z| z * gain)
+                .unwrap_or(num_complex::Complex64::new(f64::NAN, f64::NAN))
+        })
+        .collect()
+}
+
 /// Data, the best fit and the rest of its indistinguishable group.
 fn bode(frf: &Frf, output: Output, id: &Identification) -> Bode {
     let (lo, hi) = id.classification.band_hz;
@@ -175,15 +193,12 @@ fn bode(frf: &Frf, output: Output, id: &Identification) -> Bode {
     .trace("measured", f, frf.response(), Style::points());
     let group = id.indistinguishable.first().map_or(1, Vec::len);
     for (k, c) in id.candidates.iter().take(group.clamp(1, 4)).enumerate() {
-        let g = ChainResponse::new(&c.model, output);
-        let h: Vec<_> = f
-            .iter()
-            .map(|&x| {
-                g.eval(c.fit.parameters.values(), x)
-                    .map(|z| z * c.fit.gain)
-                    .unwrap_or(num_complex::Complex64::new(f64::NAN, f64::NAN))
-            })
-            .collect();
+        let h = model_curve(
+            &ChainResponse::new(&c.model, output),
+            c.fit.parameters.values(),
+            c.fit.gain,
+            f,
+        );
         let style = if k == 0 {
             Style::line()
         } else {

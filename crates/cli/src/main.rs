@@ -363,10 +363,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 format,
                 out: out.as_deref(),
             };
-            match identify::run(&args)? {
-                Some(text) => output::emit(None, &text),
-                None => Ok(()),
-            }
+            output::emit_report(identify::run(&args)?)
         }
         Command::Diagnose {
             recording,
@@ -384,10 +381,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 format,
                 out: out.as_deref(),
             };
-            match diagnose::run(&args)? {
-                Some(text) => output::emit(None, &text),
-                None => Ok(()),
-            }
+            output::emit_report(diagnose::run(&args)?)
         }
         Command::Study {
             masses,

@@ -35,6 +35,15 @@ pub fn write_atomic_bytes(path: &Path, bytes: &[u8]) -> Result<(), String> {
     })
 }
 
+/// Prints a report a command returned for stdout; `None` when it wrote its
+/// report into an output directory instead.
+pub fn emit_report(report: Option<String>) -> Result<(), String> {
+    match report {
+        Some(text) => emit(None, &text),
+        None => Ok(()),
+    }
+}
+
 /// Prints to stdout, or writes the file when `out` is given.
 pub fn emit(out: Option<&Path>, text: &str) -> Result<(), String> {
     match out {

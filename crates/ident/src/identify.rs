@@ -44,7 +44,7 @@ use crate::start::{feature_starts, roots, FeatureTarget};
 use frf::Frf;
 use mms::analysis::{analyze, Feature, SearchLimits, Status};
 use mms::backsolve::{back_solve, BackSolution, Target};
-use mms::response::{ChainResponse, Parameters};
+use mms::response::Parameters;
 use mms::xorshift::XorShift;
 use mms::{Model, Output};
 use num_complex::Complex64;
@@ -907,16 +907,14 @@ fn plausibility(model: &Model, f: &Fit) -> Vec<String> {
     if mx / mn > 1e3 {
         notes.push(format!("masses span a factor {:.0}", mx / mn));
     }
-    let g = ChainResponse::new(model, Output::Position);
-    let _ = g;
+    let m = mn;
     let names = model.parameters();
     let n_links = model.springs().len();
+    // Damping ratio of each link on its own, against the lightest mass (a
+    // bound from above on the ratio against any body the link joins).
     for k in 0..n_links {
         let c = v[n + k];
         let d = v[n + n_links + k];
-        // Damping ratio of the link on its own, against the lighter of the
-        // two bodies it joins.
-        let m = masses.iter().cloned().fold(f64::INFINITY, f64::min);
         let zeta = d / (2.0 * (c * m).sqrt());
         if zeta > 0.5 {
             notes.push(format!(

@@ -310,25 +310,17 @@ fn lm(c: &UndampedCoefficients, t: &FeatureTarget, x0: Vec<f64>) -> Option<(Vec<
     let mut lambda = 1e-2;
     for _ in 0..200 {
         let h = 1e-7;
-        let mut jac = vec![vec![0.0; np]; r.len()];
+        // Row-major Jacobian, one row per residual.
+        let mut jac = vec![0.0; r.len() * np];
         for k in 0..np {
             let mut yk = y.clone();
             yk[k] += h;
             let rk = residuals(c, t, &exp(&yk))?;
-            for (row, (a, b)) in jac.iter_mut().zip(rk.iter().zip(&r)) {
-                row[k] = (a - b) / h;
+            for (row, (a, b)) in rk.iter().zip(&r).enumerate() {
+                jac[row * np + k] = (a - b) / h;
             }
         }
-        let mut a = vec![0.0; np * np];
-        let mut g = vec![0.0; np];
-        for (row, &ri) in jac.iter().zip(&r) {
-            for i in 0..np {
-                g[i] += row[i] * ri;
-                for j in 0..np {
-                    a[i * np + j] += row[i] * row[j];
-                }
-            }
-        }
+        let (a, g) = crate::fit::normal_equations(&jac, &r, np);
         let mut improved = false;
         while lambda < 1e12 {
             let mut m = a.clone();

@@ -151,13 +151,7 @@ fn collocated_alternatives_of_tab7() {
     let target = Target::from_model_f64(&a1, &a1_tab7).unwrap();
     let printed: Vec<(&str, Vec<[f64; 5]>)> = ["A4", "B1", "C1", "C3"]
         .iter()
-        .map(|id| {
-            let rows = mms::paper::TAB7
-                .iter()
-                .filter(|(r, _)| r == id)
-                .map(|(_, v)| *v);
-            (*id, rows.collect())
-        })
+        .map(|id| (*id, mms::paper::tab7_rows(id)))
         .collect();
     for (id, sets) in &printed {
         let m = Model::from_id(id).unwrap();

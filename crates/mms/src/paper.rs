@@ -79,3 +79,16 @@ pub const TAB7: [(&str, [f64; 5]); 7] = [
     ("C1", [0.0049, 0.0091, 0.040, 31.5, 27.4]),
     ("C3", [0.0421, 0.0049, 0.040, 67.7, 58.9]),
 ];
+
+/// The rows of [`TAB7`] printed for model `id` (two for A4 and B1).
+///
+/// ```
+/// assert_eq!(mms::paper::tab7_rows("B1").len(), 2);
+/// assert_eq!(mms::paper::tab7_rows("C1"), [[0.0049, 0.0091, 0.040, 31.5, 27.4]]);
+/// ```
+pub fn tab7_rows(id: &str) -> Vec<[f64; 5]> {
+    TAB7.iter()
+        .filter(|(r, _)| *r == id)
+        .map(|(_, v)| *v)
+        .collect()
+}

@@ -153,13 +153,7 @@ fn tab7_collocated_models_from_the_a1_fit() {
     let ids = ["A1", "A4", "B1", "C1", "C3"];
     let table: Vec<(&str, Vec<[f64; 5]>)> = ids
         .iter()
-        .map(|id| {
-            let rows = mms::paper::TAB7
-                .iter()
-                .filter(|(r, _)| r == id)
-                .map(|(_, v)| *v);
-            (*id, rows.collect())
-        })
+        .map(|id| (*id, mms::paper::tab7_rows(id)))
         .collect();
     for (id, printed) in &table {
         let m = model(id);
