@@ -77,8 +77,9 @@ impl Cache {
         Ok(Cache {
             dir: dir.to_path_buf(),
             fingerprint: format!(
-                "cache layout {LAYOUT_VERSION}; mms {}; {limits:?}",
-                env!("CARGO_PKG_VERSION")
+                "cache layout {LAYOUT_VERSION}; mms {} engine {}; {limits:?}",
+                env!("CARGO_PKG_VERSION"),
+                mms::analysis::ENGINE_VERSION
             ),
         })
     }

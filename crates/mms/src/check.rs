@@ -23,13 +23,19 @@
 //!    Sylvester determinants) by the listed factors, each factor's proof
 //!    (sign-definiteness, cancellation counting, or a wall with its own
 //!    proof, checked recursively) and the proof for the open part (counting,
-//!    multiplicities, interlacing, Descartes' rule, connected regions with
-//!    sample points, or refuted sign conditions).
+//!    multiplicities, Descartes' rule, connected regions with sample
+//!    points, or refuted sign conditions); or one of two structural
+//!    theorems that hold on the whole orthant, whose premises it checks on
+//!    the model's matrices and polynomials.
 //!
-//! The checker relies on two theorems it cannot check by computation: the
-//! roots of the denominator are real and positive for all positive
-//! parameters (eigenvalues of a symmetric definite pencil), and the zeros
-//! and poles of a collocated model interlace.
+//! The checker relies on three theorems it cannot check by computation:
+//! the roots of the denominator are real and positive for all positive
+//! parameters (eigenvalues of a symmetric definite pencil); an unreduced
+//! symmetric tridiagonal matrix has simple eigenvalues (premise checked:
+//! `M` diagonal positive, `K` tridiagonal with negative or zero
+//! off-diagonal entries; `simple_resonances`); and a collocated receptance
+//! is a sum of modal terms with positive residues (premise checked:
+//! actuator = sensor, rigid-body pole uncancelled; `collocated_modes`).
 //!
 //! ```
 //! use mms::analysis::{analyze, SearchLimits};
@@ -395,10 +401,17 @@ impl Ty {
         self.toks.iter().filter(|t| !t.zero).map(|t| t.mult).sum()
     }
 
-    fn alternating(&self) -> bool {
+    /// `(AR)^k`: simple, alternating, from an antiresonance to a resonance.
+    fn rigid_body_interlacing(&self) -> bool {
         !self.nm
             && self.toks.iter().all(|t| t.mult == 1)
             && self.toks.windows(2).all(|w| w[0].zero != w[1].zero)
+            && self.toks.len().is_multiple_of(2)
+            && self.toks.first().is_none_or(|t| t.zero)
+    }
+
+    fn multiple_resonance(&self) -> bool {
+        self.toks.iter().any(|t| !t.zero && t.mult > 1)
     }
 }
 
@@ -700,6 +713,8 @@ struct Entry<'a> {
 struct ModelChecker {
     params: Vec<String>,
     collocated: bool,
+    /// Why the pencil is not block-unreduced-tridiagonal, if it is not.
+    jacobi: Result<(), String>,
     num: Poly,
     den: Poly,
     strata: HashMap<String, Rc<Stratum>>,
@@ -727,6 +742,7 @@ fn check_model_at(m: &Value, path: &str) -> Result<CheckReport, CheckError> {
     let mut checker = ModelChecker {
         params: model.undamped_parameters(),
         collocated: model.actuator() == model.sensor(),
+        jacobi: unreduced_blocks(&model),
         num,
         den,
         strata: HashMap::new(),
@@ -793,6 +809,42 @@ fn read_model(m: &Value, path: &str) -> Result<Model, String> {
         ));
     }
     Ok(model)
+}
+
+/// The premise of `simple_resonances`: `M` diagonal with entries positive
+/// on the orthant (no subtraction), `K` symmetric tridiagonal with every
+/// off-diagonal entry zero (a gap: a new block starts) or negative on the
+/// orthant. Then `M^(-1/2) K M^(-1/2)` is block diagonal with unreduced
+/// symmetric tridiagonal blocks, whose eigenvalues are simple; the TF is a
+/// sum of one term per block, so its reduced poles are simple.
+fn unreduced_blocks(model: &Model) -> Result<(), String> {
+    let mass = model.mass_matrix();
+    let stiff = model.stiffness_matrix();
+    let n = mass.len();
+    for i in 0..n {
+        for j in 0..n {
+            let (m, k) = (&mass[i][j], &stiff[i][j]);
+            if i == j {
+                if !m.all_coefs_positive() {
+                    return Err(format!("M[{i}][{i}] = {m} is not positive"));
+                }
+                continue;
+            }
+            if !m.is_zero() {
+                return Err(format!("M[{i}][{j}] = {m} is not zero"));
+            }
+            if *k != stiff[j][i] {
+                return Err(format!("K is not symmetric at [{i}][{j}]"));
+            }
+            let far = i.abs_diff(j) > 1;
+            if (far && !k.is_zero()) || (!far && !k.is_zero() && !k.all_coefs_negative()) {
+                return Err(format!(
+                    "K[{i}][{j}] = {k} breaks the tridiagonal chain form"
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The file's `num/den` against `c^T adj(K - Omega*M) b` and
@@ -920,7 +972,10 @@ impl ModelChecker {
 
         // Coverage of the critical polynomials (not needed when the type
         // has more resonances than the stratum has poles anywhere).
-        if kind != "too_many_resonances" {
+        if !matches!(
+            kind,
+            "too_many_resonances" | "simple_resonances" | "collocated_modes"
+        ) {
             let factors: Vec<&Poly> = entries.iter().map(|e| &e.poly).collect();
             for c in &s.critical {
                 if c.poly.is_zero() {
@@ -1096,12 +1151,31 @@ impl ModelChecker {
                 }
                 Ok(())
             }
-            "interlacing" => {
-                if !self.collocated {
-                    return Err("interlacing: the model is not collocated".into());
+            "simple_resonances" => {
+                self.jacobi
+                    .clone()
+                    .map_err(|e| format!("simple_resonances: {e}"))?;
+                if !t.multiple_resonance() {
+                    return Err("simple_resonances: the type has no multiple resonance".into());
                 }
-                if t.alternating() {
-                    return Err("interlacing: the type is alternating".into());
+                Ok(())
+            }
+            "collocated_modes" => {
+                if !self.collocated {
+                    return Err("collocated_modes: the model is not collocated".into());
+                }
+                // The rigid-body pole stays: numerator and denominator are
+                // of one sign at Omega = 0 (recomputed, not read).
+                for (what, p) in [("numerator", &self.num), ("denominator", &self.den)] {
+                    let at_zero = p.subs(OMEGA, &Rat::ZERO);
+                    if !(at_zero.all_coefs_positive() || at_zero.all_coefs_negative()) {
+                        return Err(format!(
+                            "collocated_modes: the {what} at Omega = 0, {at_zero}, changes sign"
+                        ));
+                    }
+                }
+                if t.rigid_body_interlacing() {
+                    return Err("collocated_modes: the type is of the form (AR)^k".into());
                 }
                 Ok(())
             }

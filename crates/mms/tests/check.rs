@@ -237,14 +237,14 @@ fn tampered_condition_is_rejected() {
 
 #[test]
 fn altered_definiteness_sign_is_rejected() {
-    let ptr = verdict_ptr("A1", "AARR");
+    let ptr = verdict_ptr("A2", "RRA");
     let e = tampered(&ptr, |v| {
         let f = &mut v["certificate"]["factors"][0];
         assert_eq!(f["kind"], "definite");
         f["sign"] = json!(-1);
     });
     let (model, t, step) = type_step(&e);
-    assert_eq!((model, t), ("A1", "AARR"));
+    assert_eq!((model, t), ("A2", "RRA"));
     assert!(
         step.starts_with("factor 0 (c12) definite: no_subtraction"),
         "{e}"
@@ -259,15 +259,14 @@ fn altered_definiteness_sign_is_rejected() {
         f["definiteness"]["var"] = "m1".into();
     });
     assert!(
-        e.to_string().contains("completed_square: ")
-            && e.to_string().contains("not of degree 2 in m1"),
+        e.to_string().contains("completed_square: ") && e.to_string().contains(" m1"),
         "{e}"
     );
 }
 
 #[test]
 fn dropped_factor_is_rejected() {
-    let e = tampered(&verdict_ptr("A1", "AARR"), |v| {
+    let e = tampered(&verdict_ptr("A2", "RRA"), |v| {
         v["certificate"]["factors"]
             .as_array_mut()
             .unwrap()
@@ -407,4 +406,48 @@ fn malformed_input_names_the_key() {
     assert!(e.to_string().contains("missing key \"denominator\""), "{e}");
     let e = tampered(&verdict_ptr("A1", "AARR"), |v| v["type"] = "AXR".into());
     assert!(e.to_string().contains("not an FRF type"), "{e}");
+}
+
+/// A certificate of `kind` moved onto the verdict at `to` (marked
+/// impossible there) must be rejected with a message containing `why`.
+fn moved_certificate_is_rejected(kind: &str, to: &str, why: &str) {
+    let from = proof_ptrs()
+        .into_iter()
+        .find(|p| paper_file().pointer(p).unwrap()["open"]["kind"] == kind)
+        .unwrap_or_else(|| panic!("no {kind} certificate"));
+    let cert = paper_file().pointer(&from).unwrap().clone();
+    let e = tampered(to, |v| {
+        v["status"] = "impossible".into();
+        v["witness"] = Value::Null;
+        v["certificate"] = cert;
+    });
+    let (_, _, step) = type_step(&e);
+    assert!(step.contains(why), "{step}");
+}
+
+#[test]
+fn simple_resonance_certificate_needs_a_multiple_resonance() {
+    // B2 (gap 1, two blocks) excludes its R^2 types by the theorem; on a
+    // type without a multiple resonance the premise does not apply.
+    moved_certificate_is_rejected(
+        "simple_resonances",
+        &verdict_ptr("B2", "AARR"),
+        "the type has no multiple resonance",
+    );
+}
+
+#[test]
+fn collocated_certificate_needs_collocation_and_a_non_modal_type() {
+    // C3 is collocated and shows ARAR: (AR)^k is what the theorem allows.
+    moved_certificate_is_rejected(
+        "collocated_modes",
+        &verdict_ptr("C3", "ARAR"),
+        "of the form (AR)^k",
+    );
+    // A2 is not collocated: its ARR may not borrow the argument.
+    moved_certificate_is_rejected(
+        "collocated_modes",
+        &verdict_ptr("A2", "ARR"),
+        "not collocated",
+    );
 }

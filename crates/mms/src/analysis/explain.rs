@@ -290,9 +290,20 @@ fn open(w: &mut W, o: &OpenProof) {
         OpenProof::Multiplicity => w.para(
             "Off the walls the roots of each square-free part are simple and the parts share none: the type's multiplicities (or its zeros off the positive axis) do not match.",
         ),
-        OpenProof::Interlacing => w.para(
-            "Actuator and sensor are collocated: the receptance is a sum of modal terms with positive residues, so zeros and poles interlace and all are simple, with no zero off the positive axis. The type is not of that form.",
+        OpenProof::SimpleResonances => w.para(
+            "Every resonance is simple, for all positive parameters: K - Omega*M is block diagonal, one block per connected part of the chain, and each block is an unreduced tridiagonal pencil with positive masses, whose eigenvalues are simple. The TF is a sum of one term per block, so after cancellation its denominator divides the product of the block determinants with every root once. The type has a multiple resonance.",
         ),
+        OpenProof::CollocatedModes {
+            num_at_zero,
+            den_at_zero,
+        } => {
+            let s = format!(
+                "Actuator and sensor are collocated: the TF is a sum of modal terms with positive residues. The rigid-body pole at Omega = 0 never cancels (numerator {} and denominator {} at Omega = 0 have one sign). So the TF rises from minus to plus infinity between consecutive poles, with one simple zero, and stays negative above the last pole: every type is (AR)^k. This one is not.",
+                w.poly(num_at_zero),
+                w.poly(den_at_zero)
+            );
+            w.para(&s)
+        }
         OpenProof::Descartes {
             part,
             sign_changes,

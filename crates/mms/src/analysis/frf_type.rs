@@ -80,6 +80,35 @@ impl FrfType {
             && self.tokens.iter().all(|t| t.multiplicity == 1)
             && self.tokens.windows(2).all(|w| w[0].feature != w[1].feature)
     }
+
+    /// `(AR)^k`, `k >= 0` (`C` for `k = 0`): what a receptance with a
+    /// rigid-body pole and positive modal residues shows, since it rises
+    /// from minus to plus infinity between consecutive poles and stays
+    /// negative above the last.
+    ///
+    /// ```
+    /// use mms::analysis::FrfType;
+    /// let t = |s: &str| s.parse::<FrfType>().unwrap();
+    /// assert!(t("ARAR").is_rigid_body_interlacing());
+    /// assert!(t("C").is_rigid_body_interlacing());
+    /// assert!(!t("RARA").is_rigid_body_interlacing());
+    /// assert!(!t("ARA").is_rigid_body_interlacing());
+    /// ```
+    pub fn is_rigid_body_interlacing(&self) -> bool {
+        self.is_alternating()
+            && self.tokens.len().is_multiple_of(2)
+            && self
+                .tokens
+                .first()
+                .is_none_or(|t| t.feature == Feature::Antiresonance)
+    }
+
+    /// A resonance of multiplicity two or more.
+    pub fn has_multiple_resonance(&self) -> bool {
+        self.tokens
+            .iter()
+            .any(|t| t.feature == Feature::Resonance && t.multiplicity > 1)
+    }
 }
 
 impl fmt::Display for FrfType {

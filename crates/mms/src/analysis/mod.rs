@@ -26,6 +26,7 @@ mod explain;
 mod frf_type;
 mod lp;
 mod prover;
+mod targeted;
 
 pub use explain::{explain, ExplainFormat};
 pub use frf_type::{
@@ -156,6 +157,11 @@ impl ModelAnalysis {
     }
 }
 
+/// The version of the decision procedure: raised whenever a change can
+/// alter a verdict, a witness or a certificate, so that stored analyses
+/// (e.g. `mms analyze --cache`) made by another version are recomputed.
+pub const ENGINE_VERSION: u32 = 2;
+
 /// Decides every candidate FRF type of `model` (see the module docs).
 pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
     let tf = model.undamped_tf();
@@ -192,6 +198,22 @@ pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
                 None
             },
         });
+    }
+    // Rare generic types: a targeted search, then the verdicts it changes.
+    let unknown: Vec<FrfType> = verdicts
+        .iter()
+        .filter(|v| v.status == Status::Unknown)
+        .map(|v| v.frf_type.clone())
+        .collect();
+    let found = prover.targeted_search(&unknown, 0x7A26_E7ED)
+        + prover.partial_wall_search(&unknown, limits.partial_wall_depth);
+    if found > 0 {
+        for v in verdicts.iter_mut().filter(|v| v.status == Status::Unknown) {
+            if let Some(w) = prover.witnesses.get(&v.frf_type) {
+                v.status = Status::Possible;
+                v.witness = Some(w.clone());
+            }
+        }
     }
     let rank = |s: Status| match s {
         Status::Possible => 0,

@@ -234,9 +234,29 @@ pub enum OpenProof {
     /// Off the walls the roots of each square-free part are simple and the
     /// parts share no root: the multiplicities of the type do not match.
     Multiplicity,
-    /// Collocated actuator and sensor: zeros and poles interlace, all
-    /// simple, no zero off the positive axis; the type does not.
-    Interlacing,
+    /// Every pole of the reduced TF is simple, for every positive
+    /// parameter point: `K - Omega*M` is block diagonal with one block per
+    /// connected part of the chain, each an unreduced symmetric tridiagonal
+    /// pencil with a positive diagonal `M` (simple eigenvalues), and the TF
+    /// is a sum of one term per block, so its reduced denominator divides
+    /// the product of square-free block determinants without repeats. The
+    /// type has a multiple resonance. Holds on every stratum.
+    SimpleResonances,
+    /// Collocated actuator and sensor: the TF is a sum of modal terms with
+    /// positive residues including the rigid-body pole at `Omega = 0`
+    /// (the denominator excludes it), which never cancels since
+    /// `numerator(0)` and `denominator(0)` have no sign change.
+    /// Between consecutive poles it rises from minus to plus infinity (one
+    /// simple zero), above the last it stays negative: the type is
+    /// `(AR)^k`. The type is not. Holds on every stratum.
+    CollocatedModes {
+        /// The numerator at `Omega = 0`, of one sign on the orthant.
+        #[serde(serialize_with = "ser_poly")]
+        num_at_zero: Poly,
+        /// The denominator at `Omega = 0`, of one sign on the orthant.
+        #[serde(serialize_with = "ser_poly")]
+        den_at_zero: Poly,
+    },
     /// Descartes' rule of signs for the numerator part `part`, whose
     /// coefficients in `Omega` have definite signs.
     Descartes {
@@ -308,7 +328,7 @@ pub(crate) struct CriticalFactor {
 }
 
 impl Stratum {
-    fn key(&self) -> String {
+    pub(crate) fn key(&self) -> String {
         let mut k: Vec<String> = self
             .subs
             .iter()
@@ -318,7 +338,7 @@ impl Stratum {
         k.join(";")
     }
 
-    fn vanishing(&self) -> impl Iterator<Item = &CriticalFactor> {
+    pub(crate) fn vanishing(&self) -> impl Iterator<Item = &CriticalFactor> {
         self.factors.iter().filter(|f| f.definite.is_none())
     }
 
@@ -610,6 +630,9 @@ pub struct SearchLimits {
     pub max_depth: usize,
     /// Maximal multiplier degree in the sign-condition LP.
     pub multiplier_degree: u32,
+    /// Nesting of the partial walls the targeted search samples for types
+    /// still unknown (0: none).
+    pub partial_wall_depth: usize,
 }
 
 impl Default for SearchLimits {
@@ -619,6 +642,7 @@ impl Default for SearchLimits {
             wall_samples: 60,
             max_depth: 4,
             multiplier_degree: 2,
+            partial_wall_depth: 2,
         }
     }
 }
@@ -662,7 +686,7 @@ impl<'a> Prover<'a> {
     }
 
     /// Keeps the simplest witness of each type (fewest digits).
-    fn record(&mut self, point: BTreeMap<String, Rat>) {
+    pub(crate) fn record(&mut self, point: BTreeMap<String, Rat>) {
         if let Some(t) = self.type_at(&point) {
             self.offer(t, point);
         }
@@ -754,6 +778,29 @@ impl<'a> Prover<'a> {
                 factors: Vec::new(),
             });
         }
+        // Structural theorems, valid on the whole orthant and so on
+        // every stratum: no factor needs a treatment.
+        if t.has_multiple_resonance() {
+            return Some(Proof {
+                stratum: s.subs.clone(),
+                open: OpenProof::SimpleResonances,
+                factors: Vec::new(),
+            });
+        }
+        if self.model.is_collocated() && !t.is_rigid_body_interlacing() {
+            let num_at_zero = self.num.subs(OMEGA, &Rat::ZERO);
+            let den_at_zero = self.den.subs(OMEGA, &Rat::ZERO);
+            if num_at_zero.orthant_sign().is_some() && den_at_zero.orthant_sign().is_some() {
+                return Some(Proof {
+                    stratum: s.subs.clone(),
+                    open: OpenProof::CollocatedModes {
+                        num_at_zero,
+                        den_at_zero,
+                    },
+                    factors: Vec::new(),
+                });
+            }
+        }
         let open = self.open_proof(s, t, limits)?;
         let lc_definite = s
             .factors
@@ -812,9 +859,6 @@ impl<'a> Prover<'a> {
         }
         if !multiplicities_fit(s, t) {
             return Some(OpenProof::Multiplicity);
-        }
-        if self.model.is_collocated() && !t.is_alternating() {
-            return Some(OpenProof::Interlacing);
         }
         if let Some(p) = descartes(s, t) {
             return Some(p);
