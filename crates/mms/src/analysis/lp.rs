@@ -108,6 +108,9 @@ pub(crate) fn monomials(vars: &[String], deg: u32) -> Vec<Poly> {
     out
 }
 
+/// Largest dense tableau (rows times columns) the sign-condition LP builds.
+const MAX_TABLEAU_ENTRIES: usize = 2_000_000;
+
 /// Multipliers `lambda_i` with nonnegative coefficients, at least one of
 /// them on a strict condition nonzero, such that `sum lambda_i * g_i` has no
 /// positive coefficient. With `g_i > 0` (strict) or `g_i >= 0` required on
@@ -143,6 +146,12 @@ pub(crate) fn positive_combination(
             }
         }
         let n = cols.len();
+        // The simplex is dense: beyond this size (five masses, nine
+        // variables, degree-2 multipliers) it would take gigabytes. Such a
+        // case stays unknown rather than exhausting the machine.
+        if (entries.len() + 1).saturating_mul(n) > MAX_TABLEAU_ENTRIES {
+            return None;
+        }
         let mut rows: Vec<Vec<Rat>> = entries
             .iter()
             .map(|e| {
