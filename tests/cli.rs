@@ -340,3 +340,48 @@ fn analyze_cache_resumes_and_recomputes_bad_files() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 4, item 4: the report's identification summary for three masses
+/// against the paper's Tab. 3 (mms::paper::TAB3, typed in from the paper):
+/// a type identifies the structure exactly when one model of Tab. 3 lists
+/// it, and the groups of several classes are the paper's.
+#[test]
+fn analyze_report_summary_matches_the_papers_tab3() {
+    use std::collections::BTreeMap;
+    let (code, out, err) = mms(&["analyze", "--masses", "3", "--format", "report"]);
+    assert_eq!(code, 0, "{err}");
+    let mut paper: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for (id, types) in mms::paper::TAB3.iter() {
+        for t in types.iter() {
+            paper.entry(t.to_string()).or_default().push(id.to_string());
+        }
+    }
+    let section = |title: &str| -> BTreeMap<String, Vec<String>> {
+        let start = out.find(title).unwrap_or_else(|| panic!("no {title}"));
+        out[start..]
+            .lines()
+            .skip_while(|l| !l.starts_with("|---"))
+            .skip(1)
+            .take_while(|l| l.starts_with('|'))
+            .map(|l| {
+                let cells: Vec<&str> = l.split('|').map(str::trim).collect();
+                let models = cells[2].split(", ").map(String::from).collect();
+                (cells[1].trim_matches('`').to_string(), models)
+            })
+            .collect()
+    };
+    let unique = section("### Types that identify the structure");
+    let shared = section("### Types several classes can show");
+    for (t, models) in &paper {
+        let mut models = models.clone();
+        models.sort();
+        let got = if models.len() == 1 {
+            unique.get(t)
+        } else {
+            shared.get(t)
+        };
+        assert_eq!(got, Some(&models), "type {t}");
+    }
+    assert_eq!(unique.len() + shared.len(), paper.len());
+    assert!(out.contains("None: the table is complete."), "{out}");
+}

@@ -131,5 +131,24 @@ fn analyze_n4_table_and_every_certificate_checked() {
     ]);
     snap!("analyze_n4_table", table);
     snap!("check_n4", report);
+    // Issue 4, item 4: the committed document is the current one.
+    let doc = mms(&[
+        "analyze",
+        "--masses",
+        "4",
+        "--format",
+        "report",
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    let committed = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../docs/tables/n4.md"
+    ))
+    .expect("docs/tables/n4.md");
+    assert!(
+        committed == doc,
+        "docs/tables/n4.md is stale: regenerate it with `mms analyze --masses 4 --format report`"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

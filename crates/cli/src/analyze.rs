@@ -307,6 +307,13 @@ fn render(
 ) -> Result<String, String> {
     let mut s = String::new();
     match format {
+        TableFormat3::Report => {
+            let n = summaries
+                .first()
+                .and_then(|a| a.analysis["masses"].as_u64())
+                .unwrap_or(0) as usize;
+            s = crate::tables::report(n, summaries, similar)?;
+        }
         TableFormat3::Json => {
             let models: Vec<serde_json::Value> = summaries
                 .iter()

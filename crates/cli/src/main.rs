@@ -12,6 +12,7 @@ mod identify;
 mod output;
 mod recording;
 mod study;
+mod tables;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
@@ -212,6 +213,9 @@ pub enum TableFormat3 {
     Json,
     Md,
     Tex,
+    /// A Markdown document: counts, what the types say about the
+    /// structure, rule (3), the table, the undecided verdicts.
+    Report,
 }
 
 #[derive(ValueEnum, Clone, Copy, PartialEq, Eq)]
