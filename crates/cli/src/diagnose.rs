@@ -1,9 +1,12 @@
 //! `mms diagnose`: where a model and a recording differ, which physics the
-//! model left out, and how much adding it improves the fit.
+//! model left out, and how much adding it improves the fit. A time-domain
+//! recording also gets the time-domain diagnosis (Coulomb friction,
+//! backlash) from its samples.
 
 use crate::identify::IdentifyFormat;
 use crate::recording::RecordingArgs;
 use ident::diagnose::{diagnose, DiagnoseOptions, Diagnosis, EffectKind};
+use ident::nonlinear::{diagnose_time, TimeDiagnosis, TimeOptions};
 use mms::model_file::ModelFile;
 use mms::response::ChainResponse;
 use plot::{Bode, Style};
@@ -53,17 +56,63 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         .frf
         .band(lo.max(f64::MIN_POSITIVE), hi)
         .ok_or_else(|| format!("{name}: no frequency lines in the band {lo}..{hi} Hz"))?;
-    let d = diagnose(&data, &model, &options).map_err(|e| format!("{name}: {e}"))?;
+    let mut linear = model.clone();
+    // The FRF knows nothing of the nonlinear effects.
+    linear.effects.coulomb_friction = None;
+    linear.effects.backlash_gap = None;
+    let d = diagnose(&data, &linear, &options).map_err(|e| format!("{name}: {e}"))?;
+    // A time-domain recording is also checked for the nonlinear effects. If
+    // one is found it leads the report (with the frequency-domain diagnosis
+    // inside); if not, the frequency-domain report stands, with the check
+    // noted, so that a linear effect (a dead time) is not hidden behind a
+    // time-domain "none".
+    let mut time_check = None;
+    if let Some(samples) = &rec.samples {
+        let options = TimeOptions {
+            tolerance: args.tolerance,
+            ..TimeOptions::default()
+        };
+        let td = diagnose_time(&samples.u, &samples.y, samples.fs, &model, &options)
+            .map_err(|e| format!("{name}: time-domain diagnosis: {e}"))?;
+        if td
+            .effects
+            .first()
+            .is_some_and(|e| e.kind != EffectKind::None)
+        {
+            return run_time(args, &name, samples, &model, td, d);
+        }
+        time_check = Some(td);
+    }
     let plot = bode(&data, &model, &d);
     let report = match args.format {
         IdentifyFormat::Json => {
-            let mut s = serde_json::to_string_pretty(&d).map_err(|e| format!("JSON: {e}"))?;
+            let mut v = serde_json::to_value(&d).map_err(|e| format!("JSON: {e}"))?;
+            if let Some(td) = &time_check {
+                v["time_domain"] = serde_json::json!({
+                    "effects": td.effects,
+                    "rejected": td.rejected,
+                    "evidence": td.evidence,
+                    "rms_time_rel": td.fit.before.rms_time_rel,
+                });
+            }
+            let mut s = serde_json::to_string_pretty(&v).map_err(|e| format!("JSON: {e}"))?;
             s.push('\n');
             s
         }
-        IdentifyFormat::Md => markdown(&name, &d, args.out.map(|_| "bode.svg")),
-        IdentifyFormat::Html => {
-            crate::identify::html_page("mms diagnose", &markdown(&name, &d, None), &plot.to_svg())
+        IdentifyFormat::Md | IdentifyFormat::Html => {
+            let mut m = markdown(
+                &name,
+                &d,
+                (args.format == IdentifyFormat::Md && args.out.is_some()).then_some("bode.svg"),
+            );
+            if let Some(td) = &time_check {
+                m.push_str(&time_check_note(td));
+            }
+            if args.format == IdentifyFormat::Md {
+                m
+            } else {
+                crate::identify::html_page("mms diagnose", &m, &plot.to_svg())
+            }
         }
     };
     let Some(dir) = args.out else {
@@ -175,6 +224,167 @@ fn markdown(name: &str, d: &Diagnosis, plot: Option<&str>) -> String {
         for c in &d.calibration {
             let _ = writeln!(s, "- {c}");
         }
+    }
+    s
+}
+
+/// The time-domain diagnosis of a time-domain recording, with the
+/// frequency-domain diagnosis `fd` of its H1 estimate attached.
+fn run_time(
+    args: &DiagnoseArgs,
+    name: &str,
+    samples: &frf::Samples,
+    model: &ModelFile,
+    mut d: TimeDiagnosis,
+    fd: Diagnosis,
+) -> Result<Option<String>, String> {
+    d.mismatch = fd.mismatch.clone();
+    d.frequency_domain = Some(fd);
+    let plot = time_bode(samples, model, &d)?;
+    let report = match args.format {
+        IdentifyFormat::Json => {
+            let mut s = serde_json::to_string_pretty(&d).map_err(|e| format!("JSON: {e}"))?;
+            s.push('\n');
+            s
+        }
+        IdentifyFormat::Md => time_markdown(name, &d, args.out.map(|_| "bode.svg")),
+        IdentifyFormat::Html => crate::identify::html_page(
+            "mms diagnose",
+            &time_markdown(name, &d, None),
+            &plot.to_svg(),
+        ),
+    };
+    let Some(dir) = args.out else {
+        return Ok(Some(report));
+    };
+    crate::identify::write_report_dir(
+        dir,
+        args.format,
+        &plot,
+        &[("model_after.toml", d.model_after.to_toml())],
+        &report,
+    )?;
+    Ok(None)
+}
+
+/// H1 estimates of the recording and of the nominal and diagnosed models
+/// simulated from the recorded input.
+fn time_bode(samples: &frf::Samples, model: &ModelFile, d: &TimeDiagnosis) -> Result<Bode, String> {
+    let welch = frf::WelchOptions::default();
+    let h = |y: &[f64]| {
+        frf::h1(&samples.u, y, samples.fs, &welch)
+            .map(|e| e.frf)
+            .map_err(|e| format!("H1 estimate: {e}"))
+    };
+    let rec = h(&samples.y)?;
+    let sim = |m: &ModelFile| -> Result<frf::Frf, String> {
+        let y = mms::simulate::simulate(m, &samples.u, samples.fs).map_err(|e| e.to_string())?;
+        h(&y)
+    };
+    let (nominal, after) = (sim(model)?, sim(&d.model_after)?);
+    let f = rec.freq_hz();
+    let mut b = Bode::new("Recording and simulated models (H1 from the recorded input)")
+        .trace("recording", f, rec.response(), Style::points())
+        .trace("model (nominal)", f, nominal.response(), Style::dashed())
+        .trace("model after diagnosis", f, after.response(), Style::line());
+    for band in &d.mismatch {
+        b = b.band(band.f_lo_hz, band.f_hi_hz, "mismatch");
+    }
+    Ok(b.residual())
+}
+
+fn time_markdown(name: &str, d: &TimeDiagnosis, plot: Option<&str>) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Diagnosis of `{name}` (time domain)\n");
+    let _ = writeln!(
+        s,
+        "{} samples at {} Hz, simulated with the model from the recorded input.\n",
+        d.samples, d.fs
+    );
+    let (b, a) = (&d.fit.before, &d.fit.after);
+    let verdict = match d.effects.first() {
+        Some(e) if e.kind != EffectKind::None => {
+            let params: Vec<String> = e
+                .parameters
+                .iter()
+                .map(|(k, v)| format!("{k} = {v:.4e}"))
+                .collect();
+            format!(
+                "Most likely missing: **{}** ({}); adding it brings the time-domain error from \
+                 {:.2} % to {:.2} % of the output RMS, and the FRF error from {:.3} dB / {:.2} deg \
+                 to {:.3} dB / {:.2} deg.",
+                e.kind.as_str(),
+                params.join(", "),
+                100.0 * b.rms_time_rel,
+                100.0 * a.rms_time_rel,
+                b.rms_db,
+                b.rms_deg,
+                a.rms_db,
+                a.rms_deg
+            )
+        }
+        _ => format!(
+            "No nonlinear effect is missing: the calibrated linear model leaves {:.2} % of the \
+             output RMS in the time domain ({:.3} dB / {:.2} deg on the FRF).",
+            100.0 * b.rms_time_rel,
+            b.rms_db,
+            b.rms_deg
+        ),
+    };
+    let _ = writeln!(s, "{verdict}\n");
+    if let Some(p) = plot {
+        let _ = writeln!(s, "![Bode plot: recording and simulated models]({p})\n");
+    }
+    s.push_str("## Evidence\n\n");
+    for e in &d.evidence {
+        let _ = writeln!(s, "- {e}");
+    }
+    s.push_str("\n## Effects (time domain)\n\n| kind | parameters | score | evidence |\n|---|---|---:|---|\n");
+    for e in d.effects.iter().chain(&d.rejected) {
+        let params: Vec<String> = e
+            .parameters
+            .iter()
+            .map(|(k, v)| format!("{k} = {v:.4e}"))
+            .collect();
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.1} | {} |",
+            e.kind.as_str(),
+            params.join(", "),
+            e.score,
+            e.evidence
+        );
+    }
+    if !d.calibration.is_empty() {
+        s.push_str("\n## Calibration\n\n");
+        for c in &d.calibration {
+            let _ = writeln!(s, "- {c}");
+        }
+    }
+    if let Some(fd) = &d.frequency_domain {
+        s.push_str("\n## Frequency domain (H1 estimate, linear effects)\n\n");
+        let body = markdown(name, fd, None);
+        // Drop its title; keep the verdict and tables.
+        let body = body
+            .split_once('\n')
+            .map_or("", |(_, rest)| rest)
+            .trim_start();
+        s.push_str(&body.replace("\n## ", "\n### "));
+    }
+    s
+}
+
+/// The time-domain check of a recording where it found no nonlinear effect.
+fn time_check_note(td: &TimeDiagnosis) -> String {
+    let mut s = String::from("\n## Time-domain check (Coulomb friction, backlash)\n\n");
+    let _ = writeln!(
+        s,
+        "Simulated from the recorded input, the calibrated linear model leaves {:.2} % of the \
+         output RMS; neither Coulomb friction nor backlash earns its parameter.\n",
+        100.0 * td.fit.before.rms_time_rel
+    );
+    for e in &td.evidence {
+        let _ = writeln!(s, "- {e}");
     }
     s
 }

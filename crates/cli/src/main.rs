@@ -158,7 +158,9 @@ enum Command {
     /// Diagnose where a model and a recording differ: calibrate the model's
     /// parameters (within a tolerance), locate the mismatch bands, name the
     /// missing physics (delay, lag, gain error, hysteretic damping,
-    /// friction, or nothing), add it and report the improvement.
+    /// friction, or nothing), add it and report the improvement. On a
+    /// time-domain recording also the time-domain diagnosis: Coulomb friction
+    /// or backlash, fitted by simulating the model from the recorded input.
     Diagnose {
         #[command(flatten)]
         recording: recording::RecordingArgs,

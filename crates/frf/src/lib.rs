@@ -45,7 +45,7 @@ pub mod welch;
 pub use csv::{parse_frf_csv, write_csv, CsvLayout};
 pub use num_complex::Complex64;
 pub use recording::{
-    read_recording, Recording, RecordingError, RecordingOptions, SignalRef, Source,
+    read_recording, Recording, RecordingError, RecordingOptions, Samples, SignalRef, Source,
 };
 pub use uff::{parse_uff, write_frf_uff, Spacing};
 pub use welch::{h1, H1Estimate, WelchOptions, Window};

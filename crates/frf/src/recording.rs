@@ -199,6 +199,17 @@ pub enum Source {
     },
 }
 
+/// The samples a time-domain recording's FRF was estimated from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Samples {
+    /// Input signal.
+    pub u: Vec<f64>,
+    /// Output signal.
+    pub y: Vec<f64>,
+    /// Sample rate, Hz.
+    pub fs: f64,
+}
+
 /// A measured FRF and where it came from.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Recording {
@@ -211,6 +222,9 @@ pub struct Recording {
     pub frf: Frf,
     /// FRF file or time domain.
     pub source: Source,
+    /// The input and output samples of a time-domain recording (for
+    /// time-domain analyses); `None` for FRF files.
+    pub samples: Option<Samples>,
 }
 
 /// Why a recording could not be read. Displays as one line naming the file
@@ -292,6 +306,8 @@ fn one_line(s: impl Into<String>) -> String {
 /// Builds errors for one file.
 struct Ctx<'a> {
     path: &'a Path,
+    /// The samples behind an estimate, kept for [`Recording::samples`].
+    samples: std::cell::RefCell<Option<Samples>>,
 }
 
 impl Ctx<'_> {
@@ -376,7 +392,10 @@ pub fn read_recording(
     opts: &RecordingOptions,
 ) -> Result<Recording, RecordingError> {
     let path = path.as_ref();
-    let ctx = Ctx { path };
+    let ctx = Ctx {
+        path,
+        samples: std::cell::RefCell::new(None),
+    };
     let bytes = std::fs::read(path).map_err(|source| RecordingError::Io {
         path: path.to_path_buf(),
         source,
@@ -443,6 +462,7 @@ pub fn read_recording(
         format,
         frf,
         source,
+        samples: ctx.samples.take(),
     })
 }
 
@@ -529,6 +549,11 @@ fn estimate(
             est.nfft
         )));
     }
+    *ctx.samples.borrow_mut() = Some(Samples {
+        u: u.to_vec(),
+        y: y.to_vec(),
+        fs,
+    });
     let source = Source::TimeDomain {
         fs,
         n_samples: u.len(),

@@ -131,8 +131,13 @@ pub enum EffectKind {
     /// Structural damping of every spring; parameter `loss_factor`.
     HystereticDamping,
     /// Viscous damper from the driven mass to the ground; parameter
-    /// `viscous_ns_per_m`.
+    /// `viscous_ns_per_m`. The time-domain diagnosis
+    /// ([`crate::nonlinear`]) reports Coulomb friction under the same kind,
+    /// with parameter `coulomb_n`.
     Friction,
+    /// A dead zone in the spring next to the driven mass (time domain
+    /// only, [`crate::nonlinear`]); parameter `gap`.
+    Backlash,
     /// An unmodelled mass and compliance: the model refitted with one more
     /// mass (at the free end of the chain, or at its start for a free
     /// chain); parameters `resonance_hz` and `antiresonance_hz`, the
@@ -160,6 +165,7 @@ impl EffectKind {
             EffectKind::GainError => "gain_error",
             EffectKind::HystereticDamping => "hysteretic_damping",
             EffectKind::Friction => "friction",
+            EffectKind::Backlash => "backlash",
             EffectKind::ExtraMode => "extra_mode",
             EffectKind::None => "none",
         }
@@ -175,6 +181,7 @@ impl EffectKind {
             EffectKind::GainError => Some("factor"),
             EffectKind::HystereticDamping => Some("loss_factor"),
             EffectKind::Friction => Some("viscous_ns_per_m"),
+            EffectKind::Backlash => Some("gap"),
             EffectKind::None => None,
         }
     }
@@ -188,6 +195,7 @@ impl EffectKind {
             EffectKind::GainError => e.gain_factor = Some(value),
             EffectKind::HystereticDamping => e.loss_factor = Some(value),
             EffectKind::Friction => e.viscous_friction = Some(value),
+            EffectKind::Backlash => e.backlash_gap = Some(value),
             EffectKind::ExtraMode | EffectKind::None => {}
         }
         e
@@ -201,6 +209,7 @@ impl EffectKind {
             EffectKind::GainError => base.gain_factor,
             EffectKind::HystereticDamping => base.loss_factor,
             EffectKind::Friction => base.viscous_friction,
+            EffectKind::Backlash => base.backlash_gap,
             EffectKind::ExtraMode | EffectKind::None => None,
         }
     }
@@ -282,7 +291,7 @@ pub struct Diagnosis {
     pub after: FitSummary,
 }
 
-fn ser_model<S: serde::Serializer>(m: &ModelFile, s: S) -> Result<S::Ok, S::Error> {
+pub(crate) fn ser_model<S: serde::Serializer>(m: &ModelFile, s: S) -> Result<S::Ok, S::Error> {
     use serde::ser::SerializeMap;
     let mut parameters = BTreeMap::new();
     for (k, v) in m.parameters.iter() {
@@ -295,6 +304,16 @@ fn ser_model<S: serde::Serializer>(m: &ModelFile, s: S) -> Result<S::Ok, S::Erro
             inner.insert(name, v);
             effects.insert(kind.as_str(), inner);
         }
+    }
+    // The time-domain effects' parameters (crate::nonlinear).
+    if let Some(v) = m.effects.coulomb_friction {
+        effects
+            .entry("friction")
+            .or_default()
+            .insert("coulomb_n", v);
+    }
+    if let Some(v) = m.effects.backlash_gap {
+        effects.entry("backlash").or_default().insert("gap", v);
     }
     let mut map = s.serialize_map(Some(5))?;
     map.serialize_entry("structure", &m.model.id())?;
@@ -739,7 +758,7 @@ pub fn diagnose(
                 1e-4 * total_mass * 2.0 * PI * f_lo,
                 1e2 * total_mass * 2.0 * PI * f_hi,
             ),
-            EffectKind::ExtraMode | EffectKind::None => continue,
+            EffectKind::ExtraMode | EffectKind::Backlash | EffectKind::None => continue,
         };
         // Starts: the present value if the model has the effect already,
         // a value read off the residual where that is direct, else the

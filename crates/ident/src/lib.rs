@@ -11,6 +11,7 @@ pub mod classify;
 pub mod diagnose;
 pub mod fit;
 pub mod identify;
+pub mod nonlinear;
 pub mod start;
 pub mod synth;
 

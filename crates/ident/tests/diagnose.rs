@@ -82,7 +82,8 @@ fn draw(seed: u64, kind: EffectKind) -> Case {
             Some(g)
         }
         // Extra modes need another model; see concealed_extra_mode_is_found.
-        EffectKind::ExtraMode | EffectKind::None => None,
+        // Backlash is time-domain only (tests/nonlinear.rs).
+        EffectKind::ExtraMode | EffectKind::Backlash | EffectKind::None => None,
     };
     let noise = rng.log_uniform(0.005, 0.02);
     let mut h = ChainResponse::with_effects(&s.model, s.output, &effects)

@@ -21,6 +21,8 @@
 //!   equivalence of models ([`mod@identifiability`], [`structural_equivalences`]);
 //! - the numeric damped frequency response and its parameter derivatives
 //!   ([`response`]), for fitting, and model files in TOML ([`model_file`]);
+//! - a nonlinear time simulation with Coulomb friction and backlash
+//!   ([`simulate`]);
 //! - analytic back-solving: every positive parameter set of a structure
 //!   reproducing a given undamped inertance, or its families, or why there
 //!   is none ([`backsolve`]);
@@ -60,6 +62,7 @@ pub mod model_file;
 pub mod paper;
 pub mod render;
 pub mod response;
+pub mod simulate;
 mod tf;
 pub mod xorshift;
 

@@ -19,6 +19,8 @@
 //!
 //! [effects]                  # optional; filled by the diagnosis
 //! time_delay = { delay_s = 2e-4 }
+//! friction = { viscous_ns_per_m = 0.5, coulomb_n = 0.2 }   # either or both
+//! backlash = { gap = 1e-4 }  # m (or rad): dead zone in a spring
 //! ```
 //!
 //! `structure = "A2"` (a paper ID, or a generic ID such as
@@ -113,13 +115,15 @@ const TOP_KEYS: [&str; 10] = [
     "effects",
 ];
 
-/// `(key, parameter)` of each effect in the `[effects]` table.
-const EFFECT_KEYS: [(&str, &str); 5] = [
-    ("time_delay", "delay_s"),
-    ("lowpass", "corner_hz"),
-    ("gain_error", "factor"),
-    ("hysteretic_damping", "loss_factor"),
-    ("friction", "viscous_ns_per_m"),
+/// `(key, parameters)` of each effect in the `[effects]` table; every
+/// effect needs at least one of its parameters.
+const EFFECT_KEYS: [(&str, &[&str]); 6] = [
+    ("time_delay", &["delay_s"]),
+    ("lowpass", &["corner_hz"]),
+    ("gain_error", &["factor"]),
+    ("hysteretic_damping", &["loss_factor"]),
+    ("friction", &["viscous_ns_per_m", "coulomb_n"]),
+    ("backlash", &["gap"]),
 ];
 
 struct Reader<'a> {
@@ -322,7 +326,7 @@ impl ModelFile {
         if let Some(ev) = get("effects") {
             for (k, v) in r.table("effects", ev)?.iter() {
                 let key = k.get_ref().as_ref();
-                let Some(&(_, pname)) = EFFECT_KEYS.iter().find(|(e, _)| *e == key) else {
+                let Some(&(_, pnames)) = EFFECT_KEYS.iter().find(|(e, _)| *e == key) else {
                     let known: Vec<&str> = EFFECT_KEYS.iter().map(|(e, _)| *e).collect();
                     return Err(r.err(
                         k.span(),
@@ -331,35 +335,45 @@ impl ModelFile {
                 };
                 let t = r.table(key, v)?;
                 for (pk, _) in t.iter() {
-                    if pk.get_ref().as_ref() != pname {
+                    if !pnames.contains(&pk.get_ref().as_ref()) {
                         return Err(r.err(
                             pk.span(),
                             format!(
-                                "unknown key '{}' in effect '{key}' (expected {pname})",
-                                pk.get_ref()
+                                "unknown key '{}' in effect '{key}' (expected {})",
+                                pk.get_ref(),
+                                pnames.join(" or ")
                             ),
                         ));
                     }
                 }
-                let pv = t
-                    .get(pname)
-                    .ok_or_else(|| r.err(v.span(), format!("effect '{key}' needs '{pname}'")))?;
-                let x = r.number(pname, pv)?;
-                let ok = if key == "time_delay" || key == "hysteretic_damping" || key == "friction"
-                {
-                    x >= 0.0
-                } else {
-                    x > 0.0
-                };
-                if !ok {
-                    return Err(r.err(pv.span(), format!("'{pname}' = {x} is out of range")));
+                if pnames.iter().all(|p| t.get(*p).is_none()) {
+                    return Err(r.err(
+                        v.span(),
+                        format!("effect '{key}' needs '{}'", pnames.join("' or '")),
+                    ));
                 }
-                match key {
-                    "time_delay" => effects.time_delay_s = Some(x),
-                    "lowpass" => effects.lowpass_hz = Some(x),
-                    "gain_error" => effects.gain_factor = Some(x),
-                    "hysteretic_damping" => effects.loss_factor = Some(x),
-                    _ => effects.viscous_friction = Some(x),
+                for &pname in pnames {
+                    let Some(pv) = t.get(pname) else { continue };
+                    let x = r.number(pname, pv)?;
+                    // Delays, damping, friction and gaps may be zero (the
+                    // effect switched off); a corner or a gain factor not.
+                    let ok = if matches!(pname, "corner_hz" | "factor") {
+                        x > 0.0
+                    } else {
+                        x >= 0.0
+                    };
+                    if !ok {
+                        return Err(r.err(pv.span(), format!("'{pname}' = {x} is out of range")));
+                    }
+                    match pname {
+                        "delay_s" => effects.time_delay_s = Some(x),
+                        "corner_hz" => effects.lowpass_hz = Some(x),
+                        "factor" => effects.gain_factor = Some(x),
+                        "loss_factor" => effects.loss_factor = Some(x),
+                        "viscous_ns_per_m" => effects.viscous_friction = Some(x),
+                        "coulomb_n" => effects.coulomb_friction = Some(x),
+                        _ => effects.backlash_gap = Some(x),
+                    }
                 }
             }
         }
@@ -402,16 +416,24 @@ impl ModelFile {
         let e = &self.effects;
         if !e.is_empty() {
             s.push_str("\n[effects]\n");
-            let values = [
-                e.time_delay_s,
-                e.lowpass_hz,
-                e.gain_factor,
-                e.loss_factor,
-                e.viscous_friction,
+            let values: [&[(&str, Option<f64>)]; 6] = [
+                &[("delay_s", e.time_delay_s)],
+                &[("corner_hz", e.lowpass_hz)],
+                &[("factor", e.gain_factor)],
+                &[("loss_factor", e.loss_factor)],
+                &[
+                    ("viscous_ns_per_m", e.viscous_friction),
+                    ("coulomb_n", e.coulomb_friction),
+                ],
+                &[("gap", e.backlash_gap)],
             ];
-            for ((key, pname), v) in EFFECT_KEYS.iter().zip(values) {
-                if let Some(v) = v {
-                    let _ = writeln!(s, "{key} = {{ {pname} = {} }}", num(v));
+            for ((key, _), params) in EFFECT_KEYS.iter().zip(values) {
+                let set: Vec<String> = params
+                    .iter()
+                    .filter_map(|(p, v)| v.map(|v| format!("{p} = {}", num(v))))
+                    .collect();
+                if !set.is_empty() {
+                    let _ = writeln!(s, "{key} = {{ {} }}", set.join(", "));
                 }
             }
         }

@@ -207,6 +207,14 @@ pub struct Effects {
     /// (the actuator's `plus` mass) to the ground, damping the rigid-body
     /// motion.
     pub viscous_friction: Option<f64>,
+    /// `friction {coulomb_n}`: Coulomb (dry) friction `F_c sign(v)` of the
+    /// driven mass against the ground, N (or N m). Nonlinear: the FRF
+    /// ignores it; [`crate::simulate`] models it in the time domain.
+    pub coulomb_friction: Option<f64>,
+    /// `backlash {gap}`: a dead zone of total width `gap` (m, or rad) in
+    /// the first spring on the free side of the driven mass (see
+    /// [`crate::simulate`]). Nonlinear: the FRF ignores it.
+    pub backlash_gap: Option<f64>,
 }
 
 impl Effects {
@@ -589,6 +597,7 @@ mod tests {
                     gain_factor: Some(1.3),
                     loss_factor: Some(0.02),
                     viscous_friction: Some(0.5),
+                    ..Effects::default()
                 };
                 for (output, effects) in
                     Output::ALL

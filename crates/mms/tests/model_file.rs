@@ -134,8 +134,24 @@ fn effect_errors() {
     let base = "structure = \"A1\"\noutput = \"position\"\n[parameters]\nm1 = 1\nm2 = 1\nm3 = 1\nc12 = 1\nc23 = 1\nd12 = 0\nd23 = 0\n[effects]\n";
     for (tail, want) in [
         (
-            "backlash = { gap = 1 }\n",
-            "line 12: unknown effect 'backlash'",
+            "stiction = { force = 1 }\n",
+            "line 12: unknown effect 'stiction'",
+        ),
+        (
+            "backlash = { gap = -1e-4 }\n",
+            "line 12: 'gap' = -0.0001 is out of range",
+        ),
+        (
+            "friction = { coulomb = 1 }\n",
+            "line 12: unknown key 'coulomb' in effect 'friction' (expected viscous_ns_per_m or coulomb_n)",
+        ),
+        (
+            "friction = {}\n",
+            "line 12: effect 'friction' needs 'viscous_ns_per_m' or 'coulomb_n'",
+        ),
+        (
+            "friction = { coulomb_n = \"big\" }\n",
+            "line 12: 'coulomb_n' must be a number",
         ),
         (
             "time_delay = { delay = 1 }\n",
@@ -151,5 +167,30 @@ fn effect_errors() {
             .unwrap_err()
             .to_string();
         assert!(got.starts_with(want), "got: {got}\nwant: {want}");
+    }
+}
+
+/// The time-domain effects (Coulomb friction beside viscous friction in
+/// one `friction` table, backlash) read and write back to the same value.
+#[test]
+fn nonlinear_effects_round_trip() {
+    let base = "structure = \"A2\"\noutput = \"position\"\n[parameters]\nm1 = 1\nm2 = 1\nm3 = 1\nc12 = 1\nc23 = 1\nd12 = 0\nd23 = 0\n[effects]\n";
+    for (tail, coulomb, viscous, gap) in [
+        ("friction = { coulomb_n = 2.5 }\n", Some(2.5), None, None),
+        (
+            "friction = { viscous_ns_per_m = 0.5, coulomb_n = 12 }\nbacklash = { gap = 1e-4 }\n",
+            Some(12.0),
+            Some(0.5),
+            Some(1e-4),
+        ),
+        ("backlash = { gap = 0 }\n", None, None, Some(0.0)),
+    ] {
+        let f = ModelFile::parse(&format!("{base}{tail}")).unwrap();
+        assert_eq!(f.effects.coulomb_friction, coulomb, "{tail}");
+        assert_eq!(f.effects.viscous_friction, viscous, "{tail}");
+        assert_eq!(f.effects.backlash_gap, gap, "{tail}");
+        let written = f.to_toml();
+        assert_eq!(ModelFile::parse(&written).unwrap(), f, "{written}");
+        assert_eq!(ModelFile::parse(&written).unwrap().to_toml(), written);
     }
 }

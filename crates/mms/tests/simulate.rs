@@ -1,0 +1,277 @@
+//! The nonlinear time simulation against independent references: the
+//! linear FRF (steady state of a sine), Newton's law with Coulomb friction,
+//! the energy balance, and the limit cases of backlash.
+
+use mms::model_file::{ModelFile, Motion};
+use mms::response::{ChainResponse, Effects, Parameters};
+use mms::simulate::{simulate, SimOptions, Simulator};
+use mms::{Model, Output, Port};
+use num_complex::Complex64;
+use std::f64::consts::PI;
+
+fn file(model: Model, output: Output, values: Vec<f64>, effects: Effects) -> ModelFile {
+    ModelFile {
+        model,
+        output,
+        parameters: Parameters::from_values(&model, values).unwrap(),
+        gain: 1.0,
+        motion: Motion::Translational,
+        effects,
+    }
+}
+
+/// Least squares of `y ~ a + b t + c cos(w t) + d sin(w t)`: the sine's
+/// complex amplitude `c - j d` (the rigid-body mode's free motion is the
+/// `a + b t` part).
+fn sine_amplitude(y: &[f64], t: &[f64], w: f64) -> Complex64 {
+    let rows: Vec<[f64; 4]> = t
+        .iter()
+        .map(|&t| [1.0, t, (w * t).cos(), (w * t).sin()])
+        .collect();
+    let mut a = [[0.0; 5]; 4];
+    for (r, &yk) in rows.iter().zip(y) {
+        for i in 0..4 {
+            for j in 0..4 {
+                a[i][j] += r[i] * r[j];
+            }
+            a[i][4] += r[i] * yk;
+        }
+    }
+    // Gauss-Jordan with partial pivoting on the 4x4 normal equations.
+    for c in 0..4 {
+        let p = (c..4)
+            .max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))
+            .unwrap();
+        a.swap(c, p);
+        for r in 0..4 {
+            if r != c {
+                let f = a[r][c] / a[c][c];
+                let pivot = a[c];
+                for (x, p) in a[r].iter_mut().zip(pivot).skip(c) {
+                    *x -= f * p;
+                }
+            }
+        }
+    }
+    let x: Vec<f64> = (0..4).map(|i| a[i][4] / a[i][i]).collect();
+    Complex64::new(x[2], -x[3])
+}
+
+/// Without nonlinearities the steady state of a sine input is the linear
+/// FRF times the zero-order hold's `sinc(w T/2) e^(-j w T/2)`, for every
+/// output and a 3-mass chain with a rigid-body mode, at frequencies below,
+/// between and above its resonances. (Acceleration passes the held
+/// input's images at `fs +- f` through the mass line and samples them back
+/// onto `f`, so for it the reference holds only well below `fs`: the
+/// highest frequency is left out.)
+#[test]
+fn linear_sine_matches_frf() {
+    let a2 = Model::from_id("A2").unwrap();
+    let p = vec![0.01, 0.012, 0.02, 400.0, 900.0, 0.3, 0.5];
+    let fs = 2000.0;
+    for output in Output::ALL {
+        for f in [7.0, 23.0, 61.0, 140.0] {
+            if output == Output::Acceleration && f > fs / 20.0 {
+                continue;
+            }
+            let w = 2.0 * PI * f;
+            let n = 4000;
+            let u: Vec<f64> = (0..n).map(|k| (w * k as f64 / fs).sin()).collect();
+            let y = simulate(&file(a2, output, p.clone(), Effects::default()), &u, fs).unwrap();
+            // The flexible modes' transient has decayed after 1 s.
+            let t: Vec<f64> = (2000..n).map(|k| k as f64 / fs).collect();
+            let got = sine_amplitude(&y[2000..], &t, w);
+            let g = ChainResponse::new(&a2, output).eval(&p, f).unwrap();
+            let x = w / (2.0 * fs);
+            let zoh = Complex64::from_polar(x.sin() / x, -x);
+            // A sine sin(w t) has complex amplitude -j.
+            let want = g * zoh * Complex64::new(0.0, -1.0);
+            let err = (got - want).norm() / want.norm();
+            assert!(err < 2e-3, "{output} {f} Hz: {got} vs {want} ({err:.2e})");
+        }
+    }
+}
+
+fn one_mass(m: f64, coulomb: f64, output: Output) -> ModelFile {
+    let model = Model::new(1, 0, Port::new(1, 0), Port::new(1, 0)).unwrap();
+    file(
+        model,
+        output,
+        vec![m],
+        Effects {
+            coulomb_friction: Some(coulomb),
+            ..Effects::default()
+        },
+    )
+}
+
+/// Newton with dry friction: a constant force above `F_c` accelerates the
+/// mass at `(F - F_c)/m` (position `a t^2 / 2`, exact for RK4), one below
+/// it leaves the mass at rest, in both directions.
+#[test]
+fn coulomb_single_mass_newton_and_stiction() {
+    let (m, fc, fs) = (2.5, 4.0, 500.0);
+    for force in [10.0, -7.0, 4.5] {
+        let x = simulate(&one_mass(m, fc, Output::Position), &[force; 501], fs).unwrap();
+        let a = (force - fc * force.signum()) / m;
+        for (k, &xk) in x.iter().enumerate() {
+            let t = k as f64 / fs;
+            assert!(
+                (xk - 0.5 * a * t * t).abs() < 1e-9 * (1.0 + xk.abs()),
+                "{force} N at {t} s"
+            );
+        }
+    }
+    for force in [3.99, -3.99, 0.0] {
+        for output in Output::ALL {
+            let y = simulate(&one_mass(m, fc, output), &[force; 200], fs).unwrap();
+            assert!(y.iter().all(|&v| v == 0.0), "{force} N moved ({output})");
+        }
+    }
+}
+
+/// A sine force above `F_c`: the mass slips and sticks, and the work done
+/// by the force equals the kinetic energy plus the friction's loss `F_c
+/// times the path` (trapezoidal sums on a fine grid). It stands still
+/// wherever `|F| < F_c` follows a stop.
+#[test]
+fn coulomb_energy_balance_and_stick_slip() {
+    let (m, fc, fs) = (1.0, 1.0, 20000.0);
+    let n = 20000;
+    let u: Vec<f64> = (0..n)
+        .map(|k| 2.0 * (2.0 * PI * k as f64 / fs).sin())
+        .collect();
+    let v = simulate(&one_mass(m, fc, Output::Velocity), &u, fs).unwrap();
+    let dt = 1.0 / fs;
+    let (mut work, mut path) = (0.0, 0.0);
+    for k in 0..n - 1 {
+        // The held force acts over [t_k, t_k+1).
+        work += u[k] * 0.5 * (v[k] + v[k + 1]) * dt;
+        path += 0.5 * (v[k].abs() + v[k + 1].abs()) * dt;
+    }
+    let kinetic = 0.5 * m * v[n - 1] * v[n - 1];
+    let balance = work - kinetic - fc * path;
+    assert!(
+        balance.abs() < 1e-3 * work,
+        "{work} vs {kinetic} + {}",
+        fc * path
+    );
+    // It sticks for a while: many samples at exactly zero velocity.
+    let stuck = v.iter().filter(|&&v| v == 0.0).count();
+    assert!(stuck > n / 20 && stuck < n / 2, "{stuck} samples stuck");
+}
+
+fn two_masses(gap: Option<f64>, output: Output, sensor: usize, d: f64) -> ModelFile {
+    let model = Model::new(2, 0, Port::new(1, 0), Port::new(sensor, 0)).unwrap();
+    file(
+        model,
+        output,
+        vec![1.0, 2.0, 4000.0, d],
+        Effects {
+            backlash_gap: gap,
+            ..Effects::default()
+        },
+    )
+}
+
+/// Backlash limits: a vanishing gap is the linear chain; a gap wider than
+/// the motion decouples the masses (the far one never moves, the driven one
+/// moves as a free mass).
+#[test]
+fn backlash_limits() {
+    let fs = 1000.0;
+    let u: Vec<f64> = (0..2000)
+        .map(|k| {
+            (2.0 * PI * 5.0 * k as f64 / fs).sin() + 0.5 * (2.0 * PI * 31.0 * k as f64 / fs).cos()
+        })
+        .collect();
+    for sensor in [1, 2] {
+        let lin = simulate(&two_masses(None, Output::Position, sensor, 2.0), &u, fs).unwrap();
+        let tiny = simulate(
+            &two_masses(Some(1e-12), Output::Position, sensor, 2.0),
+            &u,
+            fs,
+        )
+        .unwrap();
+        let scale = lin.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        for (a, b) in lin.iter().zip(&tiny) {
+            assert!((a - b).abs() < 1e-6 * scale);
+        }
+    }
+    let step = [3.0; 400];
+    let far = simulate(&two_masses(Some(10.0), Output::Position, 2, 2.0), &step, fs).unwrap();
+    assert!(far.iter().all(|&x| x == 0.0));
+    let near = simulate(&two_masses(Some(10.0), Output::Position, 1, 2.0), &step, fs).unwrap();
+    for (k, x) in near.iter().enumerate() {
+        let t = k as f64 / fs;
+        assert!((x - 1.5 * t * t).abs() < 1e-9);
+    }
+}
+
+/// Undamped backlash conserves energy: the input's work equals the kinetic
+/// energy plus the dead-zone spring's `c (|d| - gap/2)^2 / 2`, while the
+/// masses hit and leave the stops many times.
+#[test]
+fn backlash_energy_balance() {
+    let (fs, gap, c) = (20000.0, 2e-3, 4000.0);
+    let n = 20000;
+    let u: Vec<f64> = (0..n)
+        .map(|k| 3.0 * (2.0 * PI * 3.0 * k as f64 / fs).sin())
+        .collect();
+    let run =
+        |output, sensor| simulate(&two_masses(Some(gap), output, sensor, 0.0), &u, fs).unwrap();
+    let (x1, x2) = (run(Output::Position, 1), run(Output::Position, 2));
+    let (v1, v2) = (run(Output::Velocity, 1), run(Output::Velocity, 2));
+    let dt = 1.0 / fs;
+    let mut work = 0.0;
+    let mut contacts = 0;
+    for k in 0..n - 1 {
+        work += u[k] * 0.5 * (v1[k] + v1[k + 1]) * dt;
+        let open = |k: usize| ((x2[k] - x1[k]).abs() <= gap / 2.0) as i32;
+        contacts += (open(k) != open(k + 1)) as i32;
+    }
+    let k = n - 1;
+    let dz = ((x2[k] - x1[k]).abs() - gap / 2.0).max(0.0);
+    let energy = 0.5 * v1[k] * v1[k] + 0.5 * 2.0 * v2[k] * v2[k] + 0.5 * c * dz * dz;
+    assert!(contacts > 10, "{contacts} contact changes");
+    assert!((work - energy).abs() < 2e-3 * work, "{work} vs {energy}");
+}
+
+/// The sub-step follows the chain's fastest eigenvalue, and options place
+/// the nonlinearities or refuse a place that does not exist.
+#[test]
+fn substeps_and_places() {
+    let soft = two_masses(None, Output::Position, 2, 0.0);
+    let mut stiff = soft.clone();
+    stiff.parameters = Parameters::from_values(&stiff.model, vec![1.0, 2.0, 4e8, 0.0]).unwrap();
+    let s = |f: &ModelFile| {
+        Simulator::new(f, 1000.0, &SimOptions::default())
+            .unwrap()
+            .substeps()
+    };
+    assert_eq!(s(&soft), 1);
+    // sqrt(2 * 4e8 / 1) = 28284 rad/s: 28284 / 1000 / 0.3 -> 95 sub-steps.
+    assert_eq!(s(&stiff), 95);
+    let one = one_mass(1.0, 0.0, Output::Position);
+    let mut gap = one.clone();
+    gap.effects.backlash_gap = Some(1e-3);
+    let err = Simulator::new(&gap, 100.0, &SimOptions::default()).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "N1-g0-a1.0-s1.0 has no spring next to the driven mass"
+    );
+    let err = Simulator::new(
+        &one,
+        100.0,
+        &SimOptions {
+            friction_mass: Some(2),
+            ..SimOptions::default()
+        },
+    )
+    .unwrap_err();
+    assert!(err.to_string().contains("friction mass 2"), "{err}");
+    let mut hyst = soft.clone();
+    hyst.effects.loss_factor = Some(0.01);
+    assert!(simulate(&hyst, &[1.0], 100.0).is_err());
+    assert!(simulate(&soft, &[f64::NAN], 100.0).is_err());
+}
