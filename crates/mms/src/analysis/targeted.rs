@@ -357,7 +357,8 @@ impl Prover<'_> {
     pub(crate) fn partial_wall_search(&mut self, wanted: &[FrfType], depth: usize) -> usize {
         let mut rng = Sampler::new(0x0A27_1A1E);
         let mut visited = BTreeSet::new();
-        self.partial_walls(&[], wanted, depth, &mut visited, &mut rng);
+        let mut budget = PARTIAL_WALL_BUDGET;
+        self.partial_walls(&[], wanted, depth, &mut visited, &mut rng, &mut budget);
         wanted
             .iter()
             .filter(|t| self.witnesses.contains_key(t))
@@ -371,6 +372,7 @@ impl Prover<'_> {
         depth: usize,
         visited: &mut BTreeSet<String>,
         rng: &mut Sampler,
+        budget: &mut usize,
     ) {
         if depth == 0 || wanted.iter().all(|t| self.witnesses.contains_key(t)) {
             return;
@@ -379,8 +381,16 @@ impl Prover<'_> {
         let walls: Vec<Substitution> = s
             .vanishing()
             .filter_map(|f| linear_solution(&f.poly, &s.vars))
+            .filter(|w| w.alpha.num_terms() + w.beta.num_terms() <= PARTIAL_WALL_TERMS)
             .collect();
         for w in walls {
+            // Each stratum costs gcds and resultants of the substituted
+            // TF: a fixed budget (not a clock) keeps five masses in bounds
+            // and the output deterministic.
+            if *budget == 0 {
+                return;
+            }
+            *budget -= 1;
             let mut next = subs.to_vec();
             next.push(w);
             let s = self.stratum(&next);
@@ -393,7 +403,7 @@ impl Prover<'_> {
                     self.record(point);
                 }
             }
-            self.partial_walls(&next, wanted, depth - 1, visited, rng);
+            self.partial_walls(&next, wanted, depth - 1, visited, rng, budget);
         }
     }
 
@@ -418,6 +428,10 @@ impl Prover<'_> {
 
 /// Samples per partial wall.
 const PARTIAL_WALL_SAMPLES: usize = 40;
+/// Partial-wall strata built per model at most.
+const PARTIAL_WALL_BUDGET: usize = 40;
+/// Terms of `alpha` and `beta` together, at most, for a partial wall.
+const PARTIAL_WALL_TERMS: usize = 24;
 
 /// `f = alpha*x - beta` for the parameter `x` of degree one with the
 /// smallest `alpha` and `beta` (any signs).
