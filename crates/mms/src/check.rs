@@ -715,6 +715,9 @@ struct ModelChecker {
     collocated: bool,
     /// Why the pencil is not block-unreduced-tridiagonal, if it is not.
     jacobi: Result<(), String>,
+    /// The model's mass and stiffness matrices.
+    mass: Vec<Vec<Poly>>,
+    stiff: Vec<Vec<Poly>>,
     num: Poly,
     den: Poly,
     strata: HashMap<String, Rc<Stratum>>,
@@ -743,6 +746,8 @@ fn check_model_at(m: &Value, path: &str) -> Result<CheckReport, CheckError> {
         params: model.undamped_parameters(),
         collocated: model.actuator() == model.sensor(),
         jacobi: unreduced_blocks(&model),
+        mass: model.mass_matrix(),
+        stiff: model.stiffness_matrix(),
         num,
         den,
         strata: HashMap::new(),
@@ -974,7 +979,7 @@ impl ModelChecker {
         // has more resonances than the stratum has poles anywhere).
         if !matches!(
             kind,
-            "too_many_resonances" | "simple_resonances" | "collocated_modes"
+            "too_many_resonances" | "simple_resonances" | "collocated_modes" | "pole_signs"
         ) {
             let factors: Vec<&Poly> = entries.iter().map(|e| &e.poly).collect();
             for c in &s.critical {
@@ -1179,10 +1184,193 @@ impl ModelChecker {
                 }
                 Ok(())
             }
+            "pole_signs" => self
+                .check_pole_signs(open, jp, t)
+                .map_err(|e| format!("pole_signs: {e}")),
             "descartes" => check_descartes(open, jp, s, t),
             "regions" => self.check_regions(open, jp, s, entries, t),
             "sign_conditions" => check_sign_conditions(open, jp, s, t),
             other => Err(format!("open: unknown kind {other:?}")),
+        }
+    }
+
+    /// The denominator is one block's determinant (a free block's divided
+    /// by `Omega`); the numerator's pseudo-remainder by it factors into
+    /// one-signed factors, `Omega` and diagonal entries `K_jj - Omega*M_jj`
+    /// of the block (roots strictly inside the block's spectrum); no
+    /// placement of those roots among the poles gives `t`'s parities.
+    fn check_pole_signs(&self, open: &Value, jp: &str, t: &Ty) -> Result<(), String> {
+        self.jacobi.clone()?;
+        let om = Poly::var(OMEGA);
+        let n_res = self.den.degree(OMEGA);
+        if t.toks.iter().any(|k| !k.zero && k.mult > 1) || t.resonances() != n_res {
+            return Err(format!(
+                "the type needs {} simple resonances, the denominator has degree {n_res}",
+                n_res
+            ));
+        }
+        // The block whose determinant the denominator is.
+        let size = self.mass.len();
+        let mut starts = vec![0];
+        for i in 1..size {
+            if self.stiff[i - 1][i].is_zero() {
+                starts.push(i);
+            }
+        }
+        starts.push(size);
+        let mut found = None;
+        for w in starts.windows(2) {
+            let idx: Vec<usize> = (w[0]..w[1]).collect();
+            if idx.len() < 2 {
+                continue;
+            }
+            let pencil: Vec<Vec<Poly>> = idx
+                .iter()
+                .map(|&i| {
+                    idx.iter()
+                        .map(|&j| &self.stiff[i][j] - &(&om * &self.mass[i][j]))
+                        .collect()
+                })
+                .collect();
+            let d = det(&pencil);
+            let free = d.subs(OMEGA, &Rat::ZERO).is_zero();
+            let p = if free {
+                match d.div_exact(&om) {
+                    Some(q) => q,
+                    None => continue,
+                }
+            } else {
+                d
+            };
+            if let Some(q) = self.den.div_exact(&p) {
+                if q.degree(OMEGA) == 0 && &q * &p == self.den {
+                    found = Some((idx, free, p));
+                    break;
+                }
+            }
+        }
+        let (block, free, p) =
+            found.ok_or("the denominator is not the determinant of one block of the pencil")?;
+        // The pseudo-remainder, recomputed.
+        let deg_p = p.degree(OMEGA);
+        let lc_p = p.coeffs_in(OMEGA)[deg_p as usize].clone();
+        let mut r = self.num.clone();
+        let mut e = 0u32;
+        while !r.is_zero() && r.degree(OMEGA) >= deg_p {
+            let d = r.degree(OMEGA);
+            let lr = r.coeffs_in(OMEGA)[d as usize].clone();
+            r = &(&lc_p * &r) - &(&(&lr * &om.pow(d - deg_p)) * &p);
+            e += 1;
+        }
+        let unit: Rat = str_field(open, "remainder_unit", jp)?
+            .parse()
+            .map_err(|_| format!("{jp}.remainder_unit: not a rational"))?;
+        let list = arr_field(open, "remainder_factors", jp)?;
+        let one_sign = |q: &Poly| -> Option<i64> {
+            if q.all_coefs_positive() {
+                Some(1)
+            } else if q.all_coefs_negative() {
+                Some(-1)
+            } else {
+                None
+            }
+        };
+        let mut product = Poly::constant(unit.clone());
+        let mut sign: i64 = unit.signum() as i64;
+        let mut anchors: Vec<i64> = Vec::new();
+        for (i, f) in list.iter().enumerate() {
+            let fp = format!("{jp}.remainder_factors[{i}]");
+            let g = poly_field(f, "factor", &fp)?;
+            let k = uint_field(f, "exponent", &fp)? as u32;
+            if k == 0 {
+                return Err(format!("{fp}: exponent 0"));
+            }
+            product = &product * &g.pow(k);
+            if g.degree(OMEGA) == 0 {
+                let s = one_sign(&g).ok_or(format!("{fp}: {g} changes sign"))?;
+                sign *= s.pow(k);
+            } else if g == om {
+                // Positive at every pole.
+            } else if g.degree(OMEGA) == 1 && k == 1 {
+                let s = block
+                    .iter()
+                    .find_map(|&j| {
+                        let diag = &self.stiff[j][j] - &(&om * &self.mass[j][j]);
+                        ratio(&g, &diag)
+                    })
+                    .ok_or(format!(
+                        "{fp}: {g} is no diagonal entry K_jj - Omega*M_jj of the block"
+                    ))?;
+                anchors.push(s.signum() as i64);
+            } else {
+                return Err(format!("{fp}: {g}^{k} is not allowed"));
+            }
+        }
+        if product != r {
+            return Err(format!(
+                "the factors multiply to {product}, the pseudo-remainder is {r}"
+            ));
+        }
+        let lc_sign = one_sign(&lc_p).ok_or("the leading coefficient of the block changes sign")?;
+        let at_zero = one_sign(&self.num.subs(OMEGA, &Rat::ZERO))
+            .ok_or("the numerator at Omega = 0 changes sign")?;
+        let deg_n = self.num.degree(OMEGA);
+        let at_inf = one_sign(&self.num.coeffs_in(OMEGA)[deg_n as usize])
+            .ok_or("the numerator's leading coefficient changes sign")?;
+        let at_pole = sign * lc_sign.pow(e);
+        // The type's antiresonances per interval.
+        let mut counts = vec![0u32; deg_p as usize + 1];
+        let mut j = 0;
+        for k in &t.toks {
+            if k.zero {
+                counts[j] += k.mult;
+            } else {
+                j += 1;
+            }
+        }
+        let total: u32 = counts.iter().sum();
+        if total > deg_n || (total == deg_n) == t.nm {
+            return Ok(());
+        }
+        // Every placement: rho_j above `lowest..deg_p` poles... as the number
+        // of poles below it, 0 allowed for a free block (its lowest
+        // eigenvalue is 0), never all of them.
+        let lowest = u32::from(!free);
+        if !anchors.is_empty() && lowest >= deg_p {
+            return Err("no placement of the diagonal entries exists".into());
+        }
+        let mut pos = vec![lowest; anchors.len()];
+        loop {
+            let mut signs = vec![at_zero];
+            for i in 0..deg_p {
+                let mut v = at_pole;
+                for (s, k) in anchors.iter().zip(&pos) {
+                    v *= if i >= *k { -s } else { *s };
+                }
+                signs.push(v);
+            }
+            signs.push(at_inf);
+            let fits = signs
+                .windows(2)
+                .zip(&counts)
+                .all(|(w, c)| (w[0] != w[1]) == (c % 2 == 1));
+            if fits {
+                return Err(format!(
+                    "the type fits the placement with {pos:?} poles below the diagonal entries"
+                ));
+            }
+            let mut i = 0;
+            loop {
+                if i == pos.len() {
+                    return Ok(());
+                }
+                pos[i] += 1;
+                if pos[i] < deg_p {
+                    break;
+                }
+                pos[i] = lowest;
+                i += 1;
+            }
         }
     }
 

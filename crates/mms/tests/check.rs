@@ -451,3 +451,95 @@ fn collocated_certificate_needs_collocation_and_a_non_modal_type() {
         "not collocated",
     );
 }
+
+/// The pole-sign certificates of a 4-mass model whose denominator is one
+/// block (N4-g3-a4.1-s4.2: m1-m2-m3 grounded, m4 alone behind the gap).
+fn n4_block_model() -> &'static Value {
+    static FILE: OnceLock<Value> = OnceLock::new();
+    FILE.get_or_init(|| {
+        let m = Model::from_id("N4-g3-a4.1-s4.2").unwrap();
+        let a = analyze(&m, &SearchLimits::default());
+        serde_json::to_value(a).unwrap()
+    })
+}
+
+#[test]
+fn pole_sign_certificates_are_checked_and_tampering_rejected() {
+    let model = n4_block_model();
+    let types = model["types"].as_array().unwrap();
+    let pole_signs: Vec<&Value> = types
+        .iter()
+        .filter(|v| v["status"] == "impossible" && v["certificate"]["open"]["kind"] == "pole_signs")
+        .collect();
+    // The strata leave these undecided; the pole signs settle them.
+    assert!(pole_signs.len() >= 50, "{}", pole_signs.len());
+    let r = check_analysis(model).unwrap();
+    assert_eq!(r.unknown, 0, "{r}");
+
+    // On a possible type the parity argument must fail.
+    let cert = pole_signs[0]["certificate"].clone();
+    let possible = types.iter().find(|v| v["status"] == "possible").unwrap();
+    let mut forged = possible.clone();
+    forged["status"] = "impossible".into();
+    forged["witness"] = Value::Null;
+    forged["certificate"] = cert.clone();
+    let mut m = model.clone();
+    m["types"] = json!([forged]);
+    let e = check_analysis(&m).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("pole_signs: the type fits the placement"),
+        "{e}"
+    );
+
+    // A remainder factor changed: the product no longer is the remainder.
+    let mut bad = pole_signs[0].clone();
+    let f = &mut bad["certificate"]["open"]["remainder_factors"][0]["exponent"];
+    *f = json!(f.as_u64().unwrap() + 1);
+    let mut m = model.clone();
+    m["types"] = json!([bad]);
+    let e = check_analysis(&m).unwrap_err();
+    assert!(e.to_string().contains("pole_signs: "), "{e}");
+}
+
+/// A second route to the pole-sign verdicts: exact classification at
+/// random rational points never shows a type they exclude (and does show
+/// the model's possible types).
+#[test]
+fn pole_sign_verdicts_agree_with_random_points() {
+    use mms::analysis::frf_type_at;
+    use mms::xorshift::XorShift;
+    use poly::Rat;
+    let model = n4_block_model();
+    let excluded: Vec<String> = model["types"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|v| v["status"] == "impossible" && v["certificate"]["open"]["kind"] == "pole_signs")
+        .map(|v| v["type"].as_str().unwrap().to_string())
+        .collect();
+    let m = Model::from_id("N4-g3-a4.1-s4.2").unwrap();
+    let tf = m.undamped_tf();
+    let mut rng = XorShift::new(41);
+    let mut seen = std::collections::BTreeSet::new();
+    for _ in 0..300 {
+        let point: std::collections::BTreeMap<String, Rat> = m
+            .undamped_parameters()
+            .into_iter()
+            .map(|p| {
+                let v = rng.log_uniform(1.0 / 64.0, 64.0);
+                let r = Rat::new(((v * 1000.0).round() as i64).into(), 1000.into());
+                (p, r)
+            })
+            .collect();
+        let t = frf_type_at(&tf.num, &tf.den, mms::OMEGA, &point)
+            .unwrap()
+            .to_string();
+        assert!(!excluded.contains(&t), "{t} at {point:?}");
+        seen.insert(t);
+    }
+    assert!(
+        seen.contains("ARARRA") && seen.contains("ARRARA"),
+        "{seen:?}"
+    );
+}

@@ -304,6 +304,25 @@ fn open(w: &mut W, o: &OpenProof) {
             );
             w.para(&s)
         }
+        OpenProof::PoleSigns(ps) => {
+            let factors: Vec<String> = ps
+                .remainder_factors
+                .iter()
+                .map(|f| {
+                    if f.exponent == 1 {
+                        w.poly(&f.factor)
+                    } else {
+                        format!("({})^{}", w.poly(&f.factor), f.exponent)
+                    }
+                })
+                .collect();
+            let s = format!(
+                "The denominator is the determinant of one chain block, with simple positive roots. At each of them the numerator has the sign of its pseudo-remainder by it, {} * {}: factors of one sign, powers of Omega, and diagonal entries K_jj - Omega*M_jj of the block, whose root K_jj/M_jj lies strictly between the block's lowest and highest eigenvalue. For every placement of those roots among the poles, the signs at 0, at the poles and at infinity fix the parity of the antiresonances between consecutive poles; the type matches none of them (and a pole where the numerator vanished would cancel, leaving fewer resonances than the type has).",
+                ps.remainder_unit,
+                factors.join(" * ")
+            );
+            w.para(&s)
+        }
         OpenProof::Descartes {
             part,
             sign_changes,

@@ -25,6 +25,7 @@
 mod explain;
 mod frf_type;
 mod lp;
+mod pole_signs;
 mod prover;
 mod targeted;
 
@@ -32,6 +33,7 @@ pub use explain::{explain, ExplainFormat};
 pub use frf_type::{
     candidate_types, frf_type_at, frf_type_of, Feature, FrfType, ParseFrfTypeError, Token,
 };
+pub use pole_signs::{PoleSigns, RemainderFactor};
 pub use prover::{
     ConditionRule, Definiteness, FactorProof, OpenProof, Proof, RegionSample, SearchLimits,
     SignCase, SignCondition, Substitution,

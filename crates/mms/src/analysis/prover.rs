@@ -24,6 +24,7 @@
 
 use super::frf_type::{frf_type_at, Feature, FrfType};
 use super::lp::positive_combination;
+use super::pole_signs::{pole_sign_data, type_fits, PoleSignData, PoleSigns};
 use crate::model::Model;
 use crate::tf::OMEGA;
 use crate::xorshift::XorShift;
@@ -257,6 +258,12 @@ pub enum OpenProof {
         #[serde(serialize_with = "ser_poly")]
         den_at_zero: Poly,
     },
+    /// The numerator's sign at the poles, from its remainder by the one
+    /// chain block the denominator is, leaves the type's antiresonance
+    /// counts between poles the wrong parity for every placement of the
+    /// block's diagonal entries among its eigenvalues (see
+    /// [`super::pole_signs`]). Holds on every stratum.
+    PoleSigns(PoleSigns),
     /// Descartes' rule of signs for the numerator part `part`, whose
     /// coefficients in `Omega` have definite signs.
     Descartes {
@@ -617,6 +624,7 @@ pub(crate) struct Prover<'a> {
     strata: HashMap<String, Stratum>,
     pub witnesses: BTreeMap<FrfType, BTreeMap<String, Rat>>,
     memo: HashMap<(String, String), Option<Proof>>,
+    pole_signs: Option<PoleSignData>,
 }
 
 /// How far the search goes.
@@ -649,6 +657,7 @@ impl Default for SearchLimits {
 
 impl<'a> Prover<'a> {
     pub(crate) fn new(model: &'a Model, num: Poly, den: Poly) -> Prover<'a> {
+        let pole_signs = pole_sign_data(model, &num, &den);
         let params: Vec<String> = model.masses().into_iter().chain(model.springs()).collect();
         Prover {
             model,
@@ -658,6 +667,7 @@ impl<'a> Prover<'a> {
             strata: HashMap::new(),
             witnesses: BTreeMap::new(),
             memo: HashMap::new(),
+            pole_signs,
         }
     }
 
@@ -801,6 +811,21 @@ impl<'a> Prover<'a> {
                 });
             }
         }
+        // The strata first (they reproduce the paper's arguments where
+        // those exist), the pole signs where the strata fail.
+        self.stratum_proof(s, t, limits).or_else(|| {
+            let d = self.pole_signs.as_ref()?;
+            (t.resonances() == d.poles && !type_fits(d, t)).then(|| Proof {
+                stratum: s.subs.clone(),
+                open: OpenProof::PoleSigns(d.certificate.clone()),
+                factors: Vec::new(),
+            })
+        })
+    }
+
+    /// A proof by the open part of `s` and the treatment of its factors.
+    fn stratum_proof(&mut self, s: &Stratum, t: &FrfType, limits: &SearchLimits) -> Option<Proof> {
+        let (r_s, r_t) = (s.den_degree(), t.resonances());
         let open = self.open_proof(s, t, limits)?;
         let lc_definite = s
             .factors
