@@ -309,29 +309,31 @@ fn bad_recordings_are_one_line_errors_with_exit_2() {
     assert!(err.contains("--band 15:2"), "{err}");
 }
 
-/// `mms diagnose` on a recording of A1 with a concealed dead time, given
-/// a model file with parameters 10 % off: it names the delay and its size;
-/// without the delay it says nothing is missing; a bad model file is a
-/// one-line error naming the line.
-#[test]
-fn diagnose_names_a_concealed_delay_and_says_none_without_it() {
+/// A1 (Tab. 7 parameters) on 1500 log-spaced lines, 2-80 Hz.
+const A1_TRUTH: [f64; 7] = [0.0044, 0.0173, 0.0184, 46.8, 14.3, 0.002, 0.001];
+/// The dead time concealed in `delayed.csv`.
+const A1_DELAY: f64 = 4e-4;
+
+/// Writes the A1 files of the diagnose tests into `dir`: `delayed.csv`
+/// (the truth with a dead time and 0.5 % noise), `plain.csv` (without the
+/// delay), `model.toml` (every parameter 10 % off, alternately up and
+/// down) and `simulation.csv` (that model's noise-free FRF, the simulation
+/// an engineer would have of the design).
+fn a1_files(dir: &Path) -> [PathBuf; 4] {
     use mms::model_file::{ModelFile, Motion};
     use mms::response::{ChainResponse, Effects, Parameters};
-    let dir = temp_dir("diagnose");
     let a1 = Model::from_id("A1").unwrap();
-    let truth = [0.0044, 0.0173, 0.0184, 46.8, 14.3, 0.002, 0.001];
     let f: Vec<f64> = (0..1500)
         .map(|k| 2.0 * (40.0f64).powf(k as f64 / 1499.0))
         .collect();
-    let delay = 4e-4;
     let mut rng = XorShift::new(17);
-    let write = |name: &str, effects: &Effects, rng: &mut XorShift| {
+    let write = |name: &str, p: &[f64], effects: &Effects, noise: f64, rng: &mut XorShift| {
         let g = ChainResponse::with_effects(&a1, mms::Output::Position, effects);
         let h: Vec<num_complex::Complex64> = f
             .iter()
             .map(|&x| {
-                let n = num_complex::Complex64::new(rng.normal(), rng.normal()) * 0.005;
-                g.eval(&truth, x).unwrap() * (1.0 + n)
+                let n = num_complex::Complex64::new(rng.normal(), rng.normal()) * noise;
+                g.eval(p, x).unwrap() * (1.0 + n)
             })
             .collect();
         let path = dir.join(name);
@@ -341,19 +343,27 @@ fn diagnose_names_a_concealed_delay_and_says_none_without_it() {
     };
     let delayed = write(
         "delayed.csv",
+        &A1_TRUTH,
         &Effects {
-            time_delay_s: Some(delay),
+            time_delay_s: Some(A1_DELAY),
             ..Effects::default()
         },
+        0.005,
         &mut rng,
     );
-    let plain = write("plain.csv", &Effects::default(), &mut rng);
-    // The nominal model: every parameter 10 % off, alternately up and down.
-    let nominal: Vec<f64> = truth
+    let plain = write("plain.csv", &A1_TRUTH, &Effects::default(), 0.005, &mut rng);
+    let nominal: Vec<f64> = A1_TRUTH
         .iter()
         .enumerate()
         .map(|(i, v)| v * if i % 2 == 0 { 1.1 } else { 0.9 })
         .collect();
+    let simulation = write(
+        "simulation.csv",
+        &nominal,
+        &Effects::default(),
+        0.0,
+        &mut rng,
+    );
     let file = ModelFile {
         model: a1,
         output: mms::Output::Position,
@@ -364,22 +374,33 @@ fn diagnose_names_a_concealed_delay_and_says_none_without_it() {
     };
     let model = dir.join("model.toml");
     std::fs::write(&model, file.to_toml()).unwrap();
-    let run = |rec: &Path| {
-        let (code, out, err) = mms(&[
-            "diagnose",
-            rec.to_str().unwrap(),
-            "--model",
-            model.to_str().unwrap(),
-            "--format",
-            "json",
-        ]);
-        assert_eq!(code, 0, "{err}");
-        serde_json::from_str::<serde_json::Value>(&out).unwrap()
-    };
+    [delayed, plain, model, simulation]
+}
+
+/// Runs `mms diagnose ARGS --format json`, which must succeed.
+fn diagnose_json(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["diagnose"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--format", "json"]);
+    let (code, out, err) = mms(&all);
+    assert_eq!(code, 0, "{args:?}: {err}");
+    serde_json::from_str(&out).unwrap()
+}
+
+/// `mms diagnose` on a recording of A1 with a concealed dead time, given
+/// a model file with parameters 10 % off: it names the delay and its size;
+/// without the delay it says nothing is missing; a bad model file is a
+/// one-line error naming the line.
+#[test]
+fn diagnose_names_a_concealed_delay_and_says_none_without_it() {
+    let dir = temp_dir("diagnose");
+    let [delayed, plain, model, _] = a1_files(&dir);
+    let run =
+        |rec: &Path| diagnose_json(&[rec.to_str().unwrap(), "--model", model.to_str().unwrap()]);
     let v = run(&delayed);
     assert_eq!(v["effects"][0]["kind"], "time_delay", "{}", v["effects"]);
     let got = v["effects"][0]["parameters"]["delay_s"].as_f64().unwrap();
-    assert!((got / delay - 1.0).abs() < 0.1, "{got}");
+    assert!((got / A1_DELAY - 1.0).abs() < 0.1, "{got}");
     let (before, after) = (&v["fit"]["before"], &v["fit"]["after"]);
     assert!(after["rms_deg"].as_f64().unwrap() < 0.5 * before["rms_deg"].as_f64().unwrap());
     assert!(!v["mismatch"].as_array().unwrap().is_empty());
@@ -493,4 +514,69 @@ fn diagnose_time_domain_finds_concealed_coulomb_friction() {
     assert_eq!(after.effects.coulomb_friction, Some(got));
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("(time domain)") && report.contains("amplitude dependence"));
+}
+
+/// `--recording FILE` does what the positional recording does;
+/// `--simulation FILE` (the design model's simulated FRF) stands in for
+/// the model file and finds the same concealed delay; `--select holdout`
+/// finds it too and says none without it; giving both or neither of a
+/// pair of alternatives is a one-line error with exit code 2.
+#[test]
+fn diagnose_recording_and_simulation_flags_and_holdout() {
+    let dir = temp_dir("diagnose-flags");
+    let [delayed, plain, model, simulation] = a1_files(&dir);
+    let (rec, plain, model, sim) = (
+        delayed.to_str().unwrap(),
+        plain.to_str().unwrap(),
+        model.to_str().unwrap(),
+        simulation.to_str().unwrap(),
+    );
+    let delay_of = |v: &serde_json::Value| {
+        assert_eq!(v["effects"][0]["kind"], "time_delay", "{}", v["effects"]);
+        v["effects"][0]["parameters"]["delay_s"].as_f64().unwrap()
+    };
+    let flag = diagnose_json(&["--recording", rec, "--model", model]);
+    let positional = diagnose_json(&[rec, "--model", model]);
+    assert_eq!(flag, positional);
+    // From the simulation: a 3-mass model that reproduces it, and the
+    // concealed delay within 10 %.
+    let v = diagnose_json(&["--recording", rec, "--simulation", sim]);
+    assert!(
+        (delay_of(&v) / A1_DELAY - 1.0).abs() < 0.1,
+        "{}",
+        v["effects"]
+    );
+    assert!(v["model_after"]["structure"]
+        .as_str()
+        .unwrap()
+        .starts_with("N3"));
+    // Held-out validation.
+    let v = diagnose_json(&[rec, "--model", model, "--select", "holdout"]);
+    assert!((delay_of(&v) / A1_DELAY - 1.0).abs() < 0.1);
+    let v = diagnose_json(&[plain, "--model", model, "--select", "holdout"]);
+    assert_eq!(v["effects"][0]["kind"], "none", "{}", v["effects"]);
+    // Alternatives: exactly one of each pair.
+    let cases: [(&[&str], &str); 4] = [
+        (&[rec, "--recording", rec, "--model", model], "exactly one"),
+        (&["--model", model], "no recording"),
+        (&[rec, "--model", model, "--simulation", sim], "not both"),
+        (&[rec], "--model MODEL.toml or --simulation"),
+    ];
+    for (args, want) in cases {
+        let mut all = vec!["diagnose"];
+        all.extend_from_slice(args);
+        let (code, out, err) = mms(&all);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(out.is_empty());
+        assert!(err.contains(want), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    }
+    // A simulation no chain model reproduces (the delayed recording, noise
+    // and dead time included) is an error naming the file.
+    let (code, _, err) = mms(&["diagnose", plain, "--simulation", rec]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("delayed.csv") && err.contains("no chain model"),
+        "{err}"
+    );
 }

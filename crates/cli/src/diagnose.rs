@@ -5,18 +5,38 @@
 
 use crate::identify::IdentifyFormat;
 use crate::recording::RecordingArgs;
-use ident::diagnose::{diagnose, DiagnoseOptions, Diagnosis, EffectKind};
+use ident::diagnose::{
+    diagnose, model_from_simulation, DiagnoseOptions, Diagnosis, EffectKind, Selection,
+};
 use ident::nonlinear::{diagnose_time, TimeDiagnosis, TimeOptions};
 use mms::model_file::ModelFile;
 use mms::response::ChainResponse;
 use plot::{Bode, Style};
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// `--select`: how an effect earns its parameters.
+#[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
+pub enum SelectArg {
+    /// Bayesian information criterion on all lines.
+    Bic,
+    /// Validation on held-out lines (every 4th).
+    Holdout,
+}
+
+/// Where the model comes from.
+pub enum ModelSource {
+    /// A model file.
+    File(PathBuf),
+    /// A simulated FRF whose chain model is identified.
+    Simulation(PathBuf),
+}
 
 /// Options of `mms diagnose` beyond the recording.
 pub struct DiagnoseArgs<'a> {
     pub recording: &'a RecordingArgs,
-    pub model: &'a Path,
+    pub model: &'a ModelSource,
+    pub select: SelectArg,
     pub tolerance: f64,
     pub band: Option<(f64, f64)>,
     pub format: IdentifyFormat,
@@ -27,12 +47,31 @@ pub struct DiagnoseArgs<'a> {
 /// directory is given.
 pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     let rec = args.recording.read()?;
-    let text = std::fs::read_to_string(args.model)
-        .map_err(|e| format!("{}: cannot read: {e}", args.model.display()))?;
-    let model = ModelFile::parse(&text).map_err(|e| match e.line {
-        Some(l) => format!("{}:{l}: {}", args.model.display(), e.message),
-        None => format!("{}: {}", args.model.display(), e.message),
-    })?;
+    let model = match args.model {
+        ModelSource::File(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+            ModelFile::parse(&text).map_err(|e| match e.line {
+                Some(l) => format!("{}:{l}: {}", path.display(), e.message),
+                None => format!("{}: {}", path.display(), e.message),
+            })?
+        }
+        ModelSource::Simulation(path) => {
+            let sim = frf::read_recording(path, &frf::RecordingOptions::default())
+                .map_err(|e| e.to_string())?;
+            model_from_simulation(&sim.frf, args.recording.output.into())
+                .map_err(|e| format!("{}: {e}", path.display()))?
+        }
+    };
+    let source = match args.model {
+        ModelSource::File(path) => format!("Model: `{}` ({}).", path.display(), model.model.id()),
+        ModelSource::Simulation(path) => format!(
+            "Model: {} identified from the simulation `{}` (reproduced within {} dB).",
+            model.model.id(),
+            path.display(),
+            ident::diagnose::SIMULATION_TOLERANCE_DB
+        ),
+    };
     if !(args.tolerance.is_finite() && args.tolerance > 0.0 && args.tolerance < 10.0) {
         return Err(format!(
             "--tolerance {}: expected a fraction such as 0.2 (0 < t < 10)",
@@ -41,9 +80,13 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     }
     let options = DiagnoseOptions {
         tolerance: args.tolerance,
+        selection: match args.select {
+            SelectArg::Bic => Selection::Bic,
+            SelectArg::Holdout => Selection::Holdout,
+        },
         ..DiagnoseOptions::default()
     };
-    let name = args.recording.recording.display().to_string();
+    let name = args.recording.path()?.display().to_string();
     // The lines the data can be trusted on: --band, else the band the
     // classification trusts (coherence, outliers), as `mms identify` uses.
     let (lo, hi) = match args.band {
@@ -79,7 +122,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
             .first()
             .is_some_and(|e| e.kind != EffectKind::None)
         {
-            return run_time(args, &name, samples, &model, td, d);
+            return run_time(args, &name, &source, samples, &model, td, d);
         }
         time_check = Some(td);
     }
@@ -102,6 +145,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         IdentifyFormat::Md | IdentifyFormat::Html => {
             let mut m = markdown(
                 &name,
+                &source,
                 &d,
                 (args.format == IdentifyFormat::Md && args.out.is_some()).then_some("bode.svg"),
             );
@@ -151,16 +195,24 @@ fn bode(frf: &frf::Frf, before: &ModelFile, d: &Diagnosis) -> Bode {
     b.residual()
 }
 
-fn markdown(name: &str, d: &Diagnosis, plot: Option<&str>) -> String {
+fn markdown(name: &str, source: &str, d: &Diagnosis, plot: Option<&str>) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Diagnosis of `{name}`\n");
+    let _ = writeln!(s, "{source}\n");
     let best = d.effects.first();
     let verdict = match best {
         Some(e) if e.kind != EffectKind::None => {
-            let params: Vec<String> = e
-                .parameters
+            let causes: Vec<String> = d
+                .effects
                 .iter()
-                .map(|(k, v)| format!("{k} = {v:.4e}"))
+                .map(|e| {
+                    let params: Vec<String> = e
+                        .parameters
+                        .iter()
+                        .map(|(k, v)| format!("{k} = {v:.4e}"))
+                        .collect();
+                    format!("**{}** ({})", e.kind.as_str(), params.join(", "))
+                })
                 .collect();
             let bands: Vec<String> = d
                 .mismatch
@@ -168,15 +220,15 @@ fn markdown(name: &str, d: &Diagnosis, plot: Option<&str>) -> String {
                 .map(|b| format!("{:.4} and {:.4} Hz", b.f_lo_hz, b.f_hi_hz))
                 .collect();
             format!(
-                "The recording differs from the model{}; most likely cause: **{}** ({}); after adding it \
+                "The recording differs from the model{}; most likely cause: {}; after adding {} \
                  the error drops from {:.3} dB / {:.2} deg to {:.3} dB / {:.2} deg RMS.",
                 if bands.is_empty() {
                     String::new()
                 } else {
                     format!(" between {}", bands.join(", "))
                 },
-                e.kind.as_str(),
-                params.join(", "),
+                causes.join(" together with "),
+                if causes.len() > 1 { "them" } else { "it" },
                 d.fit.before.rms_db,
                 d.fit.before.rms_deg,
                 d.fit.after.rms_db,
@@ -203,7 +255,9 @@ fn markdown(name: &str, d: &Diagnosis, plot: Option<&str>) -> String {
             b.f_lo_hz, b.f_hi_hz, b.rms_db, b.rms_deg
         );
     }
-    s.push_str("\n## Effects\n\n| kind | parameters | score | evidence |\n|---|---|---:|---|\n");
+    s.push_str(
+        "\n## Effects\n\n| kind | parameters | step | score | evidence |\n|---|---|---:|---:|---|\n",
+    );
     for e in d.effects.iter().chain(&d.rejected) {
         let params: Vec<String> = e
             .parameters
@@ -212,9 +266,10 @@ fn markdown(name: &str, d: &Diagnosis, plot: Option<&str>) -> String {
             .collect();
         let _ = writeln!(
             s,
-            "| {} | {} | {:.1} | {} |",
+            "| {} | {} | {} | {:.1} | {} |",
             e.kind.as_str(),
             params.join(", "),
+            e.step,
             e.score,
             e.evidence
         );
@@ -233,6 +288,7 @@ fn markdown(name: &str, d: &Diagnosis, plot: Option<&str>) -> String {
 fn run_time(
     args: &DiagnoseArgs,
     name: &str,
+    source: &str,
     samples: &frf::Samples,
     model: &ModelFile,
     mut d: TimeDiagnosis,
@@ -247,10 +303,10 @@ fn run_time(
             s.push('\n');
             s
         }
-        IdentifyFormat::Md => time_markdown(name, &d, args.out.map(|_| "bode.svg")),
+        IdentifyFormat::Md => time_markdown(name, source, &d, args.out.map(|_| "bode.svg")),
         IdentifyFormat::Html => crate::identify::html_page(
             "mms diagnose",
-            &time_markdown(name, &d, None),
+            &time_markdown(name, source, &d, None),
             &plot.to_svg(),
         ),
     };
@@ -293,7 +349,7 @@ fn time_bode(samples: &frf::Samples, model: &ModelFile, d: &TimeDiagnosis) -> Re
     Ok(b.residual())
 }
 
-fn time_markdown(name: &str, d: &TimeDiagnosis, plot: Option<&str>) -> String {
+fn time_markdown(name: &str, source: &str, d: &TimeDiagnosis, plot: Option<&str>) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Diagnosis of `{name}` (time domain)\n");
     let _ = writeln!(
@@ -363,7 +419,7 @@ fn time_markdown(name: &str, d: &TimeDiagnosis, plot: Option<&str>) -> String {
     }
     if let Some(fd) = &d.frequency_domain {
         s.push_str("\n## Frequency domain (H1 estimate, linear effects)\n\n");
-        let body = markdown(name, fd, None);
+        let body = markdown(name, source, fd, None);
         // Drop its title; keep the verdict and tables.
         let body = body
             .split_once('\n')

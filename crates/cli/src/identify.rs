@@ -53,7 +53,7 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
         },
         ..IdentifyOptions::default()
     };
-    let name = args.recording.recording.display().to_string();
+    let name = args.recording.path()?.display().to_string();
     let id = identify(&rec.frf, output, &options).map_err(|e| format!("{name}: {e}"))?;
     let plots = bode(&rec.frf, output, &id);
     let report = match args.format {

@@ -158,15 +158,27 @@ enum Command {
     /// Diagnose where a model and a recording differ: calibrate the model's
     /// parameters (within a tolerance), locate the mismatch bands, name the
     /// missing physics (delay, lag, gain error, hysteretic damping,
-    /// friction, or nothing), add it and report the improvement. On a
-    /// time-domain recording also the time-domain diagnosis: Coulomb friction
-    /// or backlash, fitted by simulating the model from the recorded input.
+    /// friction, an extra mass, or nothing; several at once by forward
+    /// selection), add it and report the improvement. On a time-domain
+    /// recording also the time-domain diagnosis: Coulomb friction or
+    /// backlash, fitted by simulating the model from the recorded input.
     Diagnose {
         #[command(flatten)]
         recording: recording::RecordingArgs,
         /// The model file (TOML), e.g. the model.toml `mms identify --out` writes.
+        /// Give exactly one of --model and --simulation.
         #[arg(long, value_name = "MODEL.toml")]
-        model: PathBuf,
+        model: Option<PathBuf>,
+        /// A simulated FRF (FRF CSV or UFF58) in place of --model: the chain
+        /// model that reproduces it (within 0.05 dB) is identified and
+        /// diagnosed.
+        #[arg(long, value_name = "FILE")]
+        simulation: Option<PathBuf>,
+        /// How an effect must earn its parameters: bic (information
+        /// criterion on all lines) or holdout (every 4th line held out of
+        /// the fits, the effect must lower their cost).
+        #[arg(long, value_enum, default_value_t = diagnose::SelectArg::Bic)]
+        select: diagnose::SelectArg,
         /// How far calibration may move each parameter from its nominal
         /// value (fraction).
         #[arg(long, value_name = "FRACTION", default_value_t = 0.2)]
@@ -374,14 +386,27 @@ fn run(cli: Cli) -> Result<(), String> {
         Command::Diagnose {
             recording,
             model,
+            simulation,
+            select,
             tolerance,
             band,
             format,
             out,
         } => {
+            let model = match (model, simulation) {
+                (Some(m), None) => diagnose::ModelSource::File(m),
+                (None, Some(s)) => diagnose::ModelSource::Simulation(s),
+                (Some(_), Some(_)) => {
+                    return Err("give either --model or --simulation, not both".into())
+                }
+                (None, None) => {
+                    return Err("give the model: --model MODEL.toml or --simulation FILE".into())
+                }
+            };
             let args = diagnose::DiagnoseArgs {
                 recording: &recording,
                 model: &model,
+                select,
                 tolerance,
                 band: band.as_deref().map(parse_band).transpose()?,
                 format,

@@ -4,16 +4,20 @@
 
 use crate::OutputArg;
 use frf::{read_recording, Recording, RecordingOptions, SignalRef, WelchOptions};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Where the data come from and what they measure.
 #[derive(clap::Args, Clone)]
 pub struct RecordingArgs {
     /// The recording: FRF CSV (freq_hz,re,im or freq_hz,mag_db,phase_deg),
     /// UFF dataset 58 (.uff/.unv), time-domain CSV (t,u,y), MATLAB v5
-    /// .mat, or a headerless numeric matrix (.dat/.txt).
+    /// .mat, or a headerless numeric matrix (.dat/.txt). Also accepted as
+    /// --recording FILE; give exactly one of the two.
     #[arg(value_name = "RECORDING")]
-    pub recording: PathBuf,
+    pub recording: Option<PathBuf>,
+    /// The recording, as a flag (the same as the positional RECORDING).
+    #[arg(long = "recording", value_name = "FILE")]
+    pub recording_flag: Option<PathBuf>,
     /// Input signal of a time-domain recording: VAR[:COL] (a .mat variable
     /// or CSV column; COL picks a channel of a matrix, counted from 1; a
     /// column number for headerless matrices).
@@ -42,8 +46,28 @@ pub struct RecordingArgs {
 }
 
 impl RecordingArgs {
+    /// The recording's path: the positional RECORDING or --recording FILE,
+    /// exactly one of them.
+    pub fn path(&self) -> Result<&Path, String> {
+        match (&self.recording, &self.recording_flag) {
+            (Some(p), None) | (None, Some(p)) => Ok(p),
+            (Some(a), Some(b)) => Err(format!(
+                "two recordings given ({} and --recording {}): give exactly one",
+                a.display(),
+                b.display()
+            )),
+            (None, None) => Err("no recording given: pass RECORDING or --recording FILE".into()),
+        }
+    }
+
     /// Reads the recording; errors are one line naming the file and place.
     pub fn read(&self) -> Result<Recording, String> {
+        self.read_file(self.path()?)
+    }
+
+    /// Reads `path` with these flags (e.g. a simulated FRF next to the
+    /// recording); errors are one line naming the file and place.
+    pub fn read_file(&self, path: &Path) -> Result<Recording, String> {
         let signal = |flag: &str, s: &Option<String>| -> Result<Option<SignalRef>, String> {
             s.as_deref()
                 .map(|v| {
@@ -63,7 +87,7 @@ impl RecordingArgs {
             },
             dataset: self.dataset,
         };
-        read_recording(&self.recording, &opts).map_err(|e| e.to_string())
+        read_recording(path, &opts).map_err(|e| e.to_string())
     }
 }
 
@@ -85,6 +109,6 @@ pub fn run(args: &RecordingArgs, format: FrfFormat) -> Result<String, String> {
         FrfFormat::Csv => Ok(frf::write_csv(&rec.frf, frf::CsvLayout::ReIm)),
         FrfFormat::CsvDb => Ok(frf::write_csv(&rec.frf, frf::CsvLayout::MagDbPhaseDeg)),
         FrfFormat::Uff => frf::write_frf_uff(&rec.frf, frf::Spacing::Uneven)
-            .map_err(|e| format!("{}: {e}", args.recording.display())),
+            .map_err(|e| format!("{}: {e}", args.path().unwrap_or(Path::new("-")).display())),
     }
 }

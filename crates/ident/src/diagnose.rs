@@ -34,7 +34,9 @@
 //!    [`DiagnoseOptions::margin`]; kept effects are ranked by that score.
 //!    If none is kept, the verdict is `none`.
 //!
-//! An extra mode (one more mass) is not among the hypotheses yet.
+//! An extra mode (one more mass at either end or inside the chain) is a
+//! hypothesis too; several effects are kept by forward selection, and
+//! [`Selection::Holdout`] validates on held-out lines instead of BIC.
 //!
 //! ```
 //! use frf::Frf;
@@ -101,7 +103,29 @@ pub struct DiagnoseOptions {
     pub margin: f64,
     /// Iteration limit of each Levenberg-Marquardt fit.
     pub max_iterations: usize,
+    /// How an effect earns its parameters: by BIC on all lines, or by
+    /// validation on held-out lines.
+    pub selection: Selection,
 }
+
+/// How the diagnosis decides whether an effect is kept
+/// ([`DiagnoseOptions::selection`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Selection {
+    /// Bayesian information criterion on all lines: an effect is kept if
+    /// its cost drop exceeds `ln(2 lines)` per parameter plus
+    /// [`DiagnoseOptions::margin`].
+    #[default]
+    Bic,
+    /// Validation on held-out lines: every [`HOLDOUT_EVERY`]th line (the
+    /// 4th, 8th, ...) is left out of every fit, and an effect is kept if it
+    /// lowers the noise-normalised cost on those lines by more than
+    /// [`DiagnoseOptions::margin`].
+    Holdout,
+}
+
+/// [`Selection::Holdout`] holds out every this many lines.
+pub const HOLDOUT_EVERY: usize = 4;
 
 impl Default for DiagnoseOptions {
     fn default() -> DiagnoseOptions {
@@ -114,6 +138,7 @@ impl Default for DiagnoseOptions {
             min_band_lines: 5,
             margin: 10.0,
             max_iterations: 60,
+            selection: Selection::Bic,
         }
     }
 }
@@ -239,8 +264,16 @@ pub struct EffectVerdict {
     /// Why, in words: the cost drop, the errors before and after.
     pub evidence: String,
     /// BIC improvement over the calibrated model without it, less the
-    /// margin: positive means kept.
+    /// margin: positive means kept. For an effect added to others (`step`
+    /// 2 and up), the improvement over the model with those others; with
+    /// [`Selection::Holdout`], the drop of the held-out cost less the
+    /// margin.
     pub score: f64,
+    /// Forward selection: 1 for the best single effect, 2 for the effect
+    /// added to it, and so on; the kept effects are fitted jointly in
+    /// `model_after`. For a rejected hypothesis, the step at which it
+    /// failed; 0 for `none`.
+    pub step: usize,
 }
 
 /// RMS errors of a model against the recording.
@@ -347,15 +380,90 @@ pub enum DiagnoseError {
     /// Options out of range.
     #[error("invalid option: {0}")]
     Options(String),
+    /// A simulated FRF that no chain model reproduces
+    /// ([`model_from_simulation`]).
+    #[error("{0}")]
+    Simulation(String),
+}
+
+/// How closely the model found by [`model_from_simulation`] must reproduce
+/// the simulated FRF: RMS of the complex log error in dB-equivalent (the
+/// identification's `score_db`). A noise-free simulation of a chain is
+/// fitted far closer than this; a looser fit means the simulation is not
+/// a chain model of this library.
+pub const SIMULATION_TOLERANCE_DB: f64 = 0.05;
+
+/// The chain model behind a simulated, noise-free FRF (`mms diagnose
+/// --simulation`): [`crate::identify::identify`] on the simulation, first
+/// with the gain known (SI units), then with the gain fitted; the best
+/// candidate is taken if it reproduces the simulation within
+/// [`SIMULATION_TOLERANCE_DB`], else the error says how close it came.
+///
+/// ```
+/// use ident::diagnose::model_from_simulation;
+/// use ident::synth::{synthetic, SynthOptions};
+/// use mms::response::ChainResponse;
+/// use mms::xorshift::XorShift;
+/// use mms::Model;
+///
+/// let a2 = Model::from_id("A2")?;
+/// let s = synthetic(&mut XorShift::new(2), Some(a2), &SynthOptions::default())?;
+/// let m = model_from_simulation(&s.frf, s.output)?;
+/// // The model's FRF is the simulation's, within the stated tolerance.
+/// let g = ChainResponse::new(&m.model, m.output);
+/// for (&f, &h) in s.frf.freq_hz().iter().zip(s.frf.response()) {
+///     let e = (g.eval(m.parameters.values(), f)? * m.gain / h).ln();
+///     assert!(e.norm() < 0.05);
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn model_from_simulation(sim: &Frf, output: mms::Output) -> Result<ModelFile, DiagnoseError> {
+    use crate::identify::{identify, IdentifyOptions};
+    let mut closest: Option<(String, f64)> = None;
+    for gain in [crate::fit::Gain::Known(1.0), crate::fit::Gain::Fit(1.0)] {
+        let options = IdentifyOptions {
+            gain,
+            ..IdentifyOptions::default()
+        };
+        let id = identify(sim, output, &options)
+            .map_err(|e| DiagnoseError::Simulation(format!("cannot identify a model: {e}")))?;
+        let Some(best) = id.candidates.first() else {
+            continue;
+        };
+        if best.score_db <= SIMULATION_TOLERANCE_DB {
+            return Ok(ModelFile {
+                model: best.model,
+                output,
+                parameters: best.fit.parameters.clone(),
+                gain: best.fit.gain,
+                motion: mms::model_file::Motion::Translational,
+                effects: Effects::default(),
+            });
+        }
+        if closest.as_ref().is_none_or(|c| best.score_db < c.1) {
+            closest = Some((best.id.clone(), best.score_db));
+        }
+    }
+    Err(DiagnoseError::Simulation(match closest {
+        Some((id, db)) => format!(
+            "no chain model reproduces the simulation within {SIMULATION_TOLERANCE_DB} dB \
+             (closest: {id}, {db:.3} dB); give a model file with --model instead"
+        ),
+        None => "no chain model fits the simulation; give a model file with --model instead".into(),
+    }))
 }
 
 /// The fitting problem shared by the calibration and every hypothesis.
+#[derive(Clone)]
 struct Problem<'a> {
-    file: &'a ModelFile,
+    file: ModelFile,
     freq: &'a [f64],
     data: &'a [Complex64],
-    /// `1 / sigma_k` per line.
+    /// `1 / sigma_k` per line in the fits (zero on held-out lines).
     inv_sigma: Vec<f64>,
+    /// `1 / sigma_k` on the held-out lines, zero elsewhere (all zero
+    /// without held-out validation).
+    test_sigma: Vec<f64>,
     nominal_ln: Vec<f64>,
     /// `1 / tau` of each parameter's log prior.
     prior: Vec<f64>,
@@ -385,19 +493,36 @@ impl Problem<'_> {
             .map(|((x, n), w)| (x - n) * w)
     }
 
-    /// The effects at state `x` for hypothesis `kind`.
-    fn effects(&self, kind: EffectKind, x: &[f64]) -> Effects {
-        match kind {
-            EffectKind::None => self.file.effects,
-            k => k.apply(&self.file.effects, x[self.np()].exp()),
-        }
+    /// The effects at state `x` with the effects `kinds` (their
+    /// log-values follow the chain's parameters in `x`, in this order).
+    fn effects(&self, kinds: &[EffectKind], x: &[f64]) -> Effects {
+        kinds
+            .iter()
+            .enumerate()
+            .fold(self.file.effects, |e, (i, k)| {
+                k.apply(&e, x[self.np() + i].exp())
+            })
+    }
+
+    /// The held-out cost at state `x`: `sum |e_k / sigma_k|^2` over the
+    /// held-out lines.
+    fn test_cost(&self, kinds: &[EffectKind], x: &[f64]) -> Result<f64, ResponseError> {
+        Ok(self
+            .errors(kinds, x)?
+            .iter()
+            .zip(&self.test_sigma)
+            .map(|(e, w)| e.norm_sqr() * w * w)
+            .sum())
     }
 
     /// Unweighted log errors `ln(G/H)` at state `x`.
-    fn errors(&self, kind: EffectKind, x: &[f64]) -> Result<Vec<Complex64>, ResponseError> {
+    fn errors(&self, kinds: &[EffectKind], x: &[f64]) -> Result<Vec<Complex64>, ResponseError> {
         let p: Vec<f64> = x[..self.np()].iter().map(|v| v.exp()).collect();
-        let r =
-            ChainResponse::with_effects(&self.file.model, self.file.output, &self.effects(kind, x));
+        let r = ChainResponse::with_effects(
+            &self.file.model,
+            self.file.output,
+            &self.effects(kinds, x),
+        );
         self.freq
             .iter()
             .zip(self.data)
@@ -409,15 +534,18 @@ impl Problem<'_> {
     /// Jacobian with respect to `x` (row-major).
     fn residuals(
         &self,
-        kind: EffectKind,
+        kinds: &[EffectKind],
         x: &[f64],
         jac: Option<&mut Vec<f64>>,
     ) -> Result<Vec<f64>, ResponseError> {
         let np = self.np();
         let nx = x.len();
         let p: Vec<f64> = x[..np].iter().map(|v| v.exp()).collect();
-        let resp =
-            ChainResponse::with_effects(&self.file.model, self.file.output, &self.effects(kind, x));
+        let resp = ChainResponse::with_effects(
+            &self.file.model,
+            self.file.output,
+            &self.effects(kinds, x),
+        );
         let mut r = Vec::with_capacity(2 * self.freq.len() + np);
         let Some(jac) = jac else {
             for ((&f, &h), &w) in self.freq.iter().zip(self.data).zip(&self.inv_sigma) {
@@ -428,19 +556,21 @@ impl Problem<'_> {
             r.extend(self.prior_rows(x));
             return Ok(r);
         };
-        // The effect's column by a forward difference in its logarithm:
+        // The effects' columns by forward differences in their logarithms:
         // the effects enter the solver in several places, and one extra
-        // evaluation per line is cheap next to the gradient.
+        // evaluation per line and effect is cheap next to the gradient.
         const STEP: f64 = 1e-6;
-        let shifted = (kind != EffectKind::None).then(|| {
-            let mut xs = x.to_vec();
-            xs[np] += STEP;
-            ChainResponse::with_effects(
-                &self.file.model,
-                self.file.output,
-                &self.effects(kind, &xs),
-            )
-        });
+        let shifted: Vec<ChainResponse> = (0..kinds.len())
+            .map(|i| {
+                let mut xs = x.to_vec();
+                xs[np + i] += STEP;
+                ChainResponse::with_effects(
+                    &self.file.model,
+                    self.file.output,
+                    &self.effects(kinds, &xs),
+                )
+            })
+            .collect();
         jac.clear();
         jac.reserve((2 * self.freq.len() + np) * nx);
         let mut grad = vec![Complex64::new(0.0, 0.0); np];
@@ -457,10 +587,10 @@ impl Problem<'_> {
                 jac[base + i] = w * d.re;
                 jac[base + nx + i] = w * d.im;
             }
-            if let Some(s) = &shifted {
+            for (i, s) in shifted.iter().enumerate() {
                 let d = (s.eval(&p, f)? / g).ln() / STEP;
-                jac[base + np] = w * d.re;
-                jac[base + nx + np] = w * d.im;
+                jac[base + np + i] = w * d.re;
+                jac[base + nx + np + i] = w * d.im;
             }
         }
         r.extend(self.prior_rows(x));
@@ -473,10 +603,10 @@ impl Problem<'_> {
     }
 
     /// Levenberg-Marquardt from `x0` with `x` clamped to `[lo, hi]` after
-    /// every step (the effect's bounds appended for a hypothesis).
+    /// every step (the effects' bounds appended for a hypothesis).
     fn fit(
         &self,
-        kind: EffectKind,
+        kinds: &[EffectKind],
         x0: Vec<f64>,
         lo: &[f64],
         hi: &[f64],
@@ -486,7 +616,7 @@ impl Problem<'_> {
         let cost = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
         let mut x = x0;
         let mut jac = Vec::new();
-        let mut r = self.residuals(kind, &x, Some(&mut jac))?;
+        let mut r = self.residuals(kinds, &x, Some(&mut jac))?;
         let mut c = cost(&r);
         let mut lambda = 1e-3;
         for _ in 0..max_iterations {
@@ -504,7 +634,7 @@ impl Problem<'_> {
                 let trial: Vec<f64> = (0..nx)
                     .map(|i| (x[i] - step[i]).clamp(lo[i], hi[i]))
                     .collect();
-                match self.residuals(kind, &trial, None) {
+                match self.residuals(kinds, &trial, None) {
                     Ok(tr) if cost(&tr) < c => {
                         accepted = Some((trial, cost(&tr)));
                         lambda = (lambda / 3.0).max(1e-9);
@@ -514,13 +644,14 @@ impl Problem<'_> {
                 }
             }
             let Some((trial, tc)) = accepted else { break };
-            let rel = (c - tc) / c.max(f64::MIN_POSITIVE);
+            let drop = c - tc;
+            let rel = drop / c.max(f64::MIN_POSITIVE);
             x = trial;
-            r = self.residuals(kind, &x, Some(&mut jac))?;
+            r = self.residuals(kinds, &x, Some(&mut jac))?;
             c = cost(&r);
-            // Relative 1e-9 of a cost of thousands of noise units is far
-            // below any difference the selection looks at.
-            if rel < 1e-9 {
+            // A step that gains less than 1e-3 noise units (or a relative
+            // 1e-9) is far below any difference the selection looks at.
+            if rel < 1e-6 || drop < 1e-3 {
                 break;
             }
         }
@@ -667,11 +798,17 @@ pub fn diagnose(
             }
         })
         .collect();
+    let holdout = o.selection == Selection::Holdout;
+    // Held-out lines (zero weight in every fit) for Selection::Holdout.
+    let held: Vec<bool> = (0..freq.len())
+        .map(|k| holdout && k % HOLDOUT_EVERY == HOLDOUT_EVERY - 1)
+        .collect();
     let mut problem = Problem {
-        file: model,
+        file: model.clone(),
         freq,
         data: h,
         inv_sigma: vec![1.0; freq.len()],
+        test_sigma: vec![0.0; freq.len()],
         lo: nominal_ln.iter().zip(&width).map(|(v, w)| v - w).collect(),
         hi: nominal_ln.iter().zip(&width).map(|(v, w)| v + w).collect(),
         // The prior's standard deviation is half the tolerance: the bound
@@ -696,23 +833,26 @@ pub fn diagnose(
             Some(s) => s.clone(),
             None => vec![scatter(e).max(1e-6); e.len()],
         };
-        p.inv_sigma = sigma.iter().map(|s| 1.0 / s).collect();
+        p.inv_sigma = sigma
+            .iter()
+            .zip(&held)
+            .map(|(s, &out)| if out { 0.0 } else { 1.0 / s })
+            .collect();
+        p.test_sigma = sigma
+            .iter()
+            .zip(&held)
+            .map(|(s, &out)| if out { 1.0 / s } else { 0.0 })
+            .collect();
         sigma
     };
-    let e0 = problem.errors(EffectKind::None, &nominal_ln)?;
+    let e0 = problem.errors(&[], &nominal_ln)?;
     set_sigma(&mut problem, &e0);
     let (lo, hi) = (problem.lo.clone(), problem.hi.clone());
-    let first = problem.fit(
-        EffectKind::None,
-        nominal_ln.clone(),
-        &lo,
-        &hi,
-        o.max_iterations,
-    )?;
-    let e1 = problem.errors(EffectKind::None, &first.x)?;
+    let first = problem.fit(&[], nominal_ln.clone(), &lo, &hi, o.max_iterations)?;
+    let e1 = problem.errors(&[], &first.x)?;
     let sigma = set_sigma(&mut problem, &e1);
-    let calibrated = problem.fit(EffectKind::None, first.x, &lo, &hi, o.max_iterations)?;
-    let e_before = problem.errors(EffectKind::None, &calibrated.x)?;
+    let calibrated = problem.fit(&[], first.x, &lo, &hi, o.max_iterations)?;
+    let e_before = problem.errors(&[], &calibrated.x)?;
     let before = summary(&e_before);
     let mismatch = bands(freq, &e_before, &sigma, o);
 
@@ -739,143 +879,161 @@ pub fn diagnose(
         ));
     }
 
-    // Hypotheses.
-    let rows = (2 * freq.len()) as f64;
-    let price = rows.ln() + o.margin;
+    // Hypotheses, by forward selection: the best single effect, then each
+    // remaining effect added to those kept, each kept only if it earns its
+    // parameters by the same criterion.
     let f_lo = freq.iter().cloned().fold(f64::INFINITY, f64::min);
     let f_hi = freq.iter().cloned().fold(0.0, f64::max);
-    let total_mass: f64 = (0..model.model.n_masses())
-        .map(|i| calibrated.x[i].exp())
-        .sum();
-    let mut verdicts: Vec<(EffectVerdict, State)> = Vec::new();
-    for kind in EffectKind::HYPOTHESES {
-        let (lo_e, hi_e) = match kind {
-            EffectKind::TimeDelay => (1e-3 / f_hi, 1.0 / f_lo),
-            EffectKind::Lowpass => (0.1 * f_lo, 1e3 * f_hi),
-            EffectKind::GainError => (0.01, 100.0),
-            EffectKind::HystereticDamping => (1e-5, 1.0),
-            EffectKind::Friction => (
-                1e-4 * total_mass * 2.0 * PI * f_lo,
-                1e2 * total_mass * 2.0 * PI * f_hi,
-            ),
-            EffectKind::ExtraMode | EffectKind::Backlash | EffectKind::None => continue,
+    let ctx = Context {
+        o,
+        rows: 2.0 * held.iter().filter(|&&out| !out).count() as f64,
+        held: held.iter().filter(|&&out| out).count().max(1),
+        f_lo,
+        f_hi,
+        total_mass: (0..model.model.n_masses())
+            .map(|i| calibrated.x[i].exp())
+            .sum(),
+        input: &model.effects,
+        original: (&model.model, &calibrated.x[..np]),
+    };
+    let test_cost = problem.test_cost(&[], &calibrated.x)?;
+    let mut base = Fitted {
+        problem,
+        kinds: Vec::new(),
+        extended: false,
+        state: calibrated.clone(),
+        test_cost,
+    };
+    let mut kept: Vec<(EffectKind, f64)> = Vec::new();
+    let mut evidences: Vec<String> = Vec::new();
+    let mut earned_alone: Vec<EffectKind> = Vec::new();
+    // The extra mass's placement found in the first step.
+    let mut placement: Option<Placement> = None;
+    let rejected: Vec<EffectVerdict>;
+    let mut step = 1;
+    loop {
+        let e_base = base.problem.errors(&base.kinds, &base.state.x)?;
+        let summary_base = summary(&e_base);
+        // From the second step on, the misfit the effects kept so far leave
+        // counts as noise: the cost drops are divided by the base's cost
+        // per row (if above 1), so that an effect added to others must
+        // explain a share of what is left, not just some noise units of a
+        // large remaining misfit.
+        let misfit = if step == 1 {
+            1.0
+        } else if holdout {
+            (base.test_cost / (2.0 * ctx.held as f64)).max(1.0)
+        } else {
+            (base.state.cost / ctx.rows).max(1.0)
         };
-        // Starts: the present value if the model has the effect already,
-        // a value read off the residual where that is direct, else the
-        // best of a coarse log grid (evaluated without refitting).
-        let mut starts: Vec<f64> = kind.current(&model.effects).into_iter().collect();
-        match kind {
-            EffectKind::TimeDelay => {
-                // The phase error of a missing delay is -w T: least squares.
-                let (mut num, mut den) = (0.0, 0.0);
-                for (&f, e) in freq.iter().zip(&e_before) {
-                    let w = 2.0 * PI * f;
-                    num += w * e.im;
-                    den += w * w;
-                }
-                starts.push(num / den);
-            }
-            EffectKind::GainError => {
-                let mean = e_before.iter().map(|e| e.re).sum::<f64>() / e_before.len() as f64;
-                starts.push((-mean).exp());
-            }
-            _ => {}
-        }
-        for k in 0..7 {
-            starts.push(lo_e * (hi_e / lo_e).powf((k as f64 + 0.5) / 7.0));
-        }
-        let mut best: Option<(f64, Vec<f64>)> = None;
-        for s in starts {
-            let mut x = calibrated.x.clone();
-            x.push(s.clamp(lo_e, hi_e).ln());
-            let Ok(r) = problem.residuals(kind, &x, None) else {
+        let mut tried: Vec<(EffectKind, Fitted, f64, String)> = Vec::new();
+        for kind in EffectKind::HYPOTHESES
+            .into_iter()
+            .chain([EffectKind::ExtraMode])
+        {
+            if base.kinds.contains(&kind)
+                || (kind == EffectKind::ExtraMode && base.extended)
+                || (step > 1 && !earned_alone.contains(&kind))
+            {
                 continue;
-            };
-            let c: f64 = r.iter().map(|v| v * v).sum();
-            if best.as_ref().is_none_or(|b| c < b.0) {
-                best = Some((c, x));
             }
+            let fitted = match kind {
+                EffectKind::ExtraMode => {
+                    extra_mode(&base, &e_base, &ctx, placement.as_ref()).map(|(f, p)| {
+                        placement.get_or_insert(p);
+                        f
+                    })
+                }
+                _ => add_effect(&base, kind, &e_base, &ctx),
+            };
+            let Some(fitted) = fitted else { continue };
+            let n_new = if kind == EffectKind::ExtraMode { 3 } else { 1 };
+            let score = if holdout {
+                (base.test_cost - fitted.test_cost) / misfit - o.margin
+            } else {
+                (base.state.cost - fitted.state.cost) / misfit
+                    - n_new as f64 * ctx.rows.ln()
+                    - o.margin
+            };
+            let after = summary(&fitted.problem.errors(&fitted.kinds, &fitted.state.x)?);
+            let cost_text = if holdout {
+                format!(
+                    "held-out cost {:.1} -> {:.1} noise units (margin {:.1})",
+                    base.test_cost, fitted.test_cost, o.margin
+                )
+            } else {
+                format!(
+                    "cost {:.1} -> {:.1} noise units (price {:.1})",
+                    base.state.cost,
+                    fitted.state.cost,
+                    n_new as f64 * ctx.rows.ln() + o.margin
+                )
+            };
+            let mut evidence = format!(
+                "{cost_text}; {:.3} dB / {:.2} deg -> {:.3} dB / {:.2} deg",
+                summary_base.rms_db, summary_base.rms_deg, after.rms_db, after.rms_deg
+            );
+            if kind == EffectKind::ExtraMode {
+                let m = &fitted.problem.file.model;
+                evidence = format!(
+                    "one more mass ({} masses, {}): {evidence}",
+                    m.n_masses(),
+                    m.id()
+                );
+            }
+            if step > 1 {
+                let with: Vec<&str> = kept.iter().map(|k| k.0.as_str()).collect();
+                evidence = format!("added to {}: {evidence}", with.join(" + "));
+            }
+            tried.push((kind, fitted, score, evidence));
         }
-        let Some((_, x0)) = best else { continue };
-        let mut lo_k = lo.clone();
-        lo_k.push(lo_e.ln());
-        let mut hi_k = hi.clone();
-        hi_k.push(hi_e.ln());
-        let Ok(state) = problem.fit(kind, x0, &lo_k, &hi_k, o.max_iterations) else {
-            continue;
-        };
-        let value = state.x[np].exp();
-        let drop = calibrated.cost - state.cost;
-        let score = drop - price;
-        let after = summary(&problem.errors(kind, &state.x)?);
-        let mut parameters = BTreeMap::new();
-        if let Some(name) = kind.parameter_name() {
-            parameters.insert(name.to_string(), value);
+        // Best first; ties keep the fixed hypothesis order (stable sort).
+        tried.sort_by(|a, b| b.2.total_cmp(&a.2));
+        if step == 1 {
+            // Only effects that earn their parameters on their own are
+            // tried in combination (and the time stays bounded).
+            earned_alone = tried.iter().filter(|t| t.2 > 0.0).map(|t| t.0).collect();
         }
-        let evidence = format!(
-            "cost {:.1} -> {:.1} noise units (price {:.1}); {:.3} dB / {:.2} deg -> {:.3} dB / {:.2} deg",
-            calibrated.cost, state.cost, price, before.rms_db, before.rms_deg, after.rms_db, after.rms_deg
-        );
-        verdicts.push((
-            EffectVerdict {
+        let accept = tried.first().is_some_and(|t| t.2 > 0.0);
+        let mut verdicts = Vec::new();
+        let mut next = None;
+        for (i, (kind, fitted, score, evidence)) in tried.into_iter().enumerate() {
+            if i == 0 && accept {
+                kept.push((kind, score));
+                next = Some((fitted, evidence));
+                continue;
+            }
+            let parameters = fitted.parameters(kind, &ctx);
+            verdicts.push(EffectVerdict {
                 kind,
                 parameters,
                 evidence,
                 score,
-            },
-            state,
-        ));
+                step,
+            });
+        }
+        match next {
+            Some((fitted, evidence)) => {
+                base = fitted;
+                evidences.push(evidence);
+                step += 1;
+            }
+            None => {
+                rejected = verdicts;
+                break;
+            }
+        }
     }
-    // An extra mode: refit with one more mass; three more parameters.
-    let mut extra_after: Option<(ModelFile, FitSummary)> = None;
-    if let Some((verdict, file, summary_after)) = extra_mode(
-        &problem,
-        &calibrated,
-        &e_before,
-        rows,
-        o,
-        (before, calibrated.cost),
-    ) {
-        extra_after = Some((file, summary_after));
-        verdicts.push((
-            verdict,
-            State {
-                x: Vec::new(),
-                cost: f64::NAN,
-            },
-        ));
-    }
-    // Best first; ties keep the fixed hypothesis order (stable sort).
-    verdicts.sort_by(|a, b| b.0.score.total_cmp(&a.0.score));
-    let (kept, rejected): (Vec<_>, Vec<_>) = verdicts.into_iter().partition(|v| v.0.score > 0.0);
 
-    let (after, model_after) = match (kept.first(), extra_after) {
-        (Some((v, _)), Some((file, summary_after))) if v.kind == EffectKind::ExtraMode => {
-            (summary_after, file)
-        }
-        (first, _) => {
-            let (after_kind, after_x) = match first {
-                Some((v, s)) => (v.kind, s.x.clone()),
-                None => (EffectKind::None, calibrated.x.clone()),
-            };
-            let after = summary(&problem.errors(after_kind, &after_x)?);
-            let model_after = ModelFile {
-                parameters: Parameters::from_values(
-                    &model.model,
-                    after_x[..np].iter().map(|v| v.exp()).collect(),
-                )?,
-                effects: problem.effects(after_kind, &after_x),
-                ..model.clone()
-            };
-            (after, model_after)
-        }
-    };
+    let errors_after = base.problem.errors(&base.kinds, &base.state.x)?;
+    let after = summary(&errors_after);
+    let model_after = base.model_file()?;
     let effects = if kept.is_empty() {
         vec![EffectVerdict {
             kind: EffectKind::None,
             parameters: BTreeMap::new(),
             evidence: match rejected.first() {
-                Some((v, _)) => format!(
+                Some(v) => format!(
                     "no effect earns its parameter; best was {} ({})",
                     v.kind.as_str(),
                     v.evidence
@@ -883,16 +1041,28 @@ pub fn diagnose(
                 None => "no hypothesis could be fitted".into(),
             },
             score: 0.0,
+            step: 0,
         }]
     } else {
-        kept.into_iter().map(|v| v.0).collect()
+        // The parameters of the final joint fit.
+        kept.iter()
+            .zip(evidences)
+            .enumerate()
+            .map(|(i, (&(kind, score), evidence))| EffectVerdict {
+                kind,
+                parameters: base.parameters(kind, &ctx),
+                evidence,
+                score,
+                step: i + 1,
+            })
+            .collect()
     };
     let mut noise: Vec<f64> = sigma.clone();
     noise.sort_by(f64::total_cmp);
     Ok(Diagnosis {
         mismatch,
         effects,
-        rejected: rejected.into_iter().map(|v| v.0).collect(),
+        rejected,
         fit: BeforeAfter { before, after },
         calibration,
         noise: noise[noise.len() / 2],
@@ -902,49 +1072,235 @@ pub fn diagnose(
     })
 }
 
-/// Places one more mass in the chain: at the free end, and (free chains
-/// only) before the first mass. Each placement is the extended model and,
-/// for every parameter of it, the index of the same parameter in the
-/// original model (`None` for the three new ones).
-fn extended_models(m: &mms::Model) -> Vec<(mms::Model, Vec<Option<usize>>)> {
-    let n = m.n_masses();
-    let old = m.parameters();
-    let mut out = Vec::new();
-    let mut placements: Vec<(mms::Model, usize)> = Vec::new();
-    if n < mms::MAX_MASSES {
-        if let Ok(e) = mms::Model::new(n + 1, m.gap(), m.actuator(), m.sensor()) {
-            placements.push((e, 0));
-        }
-        if m.gap() == 0 {
-            let shift = |p: mms::Port| mms::Port::new(p.plus + 1, p.minus);
-            if let Ok(e) = mms::Model::new(n + 1, 0, shift(m.actuator()), shift(m.sensor())) {
-                placements.push((e, 1));
-            }
+/// What every hypothesis needs to know besides its base.
+struct Context<'a> {
+    o: &'a DiagnoseOptions,
+    /// Residual rows of the data in the fits (two per fitted line).
+    rows: f64,
+    /// Held-out lines.
+    held: usize,
+    f_lo: f64,
+    f_hi: f64,
+    /// Total mass of the calibrated model (the friction range's scale).
+    total_mass: f64,
+    /// The input model's effects (their values are starts).
+    input: &'a Effects,
+    /// The input model and its calibrated log-parameters (to name the
+    /// features an extra mass adds).
+    original: (&'a mms::Model, &'a [f64]),
+}
+
+impl Context<'_> {
+    /// The range searched for a one-parameter effect.
+    fn bounds(&self, kind: EffectKind) -> (f64, f64) {
+        match kind {
+            EffectKind::TimeDelay => (1e-3 / self.f_hi, 1.0 / self.f_lo),
+            EffectKind::Lowpass => (0.1 * self.f_lo, 1e3 * self.f_hi),
+            EffectKind::GainError => (0.01, 100.0),
+            EffectKind::HystereticDamping => (1e-5, 1.0),
+            EffectKind::Friction => (
+                1e-4 * self.total_mass * 2.0 * PI * self.f_lo,
+                1e2 * self.total_mass * 2.0 * PI * self.f_hi,
+            ),
+            EffectKind::ExtraMode | EffectKind::Backlash | EffectKind::None => (1.0, 1.0),
         }
     }
-    for (e, offset) in placements {
-        // Masses and links of the original keep their names up to the
-        // index offset.
-        let rename = |name: &str| -> String {
+
+    /// Log bounds of a state with the effects `kinds`: the chain's, then
+    /// one pair per effect.
+    fn state_bounds(&self, problem: &Problem, kinds: &[EffectKind]) -> (Vec<f64>, Vec<f64>) {
+        let mut lo = problem.lo.clone();
+        let mut hi = problem.hi.clone();
+        for &k in kinds {
+            let (a, b) = self.bounds(k);
+            lo.push(a.ln());
+            hi.push(b.ln());
+        }
+        (lo, hi)
+    }
+}
+
+/// A fitted model: the problem (the input's chain, or the chain with one
+/// more mass), the effects added, the state and its held-out cost.
+#[derive(Clone)]
+struct Fitted<'a> {
+    problem: Problem<'a>,
+    kinds: Vec<EffectKind>,
+    /// True if the chain has the extra mass.
+    extended: bool,
+    state: State,
+    test_cost: f64,
+}
+
+impl Fitted<'_> {
+    /// The reported parameters of effect `kind` in this state.
+    fn parameters(&self, kind: EffectKind, ctx: &Context) -> BTreeMap<String, f64> {
+        let mut out = BTreeMap::new();
+        let np = self.problem.np();
+        if let (Some(i), Some(name)) = (
+            self.kinds.iter().position(|&k| k == kind),
+            kind.parameter_name(),
+        ) {
+            out.insert(name.to_string(), self.state.x[np + i].exp());
+        }
+        if kind == EffectKind::ExtraMode && self.extended {
+            let (m, x) = ctx.original;
+            let old: Vec<f64> = x.iter().map(|v| v.exp()).collect();
+            let new: Vec<f64> = self.state.x[..np].iter().map(|v| v.exp()).collect();
+            if let Some((r, a)) = added_features(m, &old, &self.problem.file.model, &new) {
+                out.insert("resonance_hz".to_string(), r);
+                if let Some(a) = a {
+                    out.insert("antiresonance_hz".to_string(), a);
+                }
+            }
+        }
+        out
+    }
+
+    /// The model file of this state.
+    fn model_file(&self) -> Result<ModelFile, ResponseError> {
+        let np = self.problem.np();
+        let file = &self.problem.file;
+        Ok(ModelFile {
+            parameters: Parameters::from_values(
+                &file.model,
+                self.state.x[..np].iter().map(|v| v.exp()).collect(),
+            )?,
+            effects: self.problem.effects(&self.kinds, &self.state.x),
+            ..file.clone()
+        })
+    }
+}
+
+/// `base` with the one-parameter effect `kind` added, fitted jointly with
+/// everything in `base`; `e_base` is `base`'s residual.
+fn add_effect<'a>(
+    base: &Fitted<'a>,
+    kind: EffectKind,
+    e_base: &[Complex64],
+    ctx: &Context,
+) -> Option<Fitted<'a>> {
+    let problem = &base.problem;
+    let (lo_e, hi_e) = ctx.bounds(kind);
+    // Starts: the present value if the model has the effect already, a
+    // value read off the residual where that is direct, else the best of a
+    // coarse log grid (evaluated without refitting).
+    let mut starts: Vec<f64> = kind.current(ctx.input).into_iter().collect();
+    match kind {
+        EffectKind::TimeDelay => {
+            // The phase error of a missing delay is -w T: least squares.
+            let (mut num, mut den) = (0.0, 0.0);
+            for ((&f, e), w) in problem.freq.iter().zip(e_base).zip(&problem.inv_sigma) {
+                let w2 = if *w > 0.0 { 1.0 } else { 0.0 };
+                let om = 2.0 * PI * f;
+                num += w2 * om * e.im;
+                den += w2 * om * om;
+            }
+            starts.push(num / den);
+        }
+        EffectKind::GainError => {
+            let mean = e_base.iter().map(|e| e.re).sum::<f64>() / e_base.len() as f64;
+            starts.push((-mean).exp());
+        }
+        _ => {}
+    }
+    for k in 0..7 {
+        starts.push(lo_e * (hi_e / lo_e).powf((k as f64 + 0.5) / 7.0));
+    }
+    let mut kinds = base.kinds.clone();
+    kinds.push(kind);
+    let mut best: Option<(f64, Vec<f64>)> = None;
+    for s in starts {
+        if !s.is_finite() {
+            continue;
+        }
+        let mut x = base.state.x.clone();
+        x.push(s.clamp(lo_e, hi_e).ln());
+        let Ok(r) = problem.residuals(&kinds, &x, None) else {
+            continue;
+        };
+        let c: f64 = r.iter().map(|v| v * v).sum();
+        if best.as_ref().is_none_or(|b| c < b.0) {
+            best = Some((c, x));
+        }
+    }
+    let (_, x0) = best?;
+    let (lo, hi) = ctx.state_bounds(problem, &kinds);
+    let state = problem
+        .fit(&kinds, x0, &lo, &hi, ctx.o.max_iterations)
+        .ok()?;
+    let test_cost = problem.test_cost(&kinds, &state.x).ok()?;
+    Some(Fitted {
+        problem: problem.clone(),
+        kinds,
+        extended: base.extended,
+        state,
+        test_cost,
+    })
+}
+
+/// Where the extra mass's parameters start: an old parameter (by index),
+/// half of an old spring or damper split in two (each part twice as stiff),
+/// or a new one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Source {
+    Old(usize),
+    Split(usize),
+    New,
+}
+
+/// Places one more mass in the chain: at the free end, before the first
+/// mass (free chains), or between two masses (or the ground and the first
+/// mass) that a spring joins, splitting it in two. Each placement is the
+/// extended model and, for every parameter of it, its [`Source`].
+fn extended_models(m: &mms::Model) -> Vec<(mms::Model, Vec<Source>)> {
+    let n = m.n_masses();
+    if n >= mms::MAX_MASSES {
+        return Vec::new();
+    }
+    let old = m.parameters();
+    let mut out = Vec::new();
+    // The new mass becomes mass p + 1; old masses above p move up by one.
+    // p = n: at the free end; p = 0 on a free chain: before the first mass;
+    // otherwise the link p (p = 0: the ground's) is split.
+    for p in (0..=n).rev() {
+        let split = p < n && m.has_link(p);
+        if p < n && !split && !(p == 0 && m.gap() == 0) {
+            continue;
+        }
+        let up = |i: usize| if i > p { i + 1 } else { i };
+        let shift = |q: mms::Port| mms::Port::new(up(q.plus), up(q.minus));
+        let gap = if m.gap() > p { m.gap() + 1 } else { m.gap() };
+        let Ok(e) = mms::Model::new(n + 1, gap, shift(m.actuator()), shift(m.sensor())) else {
+            continue;
+        };
+        let mut names: BTreeMap<String, Source> = BTreeMap::new();
+        for (j, name) in old.iter().enumerate() {
             let (kind, rest) = name.split_at(1);
             if kind == "m" {
                 let i: usize = rest.parse().unwrap_or(0);
-                mms::mass_name(i + offset)
-            } else {
-                // Link names: the link's lower node index i (0 = ground).
-                let i = link_index(rest);
-                if kind == "c" {
-                    mms::spring_name(i + offset)
-                } else {
-                    mms::damper_name(i + offset)
-                }
+                names.insert(mms::mass_name(up(i)), Source::Old(j));
+                continue;
             }
-        };
-        let renamed: Vec<String> = old.iter().map(|p| rename(p)).collect();
+            let link = |i: usize| {
+                if kind == "c" {
+                    mms::spring_name(i)
+                } else {
+                    mms::damper_name(i)
+                }
+            };
+            let i = link_index(rest);
+            if split && i == p {
+                names.insert(link(p), Source::Split(j));
+                names.insert(link(p + 1), Source::Split(j));
+            } else {
+                names.insert(link(up(i)), Source::Old(j));
+            }
+        }
         let map = e
             .parameters()
             .iter()
-            .map(|p| renamed.iter().position(|r| r == p))
+            .map(|q| names.get(q).copied().unwrap_or(Source::New))
             .collect();
         out.push((e, map));
     }
@@ -965,163 +1321,189 @@ fn link_index(digits: &str) -> usize {
 }
 
 /// The extra-mode hypothesis: for each placement and each of the largest
-/// residual peaks, a small new mass tuned to the peak, then all parameters
-/// refitted (the old ones under the calibration's bounds and prior, the new
-/// ones free within two decades). Scored like the other hypotheses, with
-/// three parameters' price.
-fn extra_mode(
-    problem: &Problem,
-    calibrated: &State,
-    e_before: &[Complex64],
-    rows: f64,
-    o: &DiagnoseOptions,
-    (before, before_cost): (FitSummary, f64),
-) -> Option<(EffectVerdict, ModelFile, FitSummary)> {
-    let file = problem.file;
+/// residual peaks, a new mass tuned to the peak (a fifth of the smallest
+/// mass on a new spring; or, splitting a spring, the mass whose local
+/// resonance on the two halves is the peak), then all parameters refitted
+/// (the old ones under the calibration's bounds and prior, the new ones
+/// free within two decades) together with `base`'s effects.
+fn extra_mode<'a>(
+    base: &Fitted<'a>,
+    e_base: &[Complex64],
+    ctx: &Context,
+    reuse: Option<&Placement>,
+) -> Option<(Fitted<'a>, Placement)> {
+    let problem = &base.problem;
+    let file = &problem.file;
     let n = file.model.n_masses();
     let np = problem.np();
-    let old: Vec<f64> = calibrated.x[..np].iter().map(|v| v.exp()).collect();
+    let old: Vec<f64> = base.state.x[..np].iter().map(|v| v.exp()).collect();
+    let effect_x = &base.state.x[np..];
     let smallest = old[..n].iter().cloned().fold(f64::INFINITY, f64::min);
-    // The three largest local maxima of the residual's magnitude.
-    let mag: Vec<f64> = e_before.iter().map(|e| e.norm()).collect();
+    // The three largest local maxima of the residual's magnitude (on the
+    // fitted lines).
+    let mag: Vec<f64> = e_base
+        .iter()
+        .zip(&problem.inv_sigma)
+        .map(|(e, w)| if *w > 0.0 { e.norm() } else { 0.0 })
+        .collect();
     let mut peaks: Vec<usize> = (1..mag.len().saturating_sub(1))
-        .filter(|&k| mag[k] >= mag[k - 1] && mag[k] >= mag[k + 1])
+        .filter(|&k| mag[k] > 0.0 && mag[k] >= mag[k - 1] && mag[k] >= mag[k + 1])
         .collect();
     peaks.sort_by(|&a, &b| mag[b].total_cmp(&mag[a]));
     peaks.truncate(3);
-    let price = 3.0 * rows.ln() + o.margin;
-    // (cost, extended model file, state, the problem's centre, prior and
-    // bounds).
-    type Best = (
-        f64,
-        ModelFile,
-        State,
-        Vec<f64>,
-        Vec<f64>,
-        Vec<f64>,
-        Vec<f64>,
-    );
+    // The screening fits see every second line only (half the time; the
+    // placements and peaks differ by far more than that loses).
+    let sub: Vec<usize> = (0..problem.freq.len()).step_by(2).collect();
+    let sub_freq: Vec<f64> = sub.iter().map(|&k| problem.freq[k]).collect();
+    let sub_data: Vec<Complex64> = sub.iter().map(|&k| problem.data[k]).collect();
+    let sub_inv: Vec<f64> = sub.iter().map(|&k| problem.inv_sigma[k]).collect();
+    let sub_test = vec![0.0; sub.len()];
+    // (screened cost, placement, its start values, screened state).
+    type Best = (f64, mms::Model, Vec<Source>, Vec<f64>, Vec<f64>);
     let mut best: Option<Best> = None;
-    for (ext, map) in extended_models(&file.model) {
-        let names = ext.parameters();
+    if let Some((ext, map, fitted)) = reuse {
+        // A later step: the placement and the new parameters of the first
+        // step's fit, the old parameters of the base (no screening).
+        let values: Vec<f64> = map
+            .iter()
+            .zip(fitted)
+            .map(|(s, v)| match *s {
+                Source::Old(j) => old[j],
+                _ => *v,
+            })
+            .collect();
+        let mut x: Vec<f64> = values.iter().map(|v| v.ln()).collect();
+        x.extend_from_slice(effect_x);
+        best = Some((0.0, *ext, map.clone(), values, x));
+    }
+    let placements = if reuse.is_some() {
+        Vec::new()
+    } else {
+        extended_models(&file.model)
+    };
+    for (ext, map) in placements {
+        let n_ext = ext.n_masses();
         let n_links = ext.springs().len();
+        // The spring a split placement halves (its stiffness sets the new
+        // mass).
+        let split_spring = map.iter().find_map(|s| match s {
+            Source::Split(j) if *j >= n && *j < n + n_links - 1 => Some(old[*j]),
+            _ => None,
+        });
         for &k in &peaks {
             let w = 2.0 * PI * problem.freq[k];
-            let m_new = 0.2 * smallest;
-            let c_new = m_new * w * w;
+            let (m_new, c_new) = match split_spring {
+                Some(c) => ((4.0 * c / (w * w)).min(5.0 * smallest), 2.0 * c),
+                None => (0.2 * smallest, 0.2 * smallest * w * w),
+            };
             let d_new = 2.0 * 0.02 * (c_new * m_new).sqrt();
-            let values: Vec<f64> = names
+            let values: Vec<f64> = map
                 .iter()
                 .enumerate()
-                .map(|(i, _)| match map[i] {
-                    Some(j) => old[j],
-                    None if i < ext.n_masses() => m_new,
-                    None if i < ext.n_masses() + n_links => c_new,
-                    None => d_new,
+                .map(|(i, s)| match *s {
+                    Source::Old(j) => old[j],
+                    Source::Split(j) => 2.0 * old[j],
+                    Source::New if i < n_ext => m_new,
+                    Source::New if i < n_ext + n_links => c_new,
+                    Source::New => d_new,
                 })
                 .collect();
-            let Ok(parameters) = Parameters::from_values(&ext, values.clone()) else {
-                continue;
+            let screen = |lines| -> Option<State> {
+                let p = extended_problem(problem, ext, &map, &values, lines)?;
+                let mut x0: Vec<f64> = values.iter().map(|v| v.ln()).collect();
+                x0.extend_from_slice(effect_x);
+                let (lo, hi) = ctx.state_bounds(&p, &base.kinds);
+                // A short fit ranks the placements and peaks; only the
+                // best is finished (below), which keeps the hypothesis
+                // within the diagnosis's time budget.
+                p.fit(&base.kinds, x0, &lo, &hi, 12).ok()
             };
-            let ext_file = ModelFile {
-                model: ext,
-                parameters,
-                ..file.clone()
-            };
-            let nominal_ln: Vec<f64> = values.iter().map(|v| v.ln()).collect();
-            let wide = 100f64.ln();
-            let index = |i: usize| map[i].map(|j| (problem.lo[j], problem.hi[j], problem.prior[j]));
-            let lo: Vec<f64> = (0..values.len())
-                .map(|i| index(i).map_or(nominal_ln[i] - wide, |b| b.0))
-                .collect();
-            let hi: Vec<f64> = (0..values.len())
-                .map(|i| index(i).map_or(nominal_ln[i] + wide, |b| b.1))
-                .collect();
-            // The old parameters keep their prior around their *nominal*
-            // values (as in the calibration); the new ones have none.
-            let prior: Vec<f64> = (0..values.len())
-                .map(|i| index(i).map_or(0.0, |b| b.2))
-                .collect();
-            let centre: Vec<f64> = (0..values.len())
-                .map(|i| map[i].map_or(nominal_ln[i], |j| problem.nominal_ln[j]))
-                .collect();
-            let ext_problem = Problem {
-                file: &ext_file,
-                freq: problem.freq,
-                data: problem.data,
-                inv_sigma: problem.inv_sigma.clone(),
-                nominal_ln: centre.clone(),
-                prior: prior.clone(),
-                lo: lo.clone(),
-                hi: hi.clone(),
-            };
-            // A short fit ranks the placements and peaks; only the best is
-            // finished (below), which keeps the hypothesis within the
-            // diagnosis's time budget.
-            let Ok(state) = ext_problem.fit(EffectKind::None, nominal_ln, &lo, &hi, 12) else {
+            let Some(state) = screen((&sub_freq[..], &sub_data[..], &sub_inv[..], &sub_test[..]))
+            else {
                 continue;
             };
             if best.as_ref().is_none_or(|b| state.cost < b.0) {
-                best = Some((state.cost, ext_file.clone(), state, centre, prior, lo, hi));
+                best = Some((state.cost, ext, map.clone(), values, state.x));
             }
         }
     }
-    let (_, ext_file, screened, centre, prior, lo, hi) = best?;
-    let ext = ext_file.model;
-    let ext_problem = Problem {
-        file: &ext_file,
-        freq: problem.freq,
-        data: problem.data,
-        inv_sigma: problem.inv_sigma.clone(),
-        nominal_ln: centre,
-        prior,
-        lo: lo.clone(),
-        hi: hi.clone(),
-    };
+    let (_, ext, map, values, x) = best?;
+    let ext_problem = extended_problem(
+        problem,
+        ext,
+        &map,
+        &values,
+        (
+            problem.freq,
+            problem.data,
+            &problem.inv_sigma,
+            &problem.test_sigma,
+        ),
+    )?;
+    let (lo, hi) = ctx.state_bounds(&ext_problem, &base.kinds);
     let state = ext_problem
-        .fit(EffectKind::None, screened.x, &lo, &hi, o.max_iterations)
+        .fit(&base.kinds, x, &lo, &hi, ctx.o.max_iterations)
         .ok()?;
-    let cost = state.cost;
-    let score = before_cost - cost - price;
-    let errors = ext_problem.errors(EffectKind::None, &state.x).ok()?;
-    let after = summary(&errors);
-    let values: Vec<f64> = state.x.iter().map(|v| v.exp()).collect();
-    let parameters = Parameters::from_values(&ext, values).ok()?;
-    let added = added_features(&file.model, &old, &ext, parameters.values());
-    let mut params = BTreeMap::new();
-    if let Some((r, a)) = added {
-        params.insert("resonance_hz".to_string(), r);
-        if let Some(a) = a {
-            params.insert("antiresonance_hz".to_string(), a);
-        }
-    }
-    let evidence = format!(
-        "one more mass ({} masses, {}): cost {:.1} -> {:.1} noise units (price {:.1}); {:.3} dB / {:.2} deg -> {:.3} dB / {:.2} deg",
-        ext.n_masses(),
-        ext.id(),
-        before_cost,
-        cost,
-        price,
-        before.rms_db,
-        before.rms_deg,
-        after.rms_db,
-        after.rms_deg
-    );
-    let model_after = ModelFile {
-        model: ext,
-        parameters,
-        ..file.clone()
-    };
+    let test_cost = ext_problem.test_cost(&base.kinds, &state.x).ok()?;
+    let fitted: Vec<f64> = state.x[..map.len()].iter().map(|v| v.exp()).collect();
     Some((
-        EffectVerdict {
-            kind: EffectKind::ExtraMode,
-            parameters: params,
-            evidence,
-            score,
+        Fitted {
+            problem: ext_problem,
+            kinds: base.kinds.clone(),
+            extended: true,
+            state,
+            test_cost,
         },
-        model_after,
-        after,
+        (ext, map, fitted),
     ))
+}
+
+/// An extra mass's placement: the extended model, the sources of its
+/// parameters and their fitted values.
+type Placement = (mms::Model, Vec<Source>, Vec<f64>);
+
+/// The problem of one extra-mass placement started at `values`, on the
+/// given lines (frequencies, data, fit weights, held-out weights); the old
+/// parameters keep `problem`'s bounds and prior.
+fn extended_problem<'b>(
+    problem: &Problem,
+    ext: mms::Model,
+    map: &[Source],
+    values: &[f64],
+    lines: (&'b [f64], &'b [Complex64], &[f64], &[f64]),
+) -> Option<Problem<'b>> {
+    let parameters = Parameters::from_values(&ext, values.to_vec()).ok()?;
+    let start_ln: Vec<f64> = values.iter().map(|v| v.ln()).collect();
+    let wide = 100f64.ln();
+    let index = |i: usize| match map[i] {
+        Source::Old(j) => Some(j),
+        _ => None,
+    };
+    Some(Problem {
+        file: ModelFile {
+            model: ext,
+            parameters,
+            ..problem.file.clone()
+        },
+        freq: lines.0,
+        data: lines.1,
+        inv_sigma: lines.2.to_vec(),
+        test_sigma: lines.3.to_vec(),
+        // The old parameters keep their prior around their *nominal*
+        // values (as in the calibration); the new ones have none.
+        nominal_ln: (0..values.len())
+            .map(|i| index(i).map_or(start_ln[i], |j| problem.nominal_ln[j]))
+            .collect(),
+        prior: (0..values.len())
+            .map(|i| index(i).map_or(0.0, |j| problem.prior[j]))
+            .collect(),
+        lo: (0..values.len())
+            .map(|i| index(i).map_or(start_ln[i] - wide, |j| problem.lo[j]))
+            .collect(),
+        hi: (0..values.len())
+            .map(|i| index(i).map_or(start_ln[i] + wide, |j| problem.hi[j]))
+            .collect(),
+    })
 }
 
 /// The resonance (and antiresonance, if any) the extended model has beyond

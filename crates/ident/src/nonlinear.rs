@@ -562,6 +562,8 @@ pub fn diagnose_time(
                 parameters,
                 evidence,
                 score,
+                // One effect at a time in the time domain.
+                step: 1,
             },
             x,
             rss,
@@ -584,6 +586,7 @@ pub fn diagnose_time(
     let effects = if kept.is_empty() {
         vec![EffectVerdict {
             kind: EffectKind::None,
+            step: 0,
             parameters: BTreeMap::new(),
             evidence: match rejected.first() {
                 Some((v, _, _)) => format!(
