@@ -25,7 +25,10 @@
 //!    Levenberg-Marquardt.
 //! 4. **Selection** by the Bayesian information criterion of a Gaussian
 //!    output error: an effect's score is `n ln(RSS_0 / RSS_1) - ln n -
-//!    margin` for `n` samples, kept if positive; else the verdict is
+//!    margin` for `n` samples, kept if positive and, when the calibrated
+//!    linear model leaves more than [`TimeOptions::adequate`] of the output
+//!    RMS, if it removes at least [`TimeOptions::min_share`] of that
+//!    residual's energy; else the verdict is
 //!    `none` (the calibrated linear model explains the record within its
 //!    noise).
 //!
@@ -90,6 +93,15 @@ pub struct TimeOptions {
     pub damper_tolerance: f64,
     /// What an effect must gain beyond the BIC price of its parameter.
     pub margin: f64,
+    /// The share of the calibrated model's residual energy an effect must
+    /// remove as well, when that residual exceeds [`TimeOptions::adequate`]
+    /// of the output RMS. BIC alone counts every sample as independent
+    /// noise; when the linear model misses structure (modes it lacks), a
+    /// small relative gain over tens of thousands of samples would pass it.
+    pub min_share: f64,
+    /// The relative RMS error below which the calibrated linear model
+    /// counts as adequate, so that BIC alone decides.
+    pub adequate: f64,
     /// Iteration limit of each Levenberg-Marquardt fit.
     pub max_iterations: usize,
     /// Also run the frequency-domain diagnosis ([`crate::diagnose`]) on
@@ -103,6 +115,8 @@ impl Default for TimeOptions {
             tolerance: 0.2,
             damper_tolerance: 0.5,
             margin: 10.0,
+            min_share: 0.1,
+            adequate: 0.05,
             max_iterations: 30,
             frequency_domain: false,
         }
@@ -532,7 +546,13 @@ pub fn diagnose_time(
         }
         let value = x[np].exp();
         let gain_bic = n as f64 * (rss_cal / rss).ln();
-        let score = gain_bic - price;
+        let share = 1.0 - rss / rss_cal;
+        let enough = share >= o.min_share || before.rms_time_rel <= o.adequate;
+        let score = if enough {
+            gain_bic - price
+        } else {
+            (gain_bic - price).min(-1.0)
+        };
         let y_k = problem.simulate(kind, &x)?;
         let after = time_fit(u, y, &y_k, fs, measured.as_ref().map(|e| &e.frf));
         let pname = if kind == EffectKind::Friction {
@@ -540,7 +560,7 @@ pub fn diagnose_time(
         } else {
             "gap"
         };
-        let evidence = format!(
+        let mut evidence = format!(
             "time-domain error {:.4e} -> {:.4e} ({:.2} % -> {:.2} % of the output RMS); \
              BIC gain {:.1} (price {:.1}); FRF {:.3} dB / {:.2} deg -> {:.3} dB / {:.2} deg",
             before.rms_time,
@@ -554,6 +574,16 @@ pub fn diagnose_time(
             after.rms_db,
             after.rms_deg
         );
+        if !enough {
+            evidence.push_str(&format!(
+                "; removes only {:.1} % of the calibrated misfit (at least {:.0} % needed \
+                 when the linear model leaves more than {:.0} % of the output RMS): the linear \
+                 model misses more than this effect explains",
+                100.0 * share,
+                100.0 * o.min_share,
+                100.0 * o.adequate
+            ));
+        }
         let mut parameters = BTreeMap::new();
         parameters.insert(pname.to_string(), value);
         verdicts.push((
