@@ -255,10 +255,23 @@ fn markdown(name: &str, source: &str, d: &Diagnosis, plot: Option<&str>) -> Stri
             b.f_lo_hz, b.f_hi_hz, b.rms_db, b.rms_deg
         );
     }
-    s.push_str(
-        "\n## Effects\n\n| kind | parameters | step | score | evidence |\n|---|---|---:|---:|---|\n",
+    effects_and_calibration(&mut s, "Effects", &d.effects, &d.rejected, &d.calibration);
+    s
+}
+
+/// The effects table (kept, then rejected) and the calibration notes.
+fn effects_and_calibration(
+    s: &mut String,
+    title: &str,
+    effects: &[ident::diagnose::EffectVerdict],
+    rejected: &[ident::diagnose::EffectVerdict],
+    calibration: &[String],
+) {
+    let _ = write!(
+        s,
+        "\n## {title}\n\n| kind | parameters | step | score | evidence |\n|---|---|---:|---:|---|\n"
     );
-    for e in d.effects.iter().chain(&d.rejected) {
+    for e in effects.iter().chain(rejected) {
         let params: Vec<String> = e
             .parameters
             .iter()
@@ -274,13 +287,12 @@ fn markdown(name: &str, source: &str, d: &Diagnosis, plot: Option<&str>) -> Stri
             e.evidence
         );
     }
-    if !d.calibration.is_empty() {
+    if !calibration.is_empty() {
         s.push_str("\n## Calibration\n\n");
-        for c in &d.calibration {
+        for c in calibration {
             let _ = writeln!(s, "- {c}");
         }
     }
-    s
 }
 
 /// The time-domain diagnosis of a time-domain recording, with the
@@ -395,28 +407,13 @@ fn time_markdown(name: &str, source: &str, d: &TimeDiagnosis, plot: Option<&str>
     for e in &d.evidence {
         let _ = writeln!(s, "- {e}");
     }
-    s.push_str("\n## Effects (time domain)\n\n| kind | parameters | score | evidence |\n|---|---|---:|---|\n");
-    for e in d.effects.iter().chain(&d.rejected) {
-        let params: Vec<String> = e
-            .parameters
-            .iter()
-            .map(|(k, v)| format!("{k} = {v:.4e}"))
-            .collect();
-        let _ = writeln!(
-            s,
-            "| {} | {} | {:.1} | {} |",
-            e.kind.as_str(),
-            params.join(", "),
-            e.score,
-            e.evidence
-        );
-    }
-    if !d.calibration.is_empty() {
-        s.push_str("\n## Calibration\n\n");
-        for c in &d.calibration {
-            let _ = writeln!(s, "- {c}");
-        }
-    }
+    effects_and_calibration(
+        &mut s,
+        "Effects (time domain)",
+        &d.effects,
+        &d.rejected,
+        &d.calibration,
+    );
     if let Some(fd) = &d.frequency_domain {
         s.push_str("\n## Frequency domain (H1 estimate, linear effects)\n\n");
         let body = markdown(name, source, fd, None);
