@@ -31,6 +31,7 @@ use crate::xorshift::XorShift;
 use poly::{discriminant, factor, gcd, resultant, square_free, Poly, Rat};
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::rc::Rc;
 
 /// `var = beta / alpha`, with `alpha` and `beta` polynomials with positive
 /// coefficients in the remaining parameters (so `var > 0` on their orthant).
@@ -621,7 +622,9 @@ pub(crate) struct Prover<'a> {
     pub num: Poly,
     pub den: Poly,
     pub params: Vec<String>,
-    strata: HashMap<String, Stratum>,
+    /// Shared, not copied: a stratum's factors can be large and every
+    /// (stratum, type) proof attempt looks its stratum up.
+    strata: HashMap<String, Rc<Stratum>>,
     pub witnesses: BTreeMap<FrfType, BTreeMap<String, Rat>>,
     memo: HashMap<(String, String), Option<Proof>>,
     pole_signs: Option<PoleSignData>,
@@ -671,7 +674,7 @@ impl<'a> Prover<'a> {
         }
     }
 
-    pub(crate) fn stratum(&mut self, subs: &[Substitution]) -> Stratum {
+    pub(crate) fn stratum(&mut self, subs: &[Substitution]) -> Rc<Stratum> {
         let probe = Stratum {
             subs: subs.to_vec(),
             vars: Vec::new(),
@@ -685,7 +688,12 @@ impl<'a> Prover<'a> {
         if let Some(s) = self.strata.get(&key) {
             return s.clone();
         }
-        let s = build_stratum(&self.num, &self.den, &self.params, subs.to_vec());
+        let s = Rc::new(build_stratum(
+            &self.num,
+            &self.den,
+            &self.params,
+            subs.to_vec(),
+        ));
         self.strata.insert(key, s.clone());
         s
     }

@@ -22,7 +22,7 @@
 //! measure-zero types live on walls, which the exact search samples.
 
 use super::frf_type::{Feature, FrfType};
-use super::prover::{Prover, Sampler, Substitution};
+use super::prover::{substitute, Prover, Sampler, Substitution};
 use crate::tf::OMEGA;
 use crate::xorshift::XorShift;
 use poly::{Int, Poly, Rat};
@@ -390,8 +390,23 @@ impl Prover<'_> {
             if *budget == 0 {
                 return;
             }
-            *budget -= 1;
             let mut next = subs.to_vec();
+            next.push(w.clone());
+            // The stratum's cost is factoring its critical polynomials;
+            // skip substitutions that make the TF itself large.
+            let size = |p: &Poly| next.iter().fold(p.clone(), |q, w| substitute(&q, w));
+            // Factoring cost grows steeply with the number of variables:
+            // five masses (nine) get a smaller limit than four (seven).
+            let limit = if self.params.len() <= 7 {
+                PARTIAL_WALL_TF_TERMS
+            } else {
+                PARTIAL_WALL_TF_TERMS * 5 / 8
+            };
+            if size(&self.num).num_terms() + size(&self.den).num_terms() > limit {
+                continue;
+            }
+            next.pop();
+            *budget -= 1;
             next.push(w);
             let s = self.stratum(&next);
             if !visited.insert(s.key()) {
@@ -432,6 +447,9 @@ const PARTIAL_WALL_SAMPLES: usize = 40;
 const PARTIAL_WALL_BUDGET: usize = 40;
 /// Terms of `alpha` and `beta` together, at most, for a partial wall.
 const PARTIAL_WALL_TERMS: usize = 24;
+/// Terms of the substituted numerator and denominator together, at most
+/// (up to seven parameters; five eighths of it beyond).
+const PARTIAL_WALL_TF_TERMS: usize = 400;
 
 /// `f = alpha*x - beta` for the parameter `x` of degree one with the
 /// smallest `alpha` and `beta` (any signs).
