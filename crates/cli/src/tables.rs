@@ -6,6 +6,10 @@ use crate::analyze::{Similar, Summary};
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write;
 
+/// Beyond this many undecided verdicts the document counts them per class
+/// instead of listing them.
+const MAX_LISTED: usize = 2000;
+
 /// Which models can show a type (possible) and which might (undecided).
 #[derive(Default)]
 struct Showers<'a> {
@@ -236,6 +240,16 @@ pub fn report(n: usize, summaries: &[Summary], similar: &Similar) -> Result<Stri
              bold is one no class is known to show.\n",
             pct(unknown)
         );
+        if unknown > MAX_LISTED {
+            let _ = writeln!(
+                s,
+                "Too many to list here; per class (`mms analyze --masses {n}` lists each):\n"
+            );
+            for a in summaries.iter().filter(|a| !a.unknown.is_empty()) {
+                let _ = writeln!(s, "- {}: {}", a.id, a.unknown.len());
+            }
+            return Ok(s);
+        }
         for a in summaries.iter().filter(|a| !a.unknown.is_empty()) {
             let list: Vec<String> = a
                 .unknown
