@@ -159,17 +159,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
             }
         }
     };
-    let Some(dir) = args.out else {
-        return Ok(Some(report));
-    };
-    crate::identify::write_report_dir(
-        dir,
-        args.format,
-        &plot,
-        &[("model_after.toml", d.model_after.to_toml())],
-        &report,
-    )?;
-    Ok(None)
+    finish(args, &plot, &d.model_after, report)
 }
 
 /// The recording, the calibrated model and the improved model, with the
@@ -322,17 +312,7 @@ fn run_time(
             &plot.to_svg(),
         ),
     };
-    let Some(dir) = args.out else {
-        return Ok(Some(report));
-    };
-    crate::identify::write_report_dir(
-        dir,
-        args.format,
-        &plot,
-        &[("model_after.toml", d.model_after.to_toml())],
-        &report,
-    )?;
-    Ok(None)
+    finish(args, &plot, &d.model_after, report)
 }
 
 /// H1 estimates of the recording and of the nominal and diagnosed models
@@ -440,4 +420,25 @@ fn time_check_note(td: &TimeDiagnosis) -> String {
         let _ = writeln!(s, "- {e}");
     }
     s
+}
+
+/// The report to stdout, or with the plot and `model_after.toml` into
+/// `--out DIR`.
+fn finish(
+    args: &DiagnoseArgs,
+    plot: &Bode,
+    model_after: &ModelFile,
+    report: String,
+) -> Result<Option<String>, String> {
+    let Some(dir) = args.out else {
+        return Ok(Some(report));
+    };
+    crate::identify::write_report_dir(
+        dir,
+        args.format,
+        plot,
+        &[("model_after.toml", model_after.to_toml())],
+        &report,
+    )?;
+    Ok(None)
 }
