@@ -130,15 +130,17 @@ fn with_extra_mass(
 
 /// Undamped resonances (Hz) of `model` at `values`.
 fn resonances_hz(model: &mms::Model, values: &[f64]) -> Vec<f64> {
+    // From the denominator alone: a numerator with zeros off the positive
+    // axis (a non-minimum-phase extension) still has real resonances.
     let nu = model.undamped_parameters().len();
-    ident::start::FeatureTarget::from_model(model, &values[..nu])
-        .map(|t| {
-            t.resonances
-                .iter()
-                .map(|w| w.sqrt() / (2.0 * std::f64::consts::PI))
-                .collect()
-        })
-        .unwrap_or_default()
+    let (_, den) = ident::start::UndampedCoefficients::new(model).eval(&values[..nu]);
+    let mut r: Vec<f64> = ident::start::roots(&den)
+        .iter()
+        .filter(|z| z.im.abs() <= 1e-9 * z.norm() && z.re > 0.0)
+        .map(|z| z.re.sqrt() / (2.0 * std::f64::consts::PI))
+        .collect();
+    r.sort_by(f64::total_cmp);
+    r
 }
 
 /// The resonance of `ext` farthest (in log frequency) from every resonance
