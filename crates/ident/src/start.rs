@@ -33,7 +33,6 @@
 use mms::xorshift::XorShift;
 use mms::Model;
 use num_complex::Complex64;
-use poly::Poly;
 
 /// Measured undamped features in `Omega = w^2` ((rad/s)^2), ascending, and
 /// the static inertance `G_a(0)` (the rigid-body level).
@@ -74,80 +73,7 @@ impl FeatureTarget {
     }
 }
 
-/// A structure's undamped inertance coefficients (ascending in `Omega`) as
-/// fast `f64` functions of its undamped parameters.
-#[derive(Clone, Debug)]
-pub struct UndampedCoefficients {
-    num: Vec<Compiled>,
-    den: Vec<Compiled>,
-}
-
-/// A polynomial in the parameters: `(coefficient, [(parameter, power)])`.
-#[derive(Clone, Debug)]
-struct Compiled(Vec<(f64, Vec<(usize, i32)>)>);
-
-impl Compiled {
-    fn new(p: &Poly, names: &[String]) -> Compiled {
-        let index: Vec<usize> = p
-            .vars()
-            .iter()
-            .map(|v| {
-                names
-                    .iter()
-                    .position(|n| n == v)
-                    .expect("parameter of the model")
-            })
-            .collect();
-        Compiled(
-            p.terms()
-                .iter()
-                .map(|t| {
-                    let powers = t
-                        .exps
-                        .iter()
-                        .enumerate()
-                        .filter(|(_, &e)| e > 0)
-                        .map(|(i, &e)| (index[i], e as i32))
-                        .collect();
-                    (t.coef.to_f64(), powers)
-                })
-                .collect(),
-        )
-    }
-
-    fn eval(&self, x: &[f64]) -> f64 {
-        self.0
-            .iter()
-            .map(|(c, powers)| powers.iter().fold(*c, |acc, &(i, e)| acc * x[i].powi(e)))
-            .sum()
-    }
-}
-
-impl UndampedCoefficients {
-    /// Compiles `model`'s undamped inertance.
-    pub fn new(model: &Model) -> UndampedCoefficients {
-        let tf = model.undamped_tf();
-        let names = model.undamped_parameters();
-        let compile = |p: &Poly| -> Vec<Compiled> {
-            p.coeffs_in(mms::OMEGA)
-                .iter()
-                .map(|c| Compiled::new(c, &names))
-                .collect()
-        };
-        UndampedCoefficients {
-            num: compile(&tf.num),
-            den: compile(&tf.den),
-        }
-    }
-
-    /// Numerator and denominator coefficients at `x`, ascending.
-    pub fn eval(&self, x: &[f64]) -> (Vec<f64>, Vec<f64>) {
-        (
-            self.num.iter().map(|c| c.eval(x)).collect(),
-            self.den.iter().map(|c| c.eval(x)).collect(),
-        )
-    }
-}
+pub use mms::UndampedCoefficients;
 
 /// Roots of a real polynomial (coefficients ascending) by the Aberth-
 /// Ehrlich iteration, sorted by real part. Degrees here are at most

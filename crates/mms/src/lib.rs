@@ -82,4 +82,6 @@ pub use crate::identifiability::{
 pub use crate::model::{
     damper_name, mass_name, spring_name, Model, ModelError, Port, MAX_MASSES, PAPER_IDS,
 };
-pub use crate::tf::{DampedTf, OmegaTf, Output, ParseOutputError, UndampedTf, OMEGA, S};
+pub use crate::tf::{
+    DampedTf, OmegaTf, Output, ParseOutputError, UndampedCoefficients, UndampedTf, OMEGA, S,
+};

@@ -481,3 +481,91 @@ mod tests {
         assert!("jerk".parse::<Output>().is_err());
     }
 }
+
+/// A structure's undamped inertance coefficients (ascending in `Omega`) as
+/// fast `f64` functions of its undamped parameters (in the order of
+/// [`Model::undamped_parameters`]): for searches and starts that evaluate
+/// the TF at many points.
+///
+/// ```
+/// use mms::UndampedCoefficients;
+/// let a2 = mms::Model::from_id("A2").unwrap();
+/// let (num, den) = UndampedCoefficients::new(&a2).eval(&[1.0; 5]);
+/// let exact = a2.undamped_tf();
+/// assert_eq!(num.len() as u32, exact.num.degree(mms::OMEGA) + 1);
+/// assert_eq!(den.len() as u32, exact.den.degree(mms::OMEGA) + 1);
+/// // Den at Omega = 0 is c12 c23 (m1 + m2 + m3) = 3.
+/// assert_eq!(den[0], 3.0);
+/// ```
+#[derive(Clone, Debug)]
+pub struct UndampedCoefficients {
+    num: Vec<Compiled>,
+    den: Vec<Compiled>,
+}
+
+/// A polynomial in the parameters: `(coefficient, [(parameter, power)])`.
+#[derive(Clone, Debug)]
+struct Compiled(Vec<(f64, Vec<(usize, i32)>)>);
+
+impl Compiled {
+    fn new(p: &Poly, names: &[String]) -> Compiled {
+        let index: Vec<usize> = p
+            .vars()
+            .iter()
+            .map(|v| {
+                names
+                    .iter()
+                    .position(|n| n == v)
+                    .expect("parameter of the model")
+            })
+            .collect();
+        Compiled(
+            p.terms()
+                .iter()
+                .map(|t| {
+                    let powers = t
+                        .exps
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, &e)| e > 0)
+                        .map(|(i, &e)| (index[i], e as i32))
+                        .collect();
+                    (t.coef.to_f64(), powers)
+                })
+                .collect(),
+        )
+    }
+
+    fn eval(&self, x: &[f64]) -> f64 {
+        self.0
+            .iter()
+            .map(|(c, powers)| powers.iter().fold(*c, |acc, &(i, e)| acc * x[i].powi(e)))
+            .sum()
+    }
+}
+
+impl UndampedCoefficients {
+    /// Compiles `model`'s undamped inertance.
+    pub fn new(model: &Model) -> UndampedCoefficients {
+        let tf = model.undamped_tf();
+        let names = model.undamped_parameters();
+        let compile = |p: &Poly| -> Vec<Compiled> {
+            p.coeffs_in(OMEGA)
+                .iter()
+                .map(|c| Compiled::new(c, &names))
+                .collect()
+        };
+        UndampedCoefficients {
+            num: compile(&tf.num),
+            den: compile(&tf.den),
+        }
+    }
+
+    /// Numerator and denominator coefficients at `x`, ascending.
+    pub fn eval(&self, x: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        (
+            self.num.iter().map(|c| c.eval(x)).collect(),
+            self.den.iter().map(|c| c.eval(x)).collect(),
+        )
+    }
+}

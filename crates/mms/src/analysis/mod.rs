@@ -43,6 +43,7 @@ use crate::model::Model;
 use crate::tf::OMEGA;
 use poly::{Poly, Rat};
 use prover::Prover;
+use prover::{ser_display, ser_poly};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -267,14 +268,6 @@ pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
         types: verdicts,
         pzc,
     }
-}
-
-fn ser_poly<S: serde::Serializer>(p: &Poly, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_str(&p.to_string())
-}
-
-fn ser_display<T: std::fmt::Display, S: serde::Serializer>(t: &T, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_str(&t.to_string())
 }
 
 fn ser_opt_point<S: serde::Serializer>(

@@ -31,7 +31,7 @@ use serde::Serialize;
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PoleSigns {
     /// `R` as `unit * prod factor^exponent`.
-    #[serde(serialize_with = "ser_display")]
+    #[serde(serialize_with = "super::prover::ser_display")]
     pub remainder_unit: poly::Rat,
     /// The factors of `R` with their exponents.
     pub remainder_factors: Vec<RemainderFactor>,
@@ -41,7 +41,7 @@ pub struct PoleSigns {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RemainderFactor {
     /// The factor.
-    #[serde(serialize_with = "ser_display")]
+    #[serde(serialize_with = "super::prover::ser_display")]
     pub factor: Poly,
     /// Its exponent.
     pub exponent: u32,
@@ -60,10 +60,6 @@ pub(crate) struct PoleSignData {
     /// in interval `i` (below the first pole, between poles, above the
     /// last) is odd.
     pub parities: Vec<Vec<bool>>,
-}
-
-fn ser_display<T: std::fmt::Display, S: serde::Serializer>(t: &T, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_str(&t.to_string())
 }
 
 /// `(R, e)` with `lc(b)^e * a = q*b + R`, `deg R < deg b` in `x`.
@@ -116,13 +112,12 @@ pub(crate) fn pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Option<Po
         if q.degree(OMEGA) != 0 {
             continue;
         }
-        return placements(model, b, free, num, &p, &mass, &stiff);
+        return placements(b, free, num, &p, &mass, &stiff);
     }
     None
 }
 
 fn placements(
-    _model: &Model,
     block: &[usize],
     free: bool,
     num: &Poly,

@@ -371,18 +371,36 @@ pub(crate) fn substitute(p: &Poly, s: &Substitution) -> Poly {
     acc
 }
 
-/// The full parameter point of a stratum point (undoing the substitutions).
+/// The full parameter point of a stratum point (undoing the substitutions),
+/// if every eliminated parameter comes out positive. On walls (`alpha`,
+/// `beta` free of subtraction) it always does; on the partial walls of the
+/// targeted search only on part of the stratum.
+pub(crate) fn positive_full_point(
+    subs: &[Substitution],
+    point: &BTreeMap<String, Rat>,
+) -> Option<BTreeMap<String, Rat>> {
+    let mut p = point.clone();
+    for s in subs.iter().rev() {
+        let a = s.alpha.eval(&p).ok()?;
+        let b = s.beta.eval(&p).ok()?;
+        if a.is_zero() {
+            return None;
+        }
+        let v = &b / &a;
+        if v.signum() <= 0 {
+            return None;
+        }
+        p.insert(s.var.clone(), v);
+    }
+    Some(p)
+}
+
+/// [`positive_full_point`] on a stratum of walls, where it cannot fail.
 pub(crate) fn full_point(
     subs: &[Substitution],
     point: &BTreeMap<String, Rat>,
 ) -> BTreeMap<String, Rat> {
-    let mut p = point.clone();
-    for s in subs.iter().rev() {
-        let a = s.alpha.eval(&p).expect("alpha in remaining vars");
-        let b = s.beta.eval(&p).expect("beta in remaining vars");
-        p.insert(s.var.clone(), &b / &a);
-    }
-    p
+    positive_full_point(subs, point).expect("walls map positive points to positive points")
 }
 
 /// Sign-definiteness on the open positive orthant: no subtraction, or
@@ -627,7 +645,9 @@ pub(crate) struct Prover<'a> {
     strata: HashMap<String, Rc<Stratum>>,
     pub witnesses: BTreeMap<FrfType, BTreeMap<String, Rat>>,
     memo: HashMap<(String, String), Option<Proof>>,
-    pole_signs: Option<PoleSignData>,
+    /// The pole-sign premise, worked out when a stratum proof first fails
+    /// (outer `None`: not yet; most models never need it).
+    pole_signs: Option<Option<PoleSignData>>,
 }
 
 /// How far the search goes.
@@ -660,8 +680,7 @@ impl Default for SearchLimits {
 
 impl<'a> Prover<'a> {
     pub(crate) fn new(model: &'a Model, num: Poly, den: Poly) -> Prover<'a> {
-        let pole_signs = pole_sign_data(model, &num, &den);
-        let params: Vec<String> = model.masses().into_iter().chain(model.springs()).collect();
+        let params = model.undamped_parameters();
         Prover {
             model,
             num,
@@ -670,7 +689,7 @@ impl<'a> Prover<'a> {
             strata: HashMap::new(),
             witnesses: BTreeMap::new(),
             memo: HashMap::new(),
-            pole_signs,
+            pole_signs: None,
         }
     }
 
@@ -821,13 +840,18 @@ impl<'a> Prover<'a> {
         }
         // The strata first (they reproduce the paper's arguments where
         // those exist), the pole signs where the strata fail.
-        self.stratum_proof(s, t, limits).or_else(|| {
-            let d = self.pole_signs.as_ref()?;
-            (t.resonances() == d.poles && !type_fits(d, t)).then(|| Proof {
-                stratum: s.subs.clone(),
-                open: OpenProof::PoleSigns(d.certificate.clone()),
-                factors: Vec::new(),
-            })
+        if let Some(p) = self.stratum_proof(s, t, limits) {
+            return Some(p);
+        }
+        let (model, num, den) = (self.model, &self.num, &self.den);
+        let d = self
+            .pole_signs
+            .get_or_insert_with(|| pole_sign_data(model, num, den))
+            .as_ref()?;
+        (t.resonances() == d.poles && !type_fits(d, t)).then(|| Proof {
+            stratum: s.subs.clone(),
+            open: OpenProof::PoleSigns(d.certificate.clone()),
+            factors: Vec::new(),
         })
     }
 
@@ -1369,7 +1393,7 @@ fn conditions_for(
     Some(out)
 }
 
-fn ser_poly<S: serde::Serializer>(p: &Poly, s: S) -> Result<S::Ok, S::Error> {
+pub(crate) fn ser_poly<S: serde::Serializer>(p: &Poly, s: S) -> Result<S::Ok, S::Error> {
     s.serialize_str(&p.to_string())
 }
 
@@ -1384,6 +1408,9 @@ pub(crate) fn ser_point<S: serde::Serializer>(
     s.collect_map(p.iter().map(|(k, v)| (k, v.to_string())))
 }
 
-fn ser_display<T: std::fmt::Display, S: serde::Serializer>(t: &T, s: S) -> Result<S::Ok, S::Error> {
+pub(crate) fn ser_display<T: std::fmt::Display, S: serde::Serializer>(
+    t: &T,
+    s: S,
+) -> Result<S::Ok, S::Error> {
     s.serialize_str(&t.to_string())
 }

@@ -22,8 +22,8 @@
 //! measure-zero types live on walls, which the exact search samples.
 
 use super::frf_type::{Feature, FrfType};
-use super::prover::{substitute, Prover, Sampler, Substitution};
-use crate::tf::OMEGA;
+use super::prover::{positive_full_point, substitute, Prover, Sampler, Substitution};
+use crate::tf::UndampedCoefficients;
 use crate::xorshift::XorShift;
 use poly::{Int, Poly, Rat};
 use std::collections::{BTreeMap, BTreeSet};
@@ -36,73 +36,14 @@ const LOG_RANGE: f64 = 5.0;
 const STARTS: usize = 4;
 const EVALUATIONS: usize = 800;
 
-/// A polynomial in the parameters compiled for fast f64 evaluation.
-struct Compiled {
-    terms: Vec<(f64, Vec<(usize, i32)>)>,
-}
-
-impl Compiled {
-    fn new(p: &Poly, params: &[String]) -> Compiled {
-        let index: Vec<usize> = p
-            .vars()
-            .iter()
-            .map(|v| params.iter().position(|q| q == v).expect("a parameter"))
-            .collect();
-        let terms = p
-            .terms()
-            .iter()
-            .map(|t| {
-                let powers = t
-                    .exps
-                    .iter()
-                    .zip(&index)
-                    .filter(|(e, _)| **e > 0)
-                    .map(|(e, i)| (*i, *e as i32))
-                    .collect();
-                (t.coef.to_f64(), powers)
-            })
-            .collect();
-        Compiled { terms }
-    }
-
-    fn eval(&self, x: &[f64]) -> f64 {
-        self.terms
-            .iter()
-            .map(|(c, pw)| pw.iter().fold(*c, |m, (i, e)| m * x[*i].powi(*e)))
-            .sum()
-    }
-}
-
-/// `num` and `den` as coefficient lists in `Omega` (lowest first).
-struct CompiledTf {
-    num: Vec<Compiled>,
-    den: Vec<Compiled>,
-}
-
-impl CompiledTf {
-    fn new(num: &Poly, den: &Poly, params: &[String]) -> CompiledTf {
-        let c = |p: &Poly| -> Vec<Compiled> {
-            p.coeffs_in(OMEGA)
-                .iter()
-                .map(|q| Compiled::new(q, params))
-                .collect()
-        };
-        CompiledTf {
-            num: c(num),
-            den: c(den),
-        }
-    }
-
-    /// Sorted positive real roots of numerator and denominator, and
-    /// whether the numerator has zeros off the positive axis.
-    fn roots(&self, x: &[f64]) -> Option<(Vec<f64>, Vec<f64>, bool)> {
-        let n: Vec<f64> = self.num.iter().map(|c| c.eval(x)).collect();
-        let d: Vec<f64> = self.den.iter().map(|c| c.eval(x)).collect();
-        let zn = positive_roots(&n)?;
-        let zd = positive_roots(&d)?;
-        let nm = zn.len() < n.len() - 1;
-        Some((zn, zd, nm))
-    }
+/// Sorted positive real roots of numerator and denominator at `x`, and
+/// whether the numerator has zeros off the positive axis.
+fn tf_roots(tf: &UndampedCoefficients, x: &[f64]) -> Option<(Vec<f64>, Vec<f64>, bool)> {
+    let (n, d) = tf.eval(x);
+    let zn = positive_roots(&n)?;
+    let zd = positive_roots(&d)?;
+    let nm = zn.len() < n.len() - 1;
+    Some((zn, zd, nm))
 }
 
 /// Positive real roots of `sum c[k] x^k` (simple ones; a double root shows
@@ -291,8 +232,9 @@ impl Prover<'_> {
         if wanted.is_empty() {
             return 0;
         }
+        // The prover's parameters are the model's undamped ones, in order.
         let params = self.params.clone();
-        let tf = CompiledTf::new(&self.num, &self.den, &params);
+        let tf = UndampedCoefficients::new(self.model);
         let mut rng = XorShift::new(seed | 1);
         // The best starts per wanted type: (margin, log-point).
         let mut starts: Vec<Vec<(f64, Vec<f64>)>> = vec![Vec::new(); wanted.len()];
@@ -303,7 +245,9 @@ impl Prover<'_> {
                 .map(|_| LOG_RANGE * (2.0 * rng.uniform() - 1.0))
                 .collect();
             let x: Vec<f64> = lx.iter().map(|v| v.exp()).collect();
-            let Some(roots) = tf.roots(&x) else { continue };
+            let Some(roots) = tf_roots(&tf, &x) else {
+                continue;
+            };
             for (i, t) in wanted.iter().enumerate() {
                 if found[i] {
                     continue;
@@ -328,15 +272,14 @@ impl Prover<'_> {
             for (_, lx0) in starts[i].clone() {
                 let mut cost = |lx: &[f64]| -> f64 {
                     let x: Vec<f64> = lx.iter().map(|v| v.clamp(-30.0, 30.0).exp()).collect();
-                    match tf.roots(&x).and_then(|r| margin(t, &r)) {
+                    match tf_roots(&tf, &x).and_then(|r| margin(t, &r)) {
                         Some(m) => -m,
                         None => 1e3,
                     }
                 };
                 let best = nelder_mead(&mut cost, &lx0, 0.5, -0.05);
                 let x: Vec<f64> = best.iter().map(|v| v.clamp(-30.0, 30.0).exp()).collect();
-                let ok = tf
-                    .roots(&x)
+                let ok = tf_roots(&tf, &x)
                     .and_then(|r| margin(t, &r))
                     .is_some_and(|m| m > 0.0);
                 if ok && self.accept(t, &params, &x) {
@@ -465,28 +408,6 @@ fn linear_solution(f: &Poly, vars: &[String]) -> Option<Substitution> {
             }
         })
         .min_by_key(|s| s.alpha.num_terms() + s.beta.num_terms())
-}
-
-/// The full point of a point on nested substitutions, if every eliminated
-/// parameter comes out positive.
-fn positive_full_point(
-    subs: &[Substitution],
-    point: &BTreeMap<String, Rat>,
-) -> Option<BTreeMap<String, Rat>> {
-    let mut p = point.clone();
-    for s in subs.iter().rev() {
-        let a = s.alpha.eval(&p).ok()?;
-        let b = s.beta.eval(&p).ok()?;
-        if a.is_zero() {
-            return None;
-        }
-        let v = &b / &a;
-        if v.signum() <= 0 {
-            return None;
-        }
-        p.insert(s.var.clone(), v);
-    }
-    Some(p)
 }
 
 #[cfg(test)]
