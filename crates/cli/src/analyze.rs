@@ -284,7 +284,9 @@ struct Timings<'a> {
     batch: &'a Batch,
 }
 
-fn similar_cell(similar: &Similar, a: &Summary, sep: &str) -> String {
+/// For each possible type of `a`, the other classes that can show it
+/// (joined by `inner`, `-` for none), the types joined by `sep`.
+pub fn similar_cell(similar: &Similar, a: &Summary, sep: &str, inner: &str) -> String {
     a.possible
         .iter()
         .map(|ty| {
@@ -292,7 +294,7 @@ fn similar_cell(similar: &Similar, a: &Summary, sep: &str) -> String {
             if others.is_empty() {
                 "-".to_string()
             } else {
-                others.join(",")
+                others.join(inner)
             }
         })
         .collect::<Vec<_>>()
@@ -368,7 +370,7 @@ fn render(
                     "{:<16} {:<44} {:<40} {:>10} {:>7} {:>12} {:>8}",
                     a.id,
                     a.possible.join(", "),
-                    similar_cell(similar, a, "; "),
+                    similar_cell(similar, a, "; ", ","),
                     a.impossible,
                     a.unknown.len(),
                     a.determinable_parameters,
@@ -392,7 +394,7 @@ fn render(
                     "| {} | {} | {} | {} | {} | {} | {} |",
                     a.id,
                     types.join(", "),
-                    similar_cell(similar, a, "; "),
+                    similar_cell(similar, a, "; ", ","),
                     a.impossible,
                     if unknown.is_empty() {
                         "0".to_string()
@@ -413,7 +415,7 @@ fn render(
                     "{} & {} & {} & {} & {} \\\\",
                     a.id.replace('*', "$^*$"),
                     types.join(", "),
-                    similar_cell(similar, a, "; "),
+                    similar_cell(similar, a, "; ", ","),
                     a.impossible,
                     a.unknown.len()
                 );

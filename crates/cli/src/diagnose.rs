@@ -122,7 +122,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
             .first()
             .is_some_and(|e| e.kind != EffectKind::None)
         {
-            return run_time(args, &name, &source, samples, &model, td, d);
+            return run_time(args, &name, &source, &rec.frf, samples, &model, td, d);
         }
         time_check = Some(td);
     }
@@ -287,10 +287,12 @@ fn effects_and_calibration(
 
 /// The time-domain diagnosis of a time-domain recording, with the
 /// frequency-domain diagnosis `fd` of its H1 estimate attached.
+#[allow(clippy::too_many_arguments)]
 fn run_time(
     args: &DiagnoseArgs,
     name: &str,
     source: &str,
+    recorded: &frf::Frf,
     samples: &frf::Samples,
     model: &ModelFile,
     mut d: TimeDiagnosis,
@@ -298,7 +300,7 @@ fn run_time(
 ) -> Result<Option<String>, String> {
     d.mismatch = fd.mismatch.clone();
     d.frequency_domain = Some(fd);
-    let plot = time_bode(samples, model, &d)?;
+    let plot = time_bode(recorded, &args.recording.welch(), samples, model, &d)?;
     let report = match args.format {
         IdentifyFormat::Json => {
             let mut s = serde_json::to_string_pretty(&d).map_err(|e| format!("JSON: {e}"))?;
@@ -315,24 +317,26 @@ fn run_time(
     finish(args, &plot, &d.model_after, report)
 }
 
-/// H1 estimates of the recording and of the nominal and diagnosed models
-/// simulated from the recorded input.
-fn time_bode(samples: &frf::Samples, model: &ModelFile, d: &TimeDiagnosis) -> Result<Bode, String> {
-    let welch = frf::WelchOptions::default();
-    let h = |y: &[f64]| {
-        frf::h1(&samples.u, y, samples.fs, &welch)
+/// The recording's H1 estimate and those of the nominal and diagnosed
+/// models simulated from the recorded input, with the same options
+/// (`--nfft`, `--period`), so the curves share their lines.
+fn time_bode(
+    recorded: &frf::Frf,
+    welch: &frf::WelchOptions,
+    samples: &frf::Samples,
+    model: &ModelFile,
+    d: &TimeDiagnosis,
+) -> Result<Bode, String> {
+    let sim = |m: &ModelFile| -> Result<frf::Frf, String> {
+        let y = mms::simulate::simulate(m, &samples.u, samples.fs).map_err(|e| e.to_string())?;
+        frf::h1(&samples.u, &y, samples.fs, welch)
             .map(|e| e.frf)
             .map_err(|e| format!("H1 estimate: {e}"))
     };
-    let rec = h(&samples.y)?;
-    let sim = |m: &ModelFile| -> Result<frf::Frf, String> {
-        let y = mms::simulate::simulate(m, &samples.u, samples.fs).map_err(|e| e.to_string())?;
-        h(&y)
-    };
     let (nominal, after) = (sim(model)?, sim(&d.model_after)?);
-    let f = rec.freq_hz();
+    let f = recorded.freq_hz();
     let mut b = Bode::new("Recording and simulated models (H1 from the recorded input)")
-        .trace("recording", f, rec.response(), Style::points())
+        .trace("recording", f, recorded.response(), Style::points())
         .trace("model (nominal)", f, nominal.response(), Style::dashed())
         .trace("model after diagnosis", f, after.response(), Style::line());
     for band in &d.mismatch {

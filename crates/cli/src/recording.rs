@@ -60,6 +60,15 @@ impl RecordingArgs {
         }
     }
 
+    /// The H1 options of `--nfft` and `--period`.
+    pub fn welch(&self) -> WelchOptions {
+        WelchOptions {
+            nfft: self.nfft,
+            period: self.period,
+            ..WelchOptions::default()
+        }
+    }
+
     /// Reads the recording; errors are one line naming the file and place.
     pub fn read(&self) -> Result<Recording, String> {
         self.read_file(self.path()?)
@@ -80,11 +89,7 @@ impl RecordingArgs {
             u: signal("u", &self.u)?,
             y: signal("y", &self.y)?,
             fs: self.fs,
-            welch: WelchOptions {
-                nfft: self.nfft,
-                period: self.period,
-                ..WelchOptions::default()
-            },
+            welch: self.welch(),
             dataset: self.dataset,
         };
         read_recording(path, &opts).map_err(|e| e.to_string())

@@ -2,7 +2,7 @@
 //! Markdown document for docs/tables/, with what it means for structure
 //! identification and what the paper's rule (3) drops.
 
-use crate::analyze::{Similar, Summary};
+use crate::analyze::{similar_cell, Similar, Summary};
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write;
 
@@ -202,24 +202,12 @@ pub fn report(n: usize, summaries: &[Summary], similar: &Similar) -> Result<Stri
     let _ = writeln!(s, "|---|---|---|---:|---:|---:|---:|");
     for a in summaries {
         let types: Vec<String> = a.possible.iter().map(|t| format!("`{t}`")).collect();
-        let others: Vec<String> = a
-            .possible
-            .iter()
-            .map(|t| {
-                let o = &similar[&(a.id.clone(), t.clone())];
-                if o.is_empty() {
-                    "-".into()
-                } else {
-                    o.join(", ")
-                }
-            })
-            .collect();
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {} | {} | {} |",
             a.id,
             types.join(", "),
-            others.join("; "),
+            similar_cell(similar, a, "; ", ", "),
             a.impossible,
             a.unknown.len(),
             a.determinable_parameters,
