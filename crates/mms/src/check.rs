@@ -979,7 +979,11 @@ impl ModelChecker {
         // has more resonances than the stratum has poles anywhere).
         if !matches!(
             kind,
-            "too_many_resonances" | "simple_resonances" | "collocated_modes" | "pole_signs"
+            "too_many_resonances"
+                | "simple_resonances"
+                | "collocated_modes"
+                | "pole_signs"
+                | "block_pole_signs"
         ) {
             let factors: Vec<&Poly> = entries.iter().map(|e| &e.poly).collect();
             for c in &s.critical {
@@ -1187,6 +1191,9 @@ impl ModelChecker {
             "pole_signs" => self
                 .check_pole_signs(open, jp, t)
                 .map_err(|e| format!("pole_signs: {e}")),
+            "block_pole_signs" => self
+                .check_block_pole_signs(open, jp, t)
+                .map_err(|e| format!("block_pole_signs: {e}")),
             "descartes" => check_descartes(open, jp, s, t),
             "regions" => self.check_regions(open, jp, s, entries, t),
             "sign_conditions" => check_sign_conditions(open, jp, s, t),
@@ -1372,6 +1379,320 @@ impl ModelChecker {
                 i += 1;
             }
         }
+    }
+
+    /// The denominator is `c * Omega^delta` times the pole polynomials of
+    /// the listed blocks (each block's determinant, a free block's divided
+    /// by `Omega`), `c` free of `Omega` and of one sign; the TF is
+    /// `-Omega * sum_B n_B / d_B` with the listed `n_B` (checked as a polynomial
+    /// identity). At a pole of block `B` the numerator then has the sign of
+    /// `-c * n_B * prod_{B' != B} p_B'`: each `p_B'` by how many of its
+    /// roots lie above, `n_B` (or its pseudo-remainder by `p_B`) from its
+    /// factors, each of one sign, `Omega`, or a multiple of the
+    /// determinant of a proper run of the block's masses, whose
+    /// eigenvalues interlace with the block's (Cauchy). No interleaving and
+    /// no placement gives the type's parities.
+    fn check_block_pole_signs(&self, open: &Value, jp: &str, t: &Ty) -> Result<(), String> {
+        self.jacobi.clone()?;
+        let om = Poly::var(OMEGA);
+        let size = self.mass.len();
+        let pencil = |lo: usize, hi: usize| -> Vec<Vec<Poly>> {
+            (lo..hi)
+                .map(|i| {
+                    (lo..hi)
+                        .map(|j| &self.stiff[i][j] - &(&om * &self.mass[i][j]))
+                        .collect()
+                })
+                .collect()
+        };
+        let one_sign = |q: &Poly| -> Option<i64> {
+            if q.all_coefs_positive() {
+                Some(1)
+            } else if q.all_coefs_negative() {
+                Some(-1)
+            } else {
+                None
+            }
+        };
+        let list = arr_field(open, "blocks", jp)?;
+        if list.is_empty() {
+            return Err("no blocks".into());
+        }
+        // (first mass, last mass + 1, d_B, p_B, free, n_B), 0-based.
+        let mut blocks = Vec::new();
+        let mut taken = vec![false; size];
+        for (k, b) in list.iter().enumerate() {
+            let bp = format!("{jp}.blocks[{k}]");
+            let masses = arr_field(b, "masses", &bp)?;
+            let idx: Vec<usize> = masses
+                .iter()
+                .map(|v| v.as_u64().filter(|&i| i >= 1 && (i as usize) <= size))
+                .collect::<Option<Vec<u64>>>()
+                .ok_or(format!("{bp}.masses: not masses of the model"))?
+                .into_iter()
+                .map(|i| i as usize - 1)
+                .collect();
+            let (lo, hi) = (idx[0], idx[idx.len() - 1] + 1);
+            if idx.iter().enumerate().any(|(i, &m)| m != lo + i) {
+                return Err(format!("{bp}.masses: not consecutive"));
+            }
+            // A whole block: joined inside, cut from its neighbours.
+            let joined = (lo + 1..hi).all(|i| !self.stiff[i - 1][i].is_zero());
+            let cut = (lo == 0 || self.stiff[lo - 1][lo].is_zero())
+                && (hi == size || self.stiff[hi - 1][hi].is_zero());
+            if !joined || !cut {
+                return Err(format!("{bp}.masses: not a block of the chain"));
+            }
+            if idx.iter().any(|&i| taken[i]) {
+                return Err(format!("{bp}.masses: listed twice"));
+            }
+            idx.iter().for_each(|&i| taken[i] = true);
+            let d = det(&pencil(lo, hi));
+            let free = d.subs(OMEGA, &Rat::ZERO).is_zero();
+            let p = if free {
+                d.div_exact(&om)
+                    .ok_or(format!("{bp}: det/Omega is not exact"))?
+            } else {
+                d.clone()
+            };
+            let n = poly_field(b, "numerator", &bp)?;
+            blocks.push((lo, hi, d, p, free, n, bp, b));
+        }
+        // The denominator's form.
+        let prod_p = blocks.iter().fold(Poly::one(), |a, b| &a * &b.3);
+        let rest = self
+            .den
+            .div_exact(&prod_p)
+            .ok_or("the blocks' pole polynomials do not divide the denominator")?
+            .coeffs_in(OMEGA);
+        let delta = rest.len() - 1;
+        if rest[..delta].iter().any(|x| !x.is_zero()) {
+            return Err("the denominator over the pole polynomials is not c * Omega^k".into());
+        }
+        let c_sign =
+            one_sign(&rest[delta]).ok_or("the denominator's remaining factor changes sign")?;
+        // The TF as the sum of the block terms.
+        let prod_d = blocks.iter().fold(Poly::one(), |a, b| &a * &b.2);
+        let mut sum = Poly::zero();
+        for (k, b) in blocks.iter().enumerate() {
+            let mut term = b.5.clone();
+            for (l, o) in blocks.iter().enumerate() {
+                if l != k {
+                    term = &term * &o.2;
+                }
+            }
+            sum = &sum + &term;
+        }
+        if &self.num * &prod_d != -(&(&om * &self.den) * &sum) {
+            return Err("num * prod d_B != -Omega * den * sum_B n_B prod_{B' != B} d_B'".into());
+        }
+        let deg_n = self.num.degree(OMEGA);
+        let at_zero = one_sign(&self.num.subs(OMEGA, &Rat::ZERO))
+            .ok_or("the numerator at Omega = 0 changes sign")?;
+        let at_inf = one_sign(&self.num.coeffs_in(OMEGA)[deg_n as usize])
+            .ok_or("the numerator's leading coefficient changes sign")?;
+        // Per block: the poles, the sign of p_B's leading coefficient and
+        // the sign patterns of n_B at its poles.
+        let mut poles = Vec::new();
+        let mut leads = Vec::new();
+        let mut patterns: Vec<Vec<Vec<i64>>> = Vec::new();
+        for (lo, hi, _, p, free, n, bp, entry) in &blocks {
+            let (lo, hi, free) = (*lo, *hi, *free);
+            let deg_p = p.degree(OMEGA);
+            let lc_p = p.coeffs_in(OMEGA)[deg_p as usize].clone();
+            let lead =
+                one_sign(&lc_p).ok_or(format!("{bp}: the leading coefficient changes sign"))?;
+            poles.push(deg_p as usize);
+            leads.push(lead);
+            if deg_p == 0 {
+                patterns.push(vec![Vec::new()]);
+                continue;
+            }
+            let remainder = bool_field(entry, "remainder", bp)?;
+            // The polynomial whose factors are listed, recomputed.
+            let mut target = n.clone();
+            let mut e = 0u32;
+            if remainder {
+                while !target.is_zero() && target.degree(OMEGA) >= deg_p {
+                    let d = target.degree(OMEGA);
+                    let lr = target.coeffs_in(OMEGA)[d as usize].clone();
+                    target = &(&lc_p * &target) - &(&(&lr * &om.pow(d - deg_p)) * p);
+                    e += 1;
+                }
+            }
+            let unit: Rat = str_field(entry, "unit", bp)?
+                .parse()
+                .map_err(|_| format!("{bp}.unit: not a rational"))?;
+            let mut product = Poly::constant(unit.clone());
+            let mut base = unit.signum() as i64 * lead.pow(e);
+            // Odd minors: (size of the run, sign of the multiple, at an end).
+            let mut odd: Vec<(usize, i64, bool)> = Vec::new();
+            for (i, f) in arr_field(entry, "factors", bp)?.iter().enumerate() {
+                let fp = format!("{bp}.factors[{i}]");
+                let g = poly_field(f, "factor", &fp)?;
+                let k = uint_field(f, "exponent", &fp)? as u32;
+                if k == 0 {
+                    return Err(format!("{fp}: exponent 0"));
+                }
+                product = &product * &g.pow(k);
+                if g.degree(OMEGA) == 0 {
+                    base *= one_sign(&g)
+                        .ok_or(format!("{fp}: {g} changes sign"))?
+                        .pow(k);
+                } else if g != om {
+                    let mut found = None;
+                    'runs: for a in lo..hi {
+                        for z in a + 1..=hi {
+                            if z - a == hi - lo {
+                                continue;
+                            }
+                            if let Some(r) = ratio(&g, &det(&pencil(a, z))) {
+                                found = Some((a, z - a, r.signum() as i64));
+                                break 'runs;
+                            }
+                        }
+                    }
+                    let (first_mass, len, s) = found.ok_or(format!(
+                        "{fp}: {g} is no multiple of the determinant of a proper run of the block"
+                    ))?;
+                    if k % 2 == 1 {
+                        // A run at an end of the block: with the run beyond
+                        // its neighbour it is the block less one mass, whose
+                        // eigenvalues take one slot each.
+                        let at_end = first_mass == lo || first_mass + len == hi;
+                        odd.push((len, s, at_end));
+                    }
+                }
+            }
+            if product != target {
+                return Err(format!(
+                    "{bp}: the factors multiply to {product}, not to {}",
+                    if remainder {
+                        "the pseudo-remainder"
+                    } else {
+                        "n_B"
+                    }
+                ));
+            }
+            // Sign patterns at the block's positive eigenvalues, numbered
+            // from `first` among all its eigenvalues (1-based).
+            let n_b = hi - lo;
+            let first = if free { 2 } else { 1 };
+            let mut pats: Vec<Vec<i64>> = vec![vec![base; n_b + 1 - first]];
+            for &(len, s, at_end) in &odd {
+                // Eigenvalue i of the run (1-based) lies in slot j (between
+                // the block's j-th and (j+1)-th) with i <= j <= i + n_b - len - 1,
+                // nondecreasing in i.
+                let mut slots: Vec<Vec<usize>> = vec![Vec::new()];
+                for i in 1..=len {
+                    let mut grown = Vec::new();
+                    for sl in &slots {
+                        let after = sl.last().map_or(1, |&j| j + usize::from(at_end));
+                        let lo_j = after.max(i);
+                        for j in lo_j..=i + n_b - len - 1 {
+                            let mut v = sl.clone();
+                            v.push(j);
+                            grown.push(v);
+                        }
+                    }
+                    slots = grown;
+                }
+                let mut next: Vec<Vec<i64>> = Vec::new();
+                for pat in &pats {
+                    for sl in &slots {
+                        let v: Vec<i64> = (0..pat.len())
+                            .map(|q| {
+                                let m = first + q;
+                                let below = sl.iter().filter(|&&j| j < m).count() as u32;
+                                pat[q] * s * (-1i64).pow(below)
+                            })
+                            .collect();
+                        if !next.contains(&v) {
+                            next.push(v);
+                        }
+                    }
+                }
+                pats = next;
+            }
+            patterns.push(pats);
+        }
+        // The type.
+        let total: usize = poles.iter().sum();
+        if t.multiple_resonance() || t.resonances() as usize != total {
+            return Err(format!(
+                "the type needs {} simple resonances, the blocks have {total} poles",
+                t.resonances()
+            ));
+        }
+        let mut counts = vec![0u32; total + 1];
+        let mut j = 0;
+        for k in &t.toks {
+            if k.zero {
+                counts[j] += k.mult;
+            } else {
+                j += 1;
+            }
+        }
+        let zeros: u32 = counts.iter().sum();
+        if zeros > deg_n || (zeros == deg_n) == t.nm {
+            return Ok(());
+        }
+        // Every interleaving (as a sequence of block numbers) with every
+        // choice of pattern per block.
+        let mut orders: Vec<Vec<usize>> = vec![Vec::new()];
+        for _ in 0..total {
+            let mut grown = Vec::new();
+            for o in &orders {
+                for (b, &np) in poles.iter().enumerate() {
+                    if o.iter().filter(|&&x| x == b).count() < np {
+                        let mut v = o.clone();
+                        v.push(b);
+                        grown.push(v);
+                    }
+                }
+            }
+            orders = grown;
+        }
+        let mut choices: Vec<Vec<usize>> = vec![Vec::new()];
+        for pats in &patterns {
+            choices = choices
+                .iter()
+                .flat_map(|c| {
+                    (0..pats.len()).map(move |i| {
+                        let mut v = c.clone();
+                        v.push(i);
+                        v
+                    })
+                })
+                .collect();
+        }
+        for order in &orders {
+            for choice in &choices {
+                let mut signs = vec![at_zero];
+                for (pos, &b) in order.iter().enumerate() {
+                    let q = order[..pos].iter().filter(|&&x| x == b).count();
+                    let mut v = -c_sign * patterns[b][choice[b]][q];
+                    for (o, &np) in poles.iter().enumerate() {
+                        if o != b && np > 0 {
+                            let above = order[pos + 1..].iter().filter(|&&x| x == o).count() as u32;
+                            v *= leads[o] * (-1i64).pow(above);
+                        }
+                    }
+                    signs.push(v);
+                }
+                signs.push(at_inf);
+                if signs
+                    .windows(2)
+                    .zip(&counts)
+                    .all(|(w, c)| (w[0] != w[1]) == (c % 2 == 1))
+                {
+                    return Err(format!(
+                        "the type fits the interleaving {order:?} with the sign patterns {choice:?}"
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     fn check_regions(

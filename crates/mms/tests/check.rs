@@ -543,3 +543,187 @@ fn pole_sign_verdicts_agree_with_random_points() {
         "{seen:?}"
     );
 }
+
+/// The analysis of a 4-mass model whose denominator spans two blocks
+/// (N4-g2-a3.1-s3.2: m1-m2 grounded, m3-m4 free behind the gap; the
+/// actuator between m3 and m1 and the sensor between m3 and m2 reach
+/// across it).
+fn n4_two_block_model() -> &'static Value {
+    static FILE: OnceLock<Value> = OnceLock::new();
+    FILE.get_or_init(|| {
+        let m = Model::from_id("N4-g2-a3.1-s3.2").unwrap();
+        serde_json::to_value(analyze(&m, &SearchLimits::default())).unwrap()
+    })
+}
+
+fn with_kind<'a>(model: &'a Value, kind: &str) -> Vec<&'a Value> {
+    model["types"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|v| v["status"] == "impossible" && v["certificate"]["open"]["kind"] == kind)
+        .collect()
+}
+
+#[test]
+fn block_pole_sign_certificates_are_checked_and_tampering_rejected() {
+    let model = n4_two_block_model();
+    let certified = with_kind(model, "block_pole_signs");
+    // The strata and the one-block pole signs leave these undecided.
+    assert!(certified.len() >= 40, "{}", certified.len());
+    check_analysis(model).unwrap();
+    let cert = certified[0]["certificate"].clone();
+    let blocks = cert["open"]["blocks"].as_array().unwrap();
+    assert_eq!(blocks.len(), 2, "{cert}");
+    let with_cert = |mut v: Value, cert: &Value| {
+        v["status"] = "impossible".into();
+        v["witness"] = Value::Null;
+        v["certificate"] = cert.clone();
+        let mut m = model.clone();
+        m["types"] = json!([v]);
+        check_analysis(&m).unwrap_err().to_string()
+    };
+    let types = model["types"].as_array().unwrap();
+
+    // On a possible type with every resonance the parities must fit.
+    let full = types
+        .iter()
+        .filter(|v| v["status"] == "possible")
+        .find(|v| v["type"].as_str().unwrap().matches('R').count() == 3)
+        .unwrap();
+    let e = with_cert(full.clone(), &cert);
+    assert!(
+        e.contains("block_pole_signs: the type fits the interleaving"),
+        "{e}"
+    );
+
+    // A numerator n_B changed: the TF is no longer the sum of the terms.
+    let mut bad = cert.clone();
+    bad["open"]["blocks"][0]["numerator"] = json!("2");
+    let e = with_cert(certified[0].clone(), &bad);
+    assert!(e.contains("-Omega * den * sum_B"), "{e}");
+
+    // A factor's exponent changed: the product is not what it claims.
+    let mut bad = cert.clone();
+    let b = blocks
+        .iter()
+        .position(|b| !b["factors"].as_array().unwrap().is_empty())
+        .unwrap();
+    let f = &mut bad["open"]["blocks"][b]["factors"][0]["exponent"];
+    *f = json!(f.as_u64().unwrap() + 1);
+    let e = with_cert(certified[0].clone(), &bad);
+    assert!(e.contains("the factors multiply to"), "{e}");
+
+    // Blocks that are not blocks of the chain.
+    let mut bad = cert.clone();
+    bad["open"]["blocks"][0]["masses"] = json!([1, 2, 3]);
+    let e = with_cert(certified[0].clone(), &bad);
+    assert!(e.contains("not a block of the chain"), "{e}");
+}
+
+/// A second route to the block pole-sign verdicts, and to the one-block
+/// ones the minors' interlacing adds: exact classification at random
+/// rational points never shows a type they exclude.
+#[test]
+fn block_pole_sign_verdicts_agree_with_random_points() {
+    use mms::analysis::frf_type_at;
+    use mms::xorshift::XorShift;
+    use poly::Rat;
+    let free_chain = Model::from_id("N4-g0-a1.0-s2.0").unwrap();
+    let free_chain = serde_json::to_value(analyze(&free_chain, &SearchLimits::default())).unwrap();
+    for (id, model, seed) in [
+        ("N4-g2-a3.1-s3.2", n4_two_block_model(), 43),
+        ("N4-g0-a1.0-s2.0", &free_chain, 47),
+    ] {
+        let excluded: Vec<String> = with_kind(model, "block_pole_signs")
+            .iter()
+            .map(|v| v["type"].as_str().unwrap().to_string())
+            .collect();
+        assert!(!excluded.is_empty(), "{id}");
+        let m = Model::from_id(id).unwrap();
+        let tf = m.undamped_tf();
+        let mut rng = XorShift::new(seed);
+        let mut seen = std::collections::BTreeSet::new();
+        for _ in 0..300 {
+            let point: std::collections::BTreeMap<String, Rat> = m
+                .undamped_parameters()
+                .into_iter()
+                .map(|p| {
+                    let v = rng.log_uniform(1.0 / 64.0, 64.0);
+                    (
+                        p,
+                        Rat::new(((v * 1000.0).round() as i64).into(), 1000.into()),
+                    )
+                })
+                .collect();
+            let t = frf_type_at(&tf.num, &tf.den, mms::OMEGA, &point)
+                .unwrap()
+                .to_string();
+            assert!(!excluded.contains(&t), "{id}: {t} at {point:?}");
+            seen.insert(t);
+        }
+        assert!(seen.len() >= 2, "{id}: {seen:?}");
+    }
+}
+
+/// The free chain m1-m2-m3-m4 driven at m1 and seen at m2: the zeros are
+/// the eigenvalues of m3-m4 with m2 held (`num = c12 * det(K_34 - Omega
+/// M_34)`). Together with m1 held they are the eigenvalues of the chain
+/// without m2, which interlace the chain's one per gap between poles
+/// (Cauchy), so two zeros never share a gap: RAARR, AARRR, RRAAR and
+/// RRRAA are out. Parities alone cannot show it: RAARR has an even count
+/// in every gap, as a type with no zero at all.
+#[test]
+fn end_runs_take_distinct_gaps() {
+    let m = Model::from_id("N4-g0-a1.0-s2.0").unwrap();
+    let a = serde_json::to_value(analyze(&m, &SearchLimits::default())).unwrap();
+    for t in ["RAARR", "AARRR", "RRAAR", "RRRAA"] {
+        let v = a["types"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|v| v["type"] == t)
+            .unwrap();
+        assert_eq!(v["status"], "impossible", "{t}");
+    }
+    check_analysis(&a).unwrap();
+}
+
+/// Double antiresonances are measure-zero: the root-condition search
+/// builds them exactly. The witness's numerator has a repeated positive
+/// root (its gcd with its derivative, recomputed here), and the checker
+/// classifies the witness as the type.
+#[test]
+fn double_antiresonances_get_exact_witnesses() {
+    use poly::{gcd, Rat};
+    let m = Model::from_id("N4-g1-a2.1-s3.1").unwrap();
+    let a = serde_json::to_value(analyze(&m, &SearchLimits::default())).unwrap();
+    check_analysis(&a).unwrap();
+    let doubles: Vec<&Value> = a["types"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|v| v["status"] == "possible" && v["type"].as_str().unwrap().contains("A^2"))
+        .collect();
+    // Before the search only A^2RR and RRA^2 (on cancellation walls).
+    assert!(doubles.len() >= 8, "{}", doubles.len());
+    let tf = m.undamped_tf();
+    for v in doubles {
+        let mut num = tf.num.clone();
+        for (p, x) in v["witness"].as_object().unwrap() {
+            num = num.subs(p, &x.as_str().unwrap().parse::<Rat>().unwrap());
+        }
+        let g = gcd(&num, &num.derivative(mms::OMEGA));
+        assert!(g.degree(mms::OMEGA) >= 1, "{}: {num}", v["type"]);
+        // One double root, positive: g = a*Omega + b with a*b < 0.
+        assert_eq!(g.degree(mms::OMEGA), 1, "{}: {g}", v["type"]);
+        let at_zero = g.subs(mms::OMEGA, &Rat::ZERO).as_constant().unwrap();
+        let lead = g
+            .coeffs_in(mms::OMEGA)
+            .last()
+            .unwrap()
+            .as_constant()
+            .unwrap();
+        assert!(at_zero.signum() * lead.signum() < 0, "{}: {g}", v["type"]);
+    }
+}

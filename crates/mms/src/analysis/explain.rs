@@ -323,6 +323,43 @@ fn open(w: &mut W, o: &OpenProof) {
             );
             w.para(&s)
         }
+        OpenProof::BlockPoleSigns(bp) => {
+            let mut s = String::from(
+                "The denominator is the product of the chain blocks' pole polynomials (each block's determinant, a free block's divided by Omega), and the TF is -Omega times the sum of one term n_B/d_B per block. At a pole of block B the numerator has the sign of -c * n_B times the other blocks' pole polynomials, where c is the remaining factor of the denominator (of one sign): the other blocks contribute the sign of how many of their poles lie above, and n_B ",
+            );
+            let parts: Vec<String> = bp
+                .blocks
+                .iter()
+                .filter(|b| !b.factors.is_empty())
+                .map(|b| {
+                    let factors: Vec<String> = b
+                        .factors
+                        .iter()
+                        .map(|f| {
+                            if f.exponent == 1 {
+                                w.poly(&f.factor)
+                            } else {
+                                format!("({})^{}", w.poly(&f.factor), f.exponent)
+                            }
+                        })
+                        .collect();
+                    format!(
+                        "(masses {:?}: {} = {} * {})",
+                        b.masses,
+                        if b.remainder {
+                            "its pseudo-remainder by the block's pole polynomial"
+                        } else {
+                            "n_B"
+                        },
+                        b.unit,
+                        factors.join(" * ")
+                    )
+                })
+                .collect();
+            s.push_str(&parts.join(", "));
+            s.push_str(" factors into factors of one sign, powers of Omega and determinants of runs of the block's masses, whose eigenvalues interlace with the block's (Cauchy). For every interleaving of the blocks' spectra and every placement of those eigenvalues, the signs at 0, at the poles and at infinity fix the parity of the antiresonances between consecutive poles; the type matches none of them (and a pole where the numerator vanished would cancel, leaving fewer resonances than the type has).");
+            w.para(&s)
+        }
         OpenProof::Descartes {
             part,
             sign_changes,

@@ -24,7 +24,10 @@
 
 use super::frf_type::{frf_type_at, Feature, FrfType};
 use super::lp::positive_combination;
-use super::pole_signs::{pole_sign_data, type_fits, PoleSignData, PoleSigns};
+use super::pole_signs::{
+    block_pole_sign_data, pole_sign_data, type_fits, BlockPoleSigns, PoleSignCertificate,
+    PoleSignData, PoleSigns,
+};
 use crate::model::Model;
 use crate::tf::OMEGA;
 use crate::xorshift::XorShift;
@@ -265,6 +268,13 @@ pub enum OpenProof {
     /// block's diagonal entries among its eigenvalues (see
     /// [`super::pole_signs`]). Holds on every stratum.
     PoleSigns(PoleSigns),
+    /// The numerator's sign at the poles when the denominator is the
+    /// product of several blocks' pole polynomials: at a pole of one
+    /// block it is fixed by how the other blocks' spectra interleave with
+    /// it and where the eigenvalues of the block's principal minors lie
+    /// (see [`super::pole_signs`]); no configuration gives the type's
+    /// antiresonance parities. Holds on every stratum.
+    BlockPoleSigns(BlockPoleSigns),
     /// Descartes' rule of signs for the numerator part `part`, whose
     /// coefficients in `Omega` have definite signs.
     Descartes {
@@ -629,6 +639,11 @@ impl Sampler {
         Rat::new(m.into(), 8.into()) * Rat::from(2).pow(e)
     }
 
+    /// An index below `n` (`n > 0`).
+    pub(crate) fn index(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+
     pub(crate) fn point(&mut self, vars: &[String]) -> BTreeMap<String, Rat> {
         vars.iter().map(|v| (v.clone(), self.value())).collect()
     }
@@ -648,6 +663,8 @@ pub(crate) struct Prover<'a> {
     /// The pole-sign premise, worked out when a stratum proof first fails
     /// (outer `None`: not yet; most models never need it).
     pole_signs: Option<Option<PoleSignData>>,
+    /// The same for the block-product premise.
+    block_pole_signs: Option<Option<PoleSignData>>,
 }
 
 /// How far the search goes.
@@ -690,6 +707,7 @@ impl<'a> Prover<'a> {
             witnesses: BTreeMap::new(),
             memo: HashMap::new(),
             pole_signs: None,
+            block_pole_signs: None,
         }
     }
 
@@ -844,13 +862,25 @@ impl<'a> Prover<'a> {
             return Some(p);
         }
         let (model, num, den) = (self.model, &self.num, &self.den);
-        let d = self
+        let one = self
             .pole_signs
-            .get_or_insert_with(|| pole_sign_data(model, num, den))
-            .as_ref()?;
-        (t.resonances() == d.poles && !type_fits(d, t)).then(|| Proof {
+            .get_or_insert_with(|| pole_sign_data(model, num, den));
+        let excludes = |d: &PoleSignData| t.resonances() == d.poles && !type_fits(d, t);
+        let d = match one.as_ref().filter(|d| excludes(d)) {
+            Some(d) => d,
+            None => self
+                .block_pole_signs
+                .get_or_insert_with(|| block_pole_sign_data(model, num, den))
+                .as_ref()
+                .filter(|d| excludes(d))?,
+        };
+        let open = match &d.certificate {
+            PoleSignCertificate::OneBlock(c) => OpenProof::PoleSigns(c.clone()),
+            PoleSignCertificate::Blocks(c) => OpenProof::BlockPoleSigns(c.clone()),
+        };
+        Some(Proof {
             stratum: s.subs.clone(),
-            open: OpenProof::PoleSigns(d.certificate.clone()),
+            open,
             factors: Vec::new(),
         })
     }

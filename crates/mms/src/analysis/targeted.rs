@@ -24,6 +24,7 @@
 use super::frf_type::{Feature, FrfType};
 use super::prover::{positive_full_point, substitute, Prover, Sampler, Substitution};
 use crate::tf::UndampedCoefficients;
+use crate::tf::OMEGA;
 use crate::xorshift::XorShift;
 use poly::{Int, Poly, Rat};
 use std::collections::{BTreeMap, BTreeSet};
@@ -365,6 +366,193 @@ impl Prover<'_> {
         }
     }
 
+    /// Constructs points with wanted root coincidences exactly (issue 4,
+    /// item 2: parameters from wanted root positions). A type with `c`
+    /// cancelled poles and multiple antiresonances of multiplicities
+    /// `k_1, k_2, ...` lives where `num(r) = den(r) = 0` at `c` points and
+    /// `num` and its first `k_j - 1` derivatives vanish at one point each.
+    /// The TF is multilinear in the parameters (every mass and spring
+    /// enters the determinants to the first power), so for rational roots
+    /// `r`, rational values of all but a set of parameters no two of which
+    /// share a monomial, these conditions are a linear system in that set:
+    /// its exact solution, when positive, is a point on the wanted variety,
+    /// whose type is then classified exactly. Returns how many of `wanted`
+    /// it found.
+    pub(crate) fn root_condition_search(&mut self, wanted: &[FrfType], seed: u64) -> usize {
+        let degree = self.den.degree(OMEGA);
+        let mut signatures: BTreeSet<(u32, Vec<u32>)> = BTreeSet::new();
+        for t in wanted {
+            let simple_poles = t
+                .tokens
+                .iter()
+                .all(|k| k.feature == Feature::Antiresonance || k.multiplicity == 1);
+            if !simple_poles || t.resonances() > degree {
+                continue;
+            }
+            let mults: Vec<u32> = t
+                .tokens
+                .iter()
+                .filter(|k| k.feature == Feature::Antiresonance && k.multiplicity > 1)
+                .map(|k| k.multiplicity)
+                .collect();
+            let cancelled = degree - t.resonances();
+            if cancelled > 0 || !mults.is_empty() {
+                signatures.insert((cancelled, mults));
+            }
+        }
+        if signatures.is_empty() {
+            return 0;
+        }
+        let max_mult = signatures
+            .iter()
+            .flat_map(|(_, m)| m.iter().copied())
+            .max()
+            .unwrap_or(1);
+        let mut derivatives = vec![self.num.clone()];
+        while derivatives.len() < max_mult as usize {
+            let d = derivatives[derivatives.len() - 1].derivative(OMEGA);
+            derivatives.push(d);
+        }
+        // First, merge the zeros of a witness of the split type (A^2 as
+        // AA): the root goes between them and the solved parameters stay
+        // near the witness's, keeping the rest of the ordering.
+        let tf = UndampedCoefficients::new(self.model);
+        let params = self.params.clone();
+        for t in wanted {
+            let mults: Vec<u32> = t
+                .tokens
+                .iter()
+                .filter(|k| k.feature == Feature::Antiresonance && k.multiplicity > 1)
+                .map(|k| k.multiplicity)
+                .collect();
+            if mults.is_empty()
+                || t.resonances() != degree
+                || self.witnesses.contains_key(t)
+                || t.tokens
+                    .iter()
+                    .any(|k| k.feature == Feature::Resonance && k.multiplicity > 1)
+            {
+                continue;
+            }
+            let split = FrfType {
+                tokens: t
+                    .tokens
+                    .iter()
+                    .flat_map(|k| {
+                        std::iter::repeat_n(
+                            super::frf_type::Token {
+                                feature: k.feature,
+                                multiplicity: 1,
+                            },
+                            k.multiplicity as usize,
+                        )
+                    })
+                    .collect(),
+                nonminimum_phase: t.nonminimum_phase,
+            };
+            let Some(w) = self.witnesses.get(&split).cloned() else {
+                continue;
+            };
+            let x: Vec<f64> = params.iter().map(|p| w[p].to_f64()).collect();
+            let Some((zeros, _, _)) = tf_roots(&tf, &x) else {
+                continue;
+            };
+            // The positive zeros in order, grouped as `t` merges them.
+            let mut roots: Vec<(Rat, u32)> = Vec::new();
+            let mut next = 0;
+            for k in t
+                .tokens
+                .iter()
+                .filter(|k| k.feature == Feature::Antiresonance)
+            {
+                let m = k.multiplicity as usize;
+                if next + m > zeros.len() {
+                    break;
+                }
+                if m > 1 {
+                    let mean = zeros[next..next + m].iter().map(|z| z.ln()).sum::<f64>() / m as f64;
+                    if let Some(r) = short_rational(mean.exp(), 4) {
+                        roots.push((r, k.multiplicity));
+                    }
+                }
+                next += m;
+            }
+            if roots.len() != mults.len() {
+                continue;
+            }
+            let size = mults.iter().sum::<u32>() as usize;
+            for vars in linear_sets(&[&self.num, &self.den], &params, size) {
+                let fixed: BTreeMap<String, Rat> = w
+                    .iter()
+                    .filter(|(p, _)| !vars.contains(p))
+                    .map(|(p, v)| (p.clone(), v.clone()))
+                    .collect();
+                self.solve_root_conditions(&vars, fixed, &[], &roots, &derivatives);
+                if self.witnesses.contains_key(t) {
+                    break;
+                }
+            }
+        }
+        // Then random roots and parameters.
+        let mut rng = Sampler::new(seed);
+        for (cancelled, mults) in signatures {
+            let size = 2 * cancelled as usize + mults.iter().sum::<u32>() as usize;
+            let sets = linear_sets(&[&self.num, &self.den], &self.params, size);
+            if sets.is_empty() {
+                continue;
+            }
+            for _ in 0..ROOT_TRIALS {
+                let vars = sets[rng.index(sets.len())].clone();
+                let fixed: BTreeMap<String, Rat> = self
+                    .params
+                    .iter()
+                    .filter(|p| !vars.contains(p))
+                    .map(|p| (p.clone(), rng.value()))
+                    .collect();
+                let cancel: Vec<Rat> = (0..cancelled).map(|_| rng.value()).collect();
+                let multiple: Vec<(Rat, u32)> = mults.iter().map(|&k| (rng.value(), k)).collect();
+                self.solve_root_conditions(&vars, fixed, &cancel, &multiple, &derivatives);
+            }
+        }
+        wanted
+            .iter()
+            .filter(|t| self.witnesses.contains_key(t))
+            .count()
+    }
+
+    /// Solves `num(r) = den(r) = 0` for every `r` of `cancel` and
+    /// `num^(i)(r) = 0`, `i < k`, for every `(r, k)` of `multiple`, in
+    /// `vars` with the other parameters at `fixed`; records the point if
+    /// the solution is unique and positive.
+    fn solve_root_conditions(
+        &mut self,
+        vars: &[String],
+        mut fixed: BTreeMap<String, Rat>,
+        cancel: &[Rat],
+        multiple: &[(Rat, u32)],
+        derivatives: &[Poly],
+    ) {
+        let mut equations: Vec<Poly> = Vec::new();
+        for r in cancel {
+            equations.push(self.num.subs(OMEGA, r));
+            equations.push(self.den.subs(OMEGA, r));
+        }
+        for (r, k) in multiple {
+            equations.extend(derivatives[..*k as usize].iter().map(|d| d.subs(OMEGA, r)));
+        }
+        let equations: Vec<Poly> = equations
+            .into_iter()
+            .map(|e| fixed.iter().fold(e, |e, (p, v)| e.subs(p, v)))
+            .collect();
+        let Some(solution) = solve_linear(&equations, vars) else {
+            return;
+        };
+        if solution.iter().all(|v| v.signum() > 0) {
+            fixed.extend(vars.iter().cloned().zip(solution));
+            self.record(fixed);
+        }
+    }
+
     /// Rounds `x` to ever longer rationals until the exact type is `t`;
     /// records the witness if so.
     fn accept(&mut self, t: &FrfType, params: &[String], x: &[f64]) -> bool {
@@ -382,6 +570,97 @@ impl Prover<'_> {
         }
         false
     }
+}
+
+/// Trials per root-coincidence signature in the root-condition search.
+const ROOT_TRIALS: usize = 2000;
+/// Candidate parameter sets kept for the root-condition search, at most.
+const MAX_LINEAR_SETS: usize = 64;
+
+/// Sets of `size` parameters each of degree at most one in every `polys`
+/// and no two of them in one monomial: the polys are jointly linear in
+/// them (the first `MAX_LINEAR_SETS` in lexicographic order).
+fn linear_sets(polys: &[&Poly], params: &[String], size: usize) -> Vec<Vec<String>> {
+    let single: Vec<&String> = params
+        .iter()
+        .filter(|x| polys.iter().all(|p| p.degree(x) <= 1))
+        .collect();
+    let apart = |x: &String, y: &String| {
+        polys.iter().all(|p| {
+            let c = p.coeffs_in(x);
+            c.len() < 2 || c[1].degree(y) == 0
+        })
+    };
+    let mut out = Vec::new();
+    let mut cur: Vec<usize> = Vec::new();
+    fn grow(
+        from: usize,
+        size: usize,
+        single: &[&String],
+        apart: &dyn Fn(&String, &String) -> bool,
+        cur: &mut Vec<usize>,
+        out: &mut Vec<Vec<String>>,
+    ) {
+        if out.len() >= MAX_LINEAR_SETS {
+            return;
+        }
+        if cur.len() == size {
+            out.push(cur.iter().map(|&i| single[i].clone()).collect());
+            return;
+        }
+        for i in from..single.len() {
+            if cur.iter().all(|&j| apart(single[j], single[i])) {
+                cur.push(i);
+                grow(i + 1, size, single, apart, cur, out);
+                cur.pop();
+            }
+        }
+    }
+    if size > 0 {
+        grow(0, size, &single, &apart, &mut cur, &mut out);
+    }
+    out
+}
+
+/// The exact solution of the square linear system `equations = 0` in
+/// `vars` (each equation of degree one in them), if it is unique.
+fn solve_linear(equations: &[Poly], vars: &[String]) -> Option<Vec<Rat>> {
+    let n = vars.len();
+    if equations.len() != n {
+        return None;
+    }
+    // Rows [a_1 .. a_n | -b] of a.x + b = 0.
+    let mut rows: Vec<Vec<Rat>> = Vec::with_capacity(n);
+    for e in equations {
+        let mut row = Vec::with_capacity(n + 1);
+        let mut rest = e.clone();
+        for x in vars {
+            let c = rest.coeffs_in(x);
+            row.push(c.get(1).map_or(Some(Rat::ZERO), |a| a.as_constant())?);
+            rest = c.first().cloned().unwrap_or_else(Poly::zero);
+        }
+        row.push(-rest.as_constant()?);
+        rows.push(row);
+    }
+    for col in 0..n {
+        let pivot = (col..n).find(|&r| !rows[r][col].is_zero())?;
+        rows.swap(col, pivot);
+        let inv = rows[col][col].recip();
+        for v in rows[col].iter_mut() {
+            *v = &*v * &inv;
+        }
+        let pivot_row = rows[col].clone();
+        for (r, row) in rows.iter_mut().enumerate() {
+            if r != col && !row[col].is_zero() {
+                let f = row[col].clone();
+                for (x, p) in row.iter_mut().zip(&pivot_row).skip(col) {
+                    let d = &f * p;
+                    *x = &*x - &d;
+                }
+            }
+        }
+    }
+    Some(rows.into_iter().map(|r| r[n].clone()).collect())
 }
 
 /// Samples per partial wall.
@@ -435,6 +714,35 @@ mod tests {
         assert!(margin(&t, &good).unwrap() > 0.0);
         assert!(margin(&t, &bad).unwrap() < 0.0);
         assert!(margin(&t, &(vec![1.0], vec![2.0, 3.0], true)).is_none());
+    }
+
+    #[test]
+    fn linear_systems_are_solved_exactly() {
+        let p = |s: &str| s.parse::<Poly>().unwrap();
+        let vars = ["x".to_string(), "y".to_string()];
+        // 2x + y = 5/2, x - 3y = -2: x = 11/14, y = 13/14.
+        let sol = solve_linear(&[p("2*x + y - 5/2"), p("x - 3*y + 2")], &vars).unwrap();
+        assert_eq!(
+            sol,
+            vec![
+                Rat::new(11.into(), 14.into()),
+                Rat::new(13.into(), 14.into())
+            ]
+        );
+        // Singular: no unique solution.
+        assert!(solve_linear(&[p("x + y - 1"), p("2*x + 2*y - 3")], &vars).is_none());
+        // Not linear in the unknowns.
+        assert!(solve_linear(&[p("x*y - 1"), p("x - 1")], &vars).is_none());
+    }
+
+    #[test]
+    fn linear_sets_avoid_shared_monomials() {
+        let p = |s: &str| s.parse::<Poly>().unwrap();
+        let params: Vec<String> = ["a", "b", "c", "d"].iter().map(|s| s.to_string()).collect();
+        // a*b shares a monomial, c appears squared.
+        let f = p("a*b + c^2 + a*d + b + 1");
+        let sets = linear_sets(&[&f], &params, 2);
+        assert_eq!(sets, vec![vec!["b".to_string(), "d".to_string()]]);
     }
 
     #[test]
