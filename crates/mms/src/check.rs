@@ -1487,28 +1487,20 @@ impl ModelChecker {
             return Err("num * prod d_B != -Omega * den * sum_B n_B prod_{B' != B} d_B'".into());
         }
         let deg_n = self.num.degree(OMEGA);
-        let at_zero = one_sign(&self.num.subs(OMEGA, &Rat::ZERO))
-            .ok_or("the numerator at Omega = 0 changes sign")?;
         let at_inf = one_sign(&self.num.coeffs_in(OMEGA)[deg_n as usize])
             .ok_or("the numerator's leading coefficient changes sign")?;
-        // Per block: the poles, the sign of p_B's leading coefficient and
-        // the sign patterns of n_B at its poles.
-        let mut poles = Vec::new();
-        let mut leads = Vec::new();
-        let mut patterns: Vec<Vec<Vec<i64>>> = Vec::new();
+        // Per block: its events (poles and minors), read off the factors.
+        let mut infos: Vec<CheckBlock> = Vec::new();
         for (lo, hi, _, p, free, n, bp, entry) in &blocks {
             let (lo, hi, free) = (*lo, *hi, *free);
             let deg_p = p.degree(OMEGA);
             let lc_p = p.coeffs_in(OMEGA)[deg_p as usize].clone();
             let lead =
                 one_sign(&lc_p).ok_or(format!("{bp}: the leading coefficient changes sign"))?;
-            poles.push(deg_p as usize);
-            leads.push(lead);
-            if deg_p == 0 {
-                patterns.push(vec![Vec::new()]);
-                continue;
-            }
             let remainder = bool_field(entry, "remainder", bp)?;
+            if remainder && deg_p == 0 {
+                return Err(format!("{bp}: a remainder by a constant"));
+            }
             // The polynomial whose factors are listed, recomputed.
             let mut target = n.clone();
             let mut e = 0u32;
@@ -1525,8 +1517,7 @@ impl ModelChecker {
                 .map_err(|_| format!("{bp}.unit: not a rational"))?;
             let mut product = Poly::constant(unit.clone());
             let mut base = unit.signum() as i64 * lead.pow(e);
-            // Odd minors: (size of the run, sign of the multiple, at an end).
-            let mut odd: Vec<(usize, i64, bool)> = Vec::new();
+            let mut runs: Vec<CheckRun> = Vec::new();
             for (i, f) in arr_field(entry, "factors", bp)?.iter().enumerate() {
                 let fp = format!("{bp}.factors[{i}]");
                 let g = poly_field(f, "factor", &fp)?;
@@ -1547,21 +1538,19 @@ impl ModelChecker {
                                 continue;
                             }
                             if let Some(r) = ratio(&g, &det(&pencil(a, z))) {
-                                found = Some((a, z - a, r.signum() as i64));
+                                found = Some(CheckRun {
+                                    first: a - lo,
+                                    len: z - a,
+                                    sign: r.signum() as i64,
+                                    exponent: k,
+                                });
                                 break 'runs;
                             }
                         }
                     }
-                    let (first_mass, len, s) = found.ok_or(format!(
+                    runs.push(found.ok_or(format!(
                         "{fp}: {g} is no multiple of the determinant of a proper run of the block"
-                    ))?;
-                    if k % 2 == 1 {
-                        // A run at an end of the block: with the run beyond
-                        // its neighbour it is the block less one mass, whose
-                        // eigenvalues take one slot each.
-                        let at_end = first_mass == lo || first_mass + len == hi;
-                        odd.push((len, s, at_end));
-                    }
+                    ))?);
                 }
             }
             if product != target {
@@ -1574,125 +1563,90 @@ impl ModelChecker {
                     }
                 ));
             }
-            // Sign patterns at the block's positive eigenvalues, numbered
-            // from `first` among all its eigenvalues (1-based).
-            let n_b = hi - lo;
-            let first = if free { 2 } else { 1 };
-            let mut pats: Vec<Vec<i64>> = vec![vec![base; n_b + 1 - first]];
-            for &(len, s, at_end) in &odd {
-                // Eigenvalue i of the run (1-based) lies in slot j (between
-                // the block's j-th and (j+1)-th) with i <= j <= i + n_b - len - 1,
-                // nondecreasing in i.
-                let mut slots: Vec<Vec<usize>> = vec![Vec::new()];
-                for i in 1..=len {
-                    let mut grown = Vec::new();
-                    for sl in &slots {
-                        let after = sl.last().map_or(1, |&j| j + usize::from(at_end));
-                        let lo_j = after.max(i);
-                        for j in lo_j..=i + n_b - len - 1 {
-                            let mut v = sl.clone();
-                            v.push(j);
-                            grown.push(v);
-                        }
-                    }
-                    slots = grown;
-                }
-                let mut next: Vec<Vec<i64>> = Vec::new();
-                for pat in &pats {
-                    for sl in &slots {
-                        let v: Vec<i64> = (0..pat.len())
-                            .map(|q| {
-                                let m = first + q;
-                                let below = sl.iter().filter(|&&j| j < m).count() as u32;
-                                pat[q] * s * (-1i64).pow(below)
-                            })
-                            .collect();
-                        if !next.contains(&v) {
-                            next.push(v);
-                        }
-                    }
-                }
-                pats = next;
-            }
-            patterns.push(pats);
+            infos.push(CheckBlock {
+                size: hi - lo,
+                free,
+                lead,
+                direct: !remainder,
+                base,
+                runs,
+            });
         }
-        // The type.
-        let total: usize = poles.iter().sum();
-        if t.multiple_resonance() || t.resonances() as usize != total {
-            return Err(format!(
-                "the type needs {} simple resonances, the blocks have {total} poles",
-                t.resonances()
-            ));
+        if infos.len() > 2 {
+            return Err("more than two blocks".into());
         }
-        let mut counts = vec![0u32; total + 1];
-        let mut j = 0;
+        let total_poles: u32 = infos.iter().map(|b| b.pole_count() as u32).sum();
+        // The type: simple resonances; the reduced numerator has degree
+        // deg num - (cancelled poles), and (nm) says whether it has fewer
+        // positive zeros.
+        if t.multiple_resonance() {
+            return Err("the type has a multiple resonance".into());
+        }
+        let mut counts = vec![0u32];
         for k in &t.toks {
             if k.zero {
-                counts[j] += k.mult;
+                *counts.last_mut().expect("one") += k.mult;
             } else {
-                j += 1;
+                counts.push(0);
             }
         }
-        let zeros: u32 = counts.iter().sum();
-        if zeros > deg_n || (zeros == deg_n) == t.nm {
+        let res = counts.len() as u32 - 1;
+        let positive: u32 = counts.iter().sum();
+        if res > total_poles || deg_n + res < total_poles {
             return Ok(());
         }
-        // Every interleaving (as a sequence of block numbers) with every
-        // choice of pattern per block.
-        let mut orders: Vec<Vec<usize>> = vec![Vec::new()];
-        for _ in 0..total {
-            let mut grown = Vec::new();
-            for o in &orders {
-                for (b, &np) in poles.iter().enumerate() {
-                    if o.iter().filter(|&&x| x == b).count() < np {
-                        let mut v = o.clone();
-                        v.push(b);
-                        grown.push(v);
+        let reduced = deg_n + res - total_poles;
+        if positive > reduced || (positive < reduced) != t.nm {
+            return Ok(());
+        }
+        // One block whose term is a product of minors: its positive zeros
+        // are the minors' eigenvalues, counted exactly.
+        let exact = infos.len() == 1 && infos[0].direct;
+        let at_zero_poly = self.num.subs(OMEGA, &Rat::ZERO);
+        let at_zero = if exact {
+            if t.nm != at_zero_poly.is_zero() {
+                return Ok(());
+            }
+            0
+        } else {
+            one_sign(&at_zero_poly).ok_or("the numerator at Omega = 0 changes sign")?
+        };
+        let per_block: Vec<Vec<Vec<CheckEvent>>> = infos.iter().map(block_orders).collect();
+        let mut tried = 0usize;
+        let mut fits = None;
+        let mut visit = |order: &[(usize, CheckEvent)], shared: &[(usize, bool)]| {
+            tried += 1;
+            if fits.is_none()
+                && configuration_fits(
+                    &infos, order, shared, -c_sign, at_zero, at_inf, exact, &counts,
+                )
+            {
+                fits = Some(format!("{order:?} shared {shared:?}"));
+            }
+        };
+        match per_block.len() {
+            1 => {
+                for o in &per_block[0] {
+                    let order: Vec<(usize, CheckEvent)> =
+                        o.iter().map(|e| (0, e.clone())).collect();
+                    visit(&order, &[]);
+                }
+            }
+            _ => {
+                for a in &per_block[0] {
+                    for b in &per_block[1] {
+                        interleave(a, b, &mut visit);
                     }
                 }
             }
-            orders = grown;
         }
-        let mut choices: Vec<Vec<usize>> = vec![Vec::new()];
-        for pats in &patterns {
-            choices = choices
-                .iter()
-                .flat_map(|c| {
-                    (0..pats.len()).map(move |i| {
-                        let mut v = c.clone();
-                        v.push(i);
-                        v
-                    })
-                })
-                .collect();
+        if tried > CHECK_MAX_CONFIGURATIONS {
+            return Err(format!("{tried} configurations: too many to check"));
         }
-        for order in &orders {
-            for choice in &choices {
-                let mut signs = vec![at_zero];
-                for (pos, &b) in order.iter().enumerate() {
-                    let q = order[..pos].iter().filter(|&&x| x == b).count();
-                    let mut v = -c_sign * patterns[b][choice[b]][q];
-                    for (o, &np) in poles.iter().enumerate() {
-                        if o != b && np > 0 {
-                            let above = order[pos + 1..].iter().filter(|&&x| x == o).count() as u32;
-                            v *= leads[o] * (-1i64).pow(above);
-                        }
-                    }
-                    signs.push(v);
-                }
-                signs.push(at_inf);
-                if signs
-                    .windows(2)
-                    .zip(&counts)
-                    .all(|(w, c)| (w[0] != w[1]) == (c % 2 == 1))
-                {
-                    return Err(format!(
-                        "the type fits the interleaving {order:?} with the sign patterns {choice:?}"
-                    ));
-                }
-            }
+        match fits {
+            Some(c) => Err(format!("the type fits the configuration {c}")),
+            None => Ok(()),
         }
-        Ok(())
     }
 
     fn check_regions(
@@ -1848,6 +1802,420 @@ impl ModelChecker {
 }
 
 /// `g > 0` on the open positive orthant by the argument `d`.
+/// Configurations the block pole-sign check enumerates at most.
+const CHECK_MAX_CONFIGURATIONS: usize = 2_000_000;
+
+/// A block of a block pole-sign certificate, as the checker reads it.
+struct CheckBlock {
+    size: usize,
+    free: bool,
+    lead: i64,
+    /// The factors are `n_B`'s own (its zeros are the runs' eigenvalues).
+    direct: bool,
+    base: i64,
+    runs: Vec<CheckRun>,
+}
+
+impl CheckBlock {
+    /// The block's eigenvalue index (1-based) of its lowest pole.
+    fn lowest_pole(&self) -> usize {
+        if self.free {
+            2
+        } else {
+            1
+        }
+    }
+
+    fn pole_count(&self) -> usize {
+        self.size + 1 - self.lowest_pole()
+    }
+}
+
+/// A run of a block's masses whose determinant is a listed factor.
+struct CheckRun {
+    first: usize,
+    len: usize,
+    sign: i64,
+    exponent: u32,
+}
+
+/// An event of one block's spectrum.
+#[derive(Clone, Debug, PartialEq)]
+enum CheckEvent {
+    /// The block's eigenvalue `index`; `on` the runs with an eigenvalue on
+    /// it; `n_sign` the sign of `n_B` there (when `on` is empty).
+    Pole {
+        index: usize,
+        on: Vec<usize>,
+        n_sign: i64,
+    },
+    /// An eigenvalue of run `run` strictly between two of the block's.
+    Eig { run: usize },
+}
+
+/// Every order of one block's events: each run's eigenvalue `i` (of `k`,
+/// block of `n`) at a position from the block's eigenvalue `i` to `i+n-k`
+/// (Cauchy), on an eigenvalue (position `2j`, not the rigid-body one) or in
+/// the gap above it (`2j+1`); increasing, equal only in a gap and only for
+/// a run inside the block (a run at an end takes one gap per eigenvalue).
+/// A remainder's runs act only through the poles (signs, cancellation).
+fn block_orders(b: &CheckBlock) -> Vec<Vec<CheckEvent>> {
+    let n = b.size;
+    let mut per_run: Vec<Vec<Vec<usize>>> = Vec::new();
+    for r in &b.runs {
+        let at_end = r.first == 0 || r.first + r.len == n;
+        let mut seqs: Vec<Vec<usize>> = vec![Vec::new()];
+        for i in 1..=r.len {
+            let mut grown = Vec::new();
+            for sq in &seqs {
+                for q in 2 * i..=2 * (i + n - r.len) {
+                    if q % 2 == 0 && q / 2 < b.lowest_pole() {
+                        continue;
+                    }
+                    if let Some(&last) = sq.last() {
+                        if q < last || (q == last && (at_end || q % 2 == 0)) {
+                            continue;
+                        }
+                    }
+                    let mut v = sq.clone();
+                    v.push(q);
+                    grown.push(v);
+                }
+            }
+            seqs = grown;
+        }
+        per_run.push(seqs);
+    }
+    // Every combination of the runs' positions.
+    let mut combos: Vec<Vec<usize>> = vec![Vec::new()];
+    for seqs in &per_run {
+        combos = combos
+            .iter()
+            .flat_map(|c| {
+                (0..seqs.len()).map(move |i| {
+                    let mut v = c.clone();
+                    v.push(i);
+                    v
+                })
+            })
+            .collect();
+    }
+    let mut out: Vec<Vec<CheckEvent>> = Vec::new();
+    for c in combos {
+        let at = |q: usize| -> Vec<usize> {
+            let mut v = Vec::new();
+            for (r, seqs) in per_run.iter().enumerate() {
+                v.extend(seqs[c[r]].iter().filter(|&&x| x == q).map(|_| r));
+            }
+            v
+        };
+        let mut orders: Vec<Vec<CheckEvent>> = vec![Vec::new()];
+        for q in 2..=2 * n {
+            if q % 2 == 0 {
+                if q / 2 < b.lowest_pole() {
+                    continue;
+                }
+                let mut n_sign = b.base;
+                for (r, run) in b.runs.iter().enumerate() {
+                    if run.exponent % 2 == 1 {
+                        let below = per_run[r][c[r]].iter().filter(|&&x| x < q).count() as u32;
+                        n_sign *= run.sign * (-1i64).pow(below);
+                    }
+                }
+                let ev = CheckEvent::Pole {
+                    index: q / 2,
+                    on: at(q),
+                    n_sign,
+                };
+                orders.iter_mut().for_each(|o| o.push(ev.clone()));
+            } else if b.direct {
+                let here = at(q);
+                if here.is_empty() {
+                    continue;
+                }
+                // All distinct orders of the eigenvalues in this gap.
+                let mut perms: Vec<Vec<usize>> = vec![Vec::new()];
+                for _ in 0..here.len() {
+                    let mut grown = Vec::new();
+                    for p in &perms {
+                        let mut left = here.clone();
+                        for x in p {
+                            let i = left.iter().position(|y| y == x).expect("present");
+                            left.remove(i);
+                        }
+                        left.sort_unstable();
+                        left.dedup();
+                        for x in left {
+                            let mut v = p.clone();
+                            v.push(x);
+                            grown.push(v);
+                        }
+                    }
+                    perms = grown;
+                }
+                let mut grown = Vec::new();
+                for o in &orders {
+                    for p in &perms {
+                        let mut v = o.clone();
+                        v.extend(p.iter().map(|&r| CheckEvent::Eig { run: r }));
+                        grown.push(v);
+                    }
+                }
+                orders = grown;
+            }
+        }
+        for o in orders {
+            if !out.contains(&o) {
+                out.push(o);
+            }
+        }
+    }
+    out
+}
+
+/// What [`interleave`] hands over: the merged order and the coincident
+/// poles.
+type ConfigurationVisitor<'a> = &'a mut dyn FnMut(&[(usize, CheckEvent)], &[(usize, bool)]);
+
+/// Calls `visit` with every merge of two blocks' orders: `(block, event)`
+/// in increasing order, and the positions `i` where the poles at `i` and
+/// `i + 1` (one per block) coincide, the double root cancelling once
+/// (`false`) or twice.
+fn interleave(a: &[CheckEvent], b: &[CheckEvent], visit: ConfigurationVisitor) {
+    fn go(
+        seqs: [&[CheckEvent]; 2],
+        at: [usize; 2],
+        order: &mut Vec<(usize, CheckEvent)>,
+        shared: &mut Vec<(usize, bool)>,
+        visit: ConfigurationVisitor,
+    ) {
+        if at[0] == seqs[0].len() && at[1] == seqs[1].len() {
+            visit(order, shared);
+            return;
+        }
+        for k in 0..2 {
+            if let Some(e) = seqs[k].get(at[k]) {
+                order.push((k, e.clone()));
+                let mut next = at;
+                next[k] += 1;
+                go(seqs, next, order, shared, visit);
+                order.pop();
+            }
+        }
+        if let (Some(e0 @ CheckEvent::Pole { .. }), Some(e1 @ CheckEvent::Pole { .. })) =
+            (seqs[0].get(at[0]), seqs[1].get(at[1]))
+        {
+            for double in [false, true] {
+                shared.push((order.len(), double));
+                order.push((0, e0.clone()));
+                order.push((1, e1.clone()));
+                go(seqs, [at[0] + 1, at[1] + 1], order, shared, visit);
+                order.pop();
+                order.pop();
+                shared.pop();
+            }
+        }
+    }
+    go([a, b], [0, 0], &mut Vec::new(), &mut Vec::new(), visit);
+}
+
+/// What a configuration says at one point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum CheckSample {
+    /// A pole of the reduced TF (the numerator's sign there if known).
+    Pole(Option<i64>),
+    /// The reduced numerator's sign at a point that is no pole.
+    Sign(i64),
+    /// Zeros at a point (one block whose zeros are its runs' eigenvalues).
+    Zeros(u32),
+}
+
+/// Whether the type with `counts` antiresonances between its resonances
+/// fits the configuration `order` (with the coincident poles `shared`).
+#[allow(clippy::too_many_arguments)]
+fn configuration_fits(
+    blocks: &[CheckBlock],
+    order: &[(usize, CheckEvent)],
+    shared: &[(usize, bool)],
+    minus_c: i64,
+    at_zero: i64,
+    at_inf: i64,
+    exact: bool,
+    counts: &[u32],
+) -> bool {
+    let sgn = |k: usize| (-1i64).pow(k as u32 % 2);
+    let partner = |i: usize| shared.iter().any(|&(j, _)| j + 1 == i);
+    // Eigenvalues of run `r` of block `k` before position `i` (those on a
+    // pole count where the pole is).
+    let eigs_before = |i: usize, k: usize, r: usize| -> usize {
+        order[..i]
+            .iter()
+            .map(|(kk, e)| match e {
+                CheckEvent::Eig { run } if *kk == k && *run == r => 1,
+                CheckEvent::Pole { on, .. } if *kk == k => on.iter().filter(|&&x| x == r).count(),
+                _ => 0,
+            })
+            .sum()
+    };
+    let poles_after = |i: usize, k: usize| -> usize {
+        order[i + 1..]
+            .iter()
+            .filter(|(kk, e)| *kk == k && matches!(e, CheckEvent::Pole { .. }))
+            .count()
+    };
+    // Points where the reduced TF divides out (Omega - x): (position, power).
+    let mut cancel: Vec<(usize, u32)> = Vec::new();
+    for (i, (_, e)) in order.iter().enumerate() {
+        if partner(i) {
+            continue;
+        }
+        if let Some(&(_, double)) = shared.iter().find(|&&(j, _)| j == i) {
+            cancel.push((i, if double { 2 } else { 1 }));
+        } else if let CheckEvent::Pole { on, .. } = e {
+            if !on.is_empty() {
+                cancel.push((i, 1));
+            }
+        }
+    }
+    let reduced = |i: usize, s: i64| -> i64 {
+        cancel
+            .iter()
+            .filter(|&&(j, k)| j > i && k % 2 == 1)
+            .fold(s, |s, _| -s)
+    };
+    let mut samples: Vec<CheckSample> = Vec::new();
+    if !exact {
+        let odd = cancel.iter().filter(|&&(_, k)| k % 2 == 1).count();
+        samples.push(CheckSample::Sign(at_zero * sgn(odd)));
+    }
+    for (i, (k, e)) in order.iter().enumerate() {
+        if partner(i) {
+            continue;
+        }
+        if let Some(&(_, double)) = shared.iter().find(|&&(j, _)| j == i) {
+            if !double {
+                samples.push(CheckSample::Pole(None));
+            }
+            continue;
+        }
+        match e {
+            CheckEvent::Pole { on, n_sign, .. } => {
+                if exact {
+                    if on.is_empty() {
+                        samples.push(CheckSample::Pole(None));
+                    } else {
+                        let z: u32 = on.iter().map(|&r| blocks[*k].runs[r].exponent).sum();
+                        if z > 1 {
+                            samples.push(CheckSample::Zeros(z - 1));
+                        }
+                    }
+                } else if on.is_empty() {
+                    let mut s = minus_c * n_sign;
+                    for (o, b) in blocks.iter().enumerate() {
+                        if o != *k {
+                            s *= b.lead * sgn(poles_after(i, o));
+                        }
+                    }
+                    samples.push(CheckSample::Pole(Some(reduced(i, s))));
+                }
+            }
+            CheckEvent::Eig { run } => {
+                if exact {
+                    samples.push(CheckSample::Zeros(blocks[*k].runs[*run].exponent));
+                    continue;
+                }
+                // n_B = 0 here: num = -c * p_B * n_B' up to powers of Omega.
+                let o = 1 - *k;
+                let other = &blocks[o];
+                let next_to_other = [i.checked_sub(1), Some(i + 1)].iter().any(|j| {
+                    j.and_then(|j| order.get(j))
+                        .is_some_and(|(kk, e)| *kk == o && matches!(e, CheckEvent::Eig { .. }))
+                });
+                if !other.direct || next_to_other {
+                    continue;
+                }
+                let mut n_other = other.base;
+                for (r, run) in other.runs.iter().enumerate() {
+                    if run.exponent % 2 == 1 {
+                        n_other *= run.sign * sgn(eigs_before(i, o, r));
+                    }
+                }
+                let s = minus_c * blocks[*k].lead * sgn(poles_after(i, *k)) * n_other;
+                samples.push(CheckSample::Sign(reduced(i, s)));
+            }
+        }
+    }
+    if !exact {
+        samples.push(CheckSample::Sign(at_inf));
+    }
+    if exact {
+        let mut got = vec![0u32];
+        for s in &samples {
+            match s {
+                CheckSample::Pole(_) => got.push(0),
+                CheckSample::Zeros(z) => *got.last_mut().expect("one") += z,
+                CheckSample::Sign(_) => {}
+            }
+        }
+        return got == counts;
+    }
+    // Spread each interval's antiresonances over the gaps between samples
+    // (searching gap by gap), with an odd number between two known signs
+    // exactly where the sign changes.
+    let n_poles = samples
+        .iter()
+        .filter(|s| matches!(s, CheckSample::Pole(_)))
+        .count();
+    if n_poles + 1 != counts.len() {
+        return false;
+    }
+    fn spread(
+        samples: &[CheckSample],
+        counts: &[u32],
+        i: usize,
+        interval: usize,
+        left: u32,
+        zeros_since: u32,
+        last: i64,
+    ) -> bool {
+        if i == samples.len() {
+            return interval + 1 == counts.len() && left == 0;
+        }
+        (0..=left).any(|z| {
+            let left = left - z;
+            let since = zeros_since + z;
+            let (since, last) = match samples[i] {
+                CheckSample::Sign(x) | CheckSample::Pole(Some(x)) => {
+                    if (x != last) != (since % 2 == 1) {
+                        return false;
+                    }
+                    (0, x)
+                }
+                _ => (since, last),
+            };
+            match samples[i] {
+                CheckSample::Pole(_) => {
+                    left == 0
+                        && spread(
+                            samples,
+                            counts,
+                            i + 1,
+                            interval + 1,
+                            counts.get(interval + 1).copied().unwrap_or(0),
+                            since,
+                            last,
+                        )
+                }
+                _ => spread(samples, counts, i + 1, interval, left, since, last),
+            }
+        })
+    }
+    match samples[0] {
+        CheckSample::Sign(first) => spread(&samples, counts, 1, 0, counts[0], 0, first),
+        _ => false,
+    }
+}
+
 fn positive_by(g: &Poly, d: &Value, jp: &str, depth: usize) -> Result<(), String> {
     if depth > MAX_DEFINITENESS_DEPTH {
         return Err("definiteness nested too deeply".into());

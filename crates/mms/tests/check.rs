@@ -593,7 +593,7 @@ fn block_pole_sign_certificates_are_checked_and_tampering_rejected() {
         .unwrap();
     let e = with_cert(full.clone(), &cert);
     assert!(
-        e.contains("block_pole_signs: the type fits the interleaving"),
+        e.contains("block_pole_signs: the type fits the configuration"),
         "{e}"
     );
 
@@ -663,6 +663,19 @@ fn block_pole_sign_verdicts_agree_with_random_points() {
             seen.insert(t);
         }
         assert!(seen.len() >= 2, "{id}: {seen:?}");
+        // And the checker's own enumeration: a certificate moved onto a
+        // type that occurs must be rejected.
+        let cert = with_kind(model, "block_pole_signs")[0]["certificate"].clone();
+        for t in &seen {
+            let forged = json!({"type": t, "status": "impossible", "certificate": cert});
+            let mut m = model.clone();
+            m["types"] = json!([forged]);
+            let e = check_analysis(&m).expect_err(t);
+            assert!(
+                e.to_string().contains("fits the configuration"),
+                "{id} {t}: {e}"
+            );
+        }
     }
 }
 

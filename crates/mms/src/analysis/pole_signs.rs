@@ -35,6 +35,7 @@
 //! mass, whose eigenvalues take one gap between the block's each: the
 //! run's own eigenvalues then lie in distinct gaps.
 
+use super::configurations::{configurations, BlockEvents, Configurations, Minor};
 use super::frf_type::{Feature, FrfType};
 use crate::model::Model;
 use crate::tf::OMEGA;
@@ -89,18 +90,21 @@ pub struct BlockSign {
     pub factors: Vec<RemainderFactor>,
 }
 
-/// Which certificate a [`PoleSignData`] carries.
+/// What the prover keeps for the block certificate: its data and every
+/// configuration.
 #[derive(Clone, Debug)]
-pub(crate) enum PoleSignCertificate {
-    OneBlock(PoleSigns),
-    Blocks(BlockPoleSigns),
+pub(crate) struct BlockSignData {
+    pub certificate: BlockPoleSigns,
+    pub configurations: Configurations,
+    /// Degree of the numerator in `Omega`.
+    pub zeros: u32,
 }
 
 /// What the prover keeps per model: the certificate data and the parity
 /// patterns of every allowed anchor placement.
 #[derive(Clone, Debug)]
 pub(crate) struct PoleSignData {
-    pub certificate: PoleSignCertificate,
+    pub certificate: PoleSigns,
     /// Resonances (roots of the block's determinant on the positive axis).
     pub poles: u32,
     /// Degree of the numerator in `Omega`.
@@ -234,7 +238,7 @@ fn placements(
             if i == pos.len() {
                 parities.sort();
                 return Some(PoleSignData {
-                    certificate: PoleSignCertificate::OneBlock(PoleSigns {
+                    certificate: PoleSigns {
                         remainder_unit: f.unit.clone(),
                         remainder_factors: f
                             .factors
@@ -244,7 +248,7 @@ fn placements(
                                 exponent: *k,
                             })
                             .collect(),
-                    }),
+                    },
                     poles,
                     zeros,
                     parities,
@@ -301,34 +305,20 @@ fn chain_blocks(stiff: &[Vec<Poly>]) -> Vec<Vec<usize>> {
     blocks
 }
 
-/// Cap on the configurations (interleavings times minor placements) the
-/// block certificate enumerates; beyond it the prover gives up.
-const MAX_CONFIGURATIONS: usize = 200_000;
-
-/// One block's contribution to the signs at its own poles.
-struct BlockSignInfo {
-    /// Positive eigenvalues: the degree of the pole polynomial.
-    poles: usize,
-    /// Sign of the pole polynomial's leading coefficient in `Omega`.
-    lead: i32,
-    /// Every sign pattern `n_B` can have at the block's poles, over all
-    /// placements of its minors' eigenvalues.
-    patterns: Vec<Vec<i32>>,
-}
-
-/// The premise and the placements for a denominator that is a product of
-/// block pole polynomials (see [`BlockPoleSigns`]), if they hold.
+/// The premise and the configurations for a denominator that is a
+/// product of block pole polynomials (see [`BlockPoleSigns`]), if they
+/// hold.
 ///
 /// The TF is `-Omega * sum_B n_B / d_B` with `d_B` the determinant of
 /// block `B` and `p_B` its pole polynomial (`d_B`, or `d_B/Omega` for a
 /// free block). If `den = c * Omega^delta * prod_B p_B` with `c` free of
-/// `Omega` and of one sign, then at a root `lambda` of `p_B` (simple,
-/// positive, a root of no other `p_B'` unless a pole cancels)
-/// `num(lambda) = -c lambda^(1+delta-f_B) n_B(lambda) prod_B' p_B'(lambda)`:
-/// the other blocks contribute the sign of how their spectra interleave
-/// with `lambda`, and `n_B(lambda)` that of where the eigenvalues of the
-/// block's principal minors lie (Cauchy interlacing).
-pub(crate) fn block_pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Option<PoleSignData> {
+/// `Omega` and of one sign, then, with two blocks `B`, `B'`,
+/// `num * Omega^(f_B + f_B') = -c Omega^(1+delta) (Omega^f_B' n_B p_B' +
+/// Omega^f_B n_B' p_B)`: at a pole of `B` the numerator has the sign of
+/// `-c n_B p_B'`, at a zero of `n_B` that of `-c p_B n_B'`, and the signs
+/// of `p_B'` and `n_B` follow from how the spectra and the minors'
+/// eigenvalues lie (see [`super::configurations`]).
+pub(crate) fn block_pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Option<BlockSignData> {
     let mass = model.mass_matrix();
     let stiff = model.stiffness_matrix();
     let (b, c) = (model.input_vector(), model.output_vector());
@@ -363,7 +353,7 @@ pub(crate) fn block_pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Opt
         let p = if free { d.div_exact(&om)? } else { d.clone() };
         parts.push((blk, d, p, free, n_b));
     }
-    if parts.is_empty() {
+    if parts.is_empty() || parts.len() > 2 {
         return None;
     }
     let prod_p = parts.iter().fold(Poly::one(), |acc, q| &acc * &q.2);
@@ -387,252 +377,148 @@ pub(crate) fn block_pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Opt
     if num * &prod_d != -(&(&om * den) * &sum) {
         return None;
     }
-    let num_at_zero = num.subs(OMEGA, &poly::Rat::ZERO).orthant_sign()?;
+    let at_zero_poly = num.subs(OMEGA, &poly::Rat::ZERO);
     let zeros = num.degree(OMEGA);
     let num_at_inf = num.coeffs_in(OMEGA)[zeros as usize].orthant_sign()?;
-    let mut infos = Vec::new();
+    let mut events = Vec::new();
     let mut blocks = Vec::new();
     for (blk, _, p, free, n_b) in &parts {
         let poles = p.degree(OMEGA) as usize;
         let lead = p.coeffs_in(OMEGA)[poles].orthant_sign()?;
-        let mut sign = BlockSign {
-            masses: blk.iter().map(|i| i + 1).collect(),
-            numerator: n_b.clone(),
-            remainder: false,
-            unit: poly::Rat::ONE,
-            factors: Vec::new(),
-        };
-        if poles == 0 {
-            blocks.push(sign);
-            infos.push(BlockSignInfo {
-                poles,
-                lead,
-                patterns: vec![Vec::new()],
-            });
-            continue;
-        }
         // The determinants of the block's proper runs (principal minors).
-        let mut minors = Vec::new();
+        let mut runs = Vec::new();
         for start in 0..blk.len() {
             for end in start + 1..=blk.len() {
                 if end - start < blk.len() {
-                    minors.push((start, end - start, det(&pencil_of(&blk[start..end]))));
+                    runs.push((start, end - start, det(&pencil_of(&blk[start..end]))));
                 }
             }
         }
-        let direct = signed_factors(n_b, &minors);
-        let (f, split, remainder) = match direct {
+        let (f, (base, minors), remainder) = match signed_factors(n_b, &runs) {
             Some(x) => (factor(n_b), x, false),
-            None => {
+            None if poles > 0 => {
                 let (r, e) = pseudo_remainder(n_b, p, OMEGA);
                 if r.is_zero() {
                     return None;
                 }
-                let (s, m) = signed_factors(&r, &minors)?;
+                let (s, m) = signed_factors(&r, &runs)?;
                 (factor(&r), (s * lead.pow(e), m), true)
             }
+            None => return None,
         };
-        sign.remainder = remainder;
-        sign.unit = f.unit.clone();
-        sign.factors = f
-            .factors
-            .iter()
-            .map(|(g, k)| RemainderFactor {
-                factor: g.clone(),
-                exponent: *k,
-            })
-            .collect();
-        blocks.push(sign);
-        let (base, odd_minors) = split;
-        infos.push(BlockSignInfo {
-            poles,
+        blocks.push(BlockSign {
+            masses: blk.iter().map(|i| i + 1).collect(),
+            numerator: n_b.clone(),
+            remainder,
+            unit: f.unit.clone(),
+            factors: f
+                .factors
+                .iter()
+                .map(|(g, k)| RemainderFactor {
+                    factor: g.clone(),
+                    exponent: *k,
+                })
+                .collect(),
+        });
+        events.push(BlockEvents {
+            size: blk.len(),
+            free: *free,
             lead,
-            patterns: minor_patterns(blk.len(), *free, base, &odd_minors)?,
+            direct: !remainder,
+            base,
+            minors,
         });
     }
-    let parities = interleaved_parities(&infos, -c_sign, num_at_zero, num_at_inf)?;
-    Some(PoleSignData {
-        certificate: PoleSignCertificate::Blocks(BlockPoleSigns { blocks }),
-        poles: infos.iter().map(|i| i.poles as u32).sum(),
+    // The numerator's sign at 0 (a zero there only matters in exact mode,
+    // which needs no sign).
+    let exact = events.len() == 1 && events[0].direct;
+    let (at_zero, nm_exact) = match at_zero_poly.orthant_sign() {
+        Some(s) => (s, false),
+        None if exact && at_zero_poly.is_zero() => (0, true),
+        None => return None,
+    };
+    let configurations = configurations(&events, -c_sign, at_zero, num_at_inf, nm_exact)?;
+    Some(BlockSignData {
+        certificate: BlockPoleSigns { blocks },
+        configurations,
         zeros,
-        parities,
     })
 }
 
-/// A minor with an odd exponent: `(first mass in the block, size, sign
-/// of the multiple)`.
-type OddMinor = (usize, usize, i32);
-
 /// `p`'s factorization read as signs: the sign of everything but the
-/// minors, and the minors with an odd exponent. `None` if a factor is
-/// none of: of one sign, `Omega`, a rational multiple of a minor.
-fn signed_factors(p: &Poly, minors: &[(usize, usize, Poly)]) -> Option<(i32, Vec<OddMinor>)> {
+/// minors, and the minors with their exponents. `None` if a factor is none
+/// of: of one sign, `Omega`, a rational multiple of a run's determinant.
+fn signed_factors(p: &Poly, runs: &[(usize, usize, Poly)]) -> Option<(i32, Vec<Minor>)> {
     let f = factor(p);
     let mut sign = f.unit.signum();
-    let mut odd = Vec::new();
+    let mut minors = Vec::new();
     let om = Poly::var(OMEGA);
     for (g, k) in &f.factors {
         if g.degree(OMEGA) == 0 {
             sign *= g.orthant_sign()?.pow(*k);
         } else if *g != om {
-            let (start, len, s) = minors
+            let (start, len, s) = runs
                 .iter()
                 .find_map(|(st, l, m)| ratio_sign(g, m).map(|s| (*st, *l, s)))?;
-            if k % 2 == 1 {
-                odd.push((start, len, s));
-            }
+            minors.push(Minor {
+                start,
+                len,
+                sign: s,
+                exponent: *k,
+            });
         }
     }
-    Some((sign, odd))
+    Some((sign, minors))
 }
+#[cfg(test)]
+mod tests {
+    use crate::analysis::frf_type_at;
+    use crate::xorshift::XorShift;
+    use crate::{enumerate, Model, OMEGA};
+    use poly::Rat;
+    use std::collections::BTreeMap;
 
-/// The sign patterns of `n_B` at the block's poles: `base` times, for
-/// each minor, its multiple's sign and `(-1)^(eigenvalues of the minor
-/// below the pole)`, over every placement Cauchy's interlacing allows
-/// (the `i`-th of `k` eigenvalues of a minor of a size-`n` block lies
-/// strictly between the block's eigenvalues `i` and `i+n-k`, 1-based;
-/// strictly, since an eigenvalue on a pole would cancel it).
-fn minor_patterns(
-    size: usize,
-    free: bool,
-    base: i32,
-    minors: &[OddMinor],
-) -> Option<Vec<Vec<i32>>> {
-    let first = usize::from(free) + 1;
-    let mut patterns: Vec<Vec<i32>> = vec![vec![base; size + 1 - first]];
-    for &(start, k, s) in minors {
-        // Slots: eigenvalue i lies between block eigenvalues j and j+1. A
-        // run at an end of the block is, with the run beyond the mass next
-        // to it, the block with one mass removed, whose eigenvalues
-        // interlace the block's one per slot: its own take distinct slots.
-        let distinct = start == 0 || start + k == size;
-        let mut slots: Vec<Vec<usize>> = Vec::new();
-        let mut cur = Vec::with_capacity(k);
-        fill_slots(size, k, 1, 1, &mut cur, &mut slots);
-        if distinct {
-            slots.retain(|sl| sl.windows(2).all(|w| w[0] < w[1]));
-        }
-        let mut next = Vec::new();
-        for pat in &patterns {
-            for sl in &slots {
-                let v: Vec<i32> = pat
-                    .iter()
-                    .enumerate()
-                    .map(|(q, x)| {
-                        let m = first + q;
-                        let below = sl.iter().filter(|&&j| j < m).count();
-                        x * s * if below % 2 == 1 { -1 } else { 1 }
+    /// A second route to every block pole-sign configuration: the type at
+    /// random exact points (each classified by exact root isolation) must
+    /// fit some configuration, for every model of four masses and some of
+    /// five. A sign slip in the configurations (say, a block without poles
+    /// left out of the product) excludes types that occur.
+    #[test]
+    fn observed_types_fit_some_configuration() {
+        let mut models: Vec<Model> = enumerate::degradation_free_models(4).unwrap();
+        models.extend(
+            enumerate::degradation_free_models(5)
+                .unwrap()
+                .into_iter()
+                .step_by(9),
+        );
+        let mut rng = XorShift::new(97);
+        let mut checked = 0;
+        for m in &models {
+            let tf = m.undamped_tf();
+            let Some(d) = super::block_pole_sign_data(m, &tf.num, &tf.den) else {
+                continue;
+            };
+            for _ in 0..60 {
+                let point: BTreeMap<String, Rat> = m
+                    .undamped_parameters()
+                    .into_iter()
+                    .map(|p| {
+                        let v = rng.log_uniform(1.0 / 64.0, 64.0);
+                        (
+                            p,
+                            Rat::new(((v * 1000.0).round() as i64).into(), 1000.into()),
+                        )
                     })
                     .collect();
-                if !next.contains(&v) {
-                    next.push(v);
-                }
+                let t = frf_type_at(&tf.num, &tf.den, OMEGA, &point).unwrap();
+                assert!(
+                    d.configurations.fits(&t, d.zeros),
+                    "{m}: {t} at {point:?} fits no configuration"
+                );
+                checked += 1;
             }
         }
-        if next.len() > MAX_CONFIGURATIONS {
-            return None;
-        }
-        patterns = next;
-    }
-    Some(patterns)
-}
-
-/// Every nondecreasing `j_i` in `[i, i+n-k-1]` for `i = from..=k`.
-fn fill_slots(
-    n: usize,
-    k: usize,
-    i: usize,
-    lo: usize,
-    cur: &mut Vec<usize>,
-    out: &mut Vec<Vec<usize>>,
-) {
-    if i > k {
-        out.push(cur.clone());
-        return;
-    }
-    for j in lo.max(i)..=(i + n - k - 1) {
-        cur.push(j);
-        fill_slots(n, k, i + 1, j, cur, out);
-        cur.pop();
-    }
-}
-
-/// The parity patterns over every interleaving of the blocks' poles and
-/// every sign pattern of each block; `scale` is the sign of `-c`.
-fn interleaved_parities(
-    infos: &[BlockSignInfo],
-    scale: i32,
-    at_zero: i32,
-    at_inf: i32,
-) -> Option<Vec<Vec<bool>>> {
-    let total: usize = infos.iter().map(|i| i.poles).sum();
-    if total == 0 {
-        return None;
-    }
-    let mut orders: Vec<Vec<usize>> = Vec::new();
-    let mut left: Vec<usize> = infos.iter().map(|i| i.poles).collect();
-    interleavings(&mut left, &mut Vec::new(), &mut orders);
-    let combos: usize = orders.len() * infos.iter().map(|i| i.patterns.len()).product::<usize>();
-    if combos > MAX_CONFIGURATIONS {
-        return None;
-    }
-    let mut parities: Vec<Vec<bool>> = Vec::new();
-    for order in &orders {
-        let mut choice = vec![0usize; infos.len()];
-        loop {
-            let mut signs = vec![at_zero];
-            let mut seen = vec![0usize; infos.len()];
-            for &blk in order {
-                let mut v = scale * infos[blk].patterns[choice[blk]][seen[blk]];
-                seen[blk] += 1;
-                for (other, info) in infos.iter().enumerate() {
-                    if other != blk && info.poles > 0 {
-                        let above = info.poles - seen[other];
-                        v *= info.lead * if above % 2 == 1 { -1 } else { 1 };
-                    }
-                }
-                signs.push(v);
-            }
-            signs.push(at_inf);
-            let par: Vec<bool> = signs.windows(2).map(|w| w[0] != w[1]).collect();
-            if !parities.contains(&par) {
-                parities.push(par);
-            }
-            // Next choice (odometer).
-            let mut i = 0;
-            loop {
-                if i == infos.len() {
-                    break;
-                }
-                choice[i] += 1;
-                if choice[i] < infos[i].patterns.len() {
-                    break;
-                }
-                choice[i] = 0;
-                i += 1;
-            }
-            if i == infos.len() {
-                break;
-            }
-        }
-    }
-    parities.sort();
-    Some(parities)
-}
-
-/// Every sequence of block labels with `left[b]` copies of `b`.
-fn interleavings(left: &mut [usize], cur: &mut Vec<usize>, out: &mut Vec<Vec<usize>>) {
-    if left.iter().all(|&l| l == 0) {
-        out.push(cur.clone());
-        return;
-    }
-    for b in 0..left.len() {
-        if left[b] > 0 {
-            left[b] -= 1;
-            cur.push(b);
-            interleavings(left, cur, out);
-            cur.pop();
-            left[b] += 1;
-        }
+        assert!(checked >= 1000, "{checked}");
     }
 }

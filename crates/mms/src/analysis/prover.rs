@@ -25,8 +25,8 @@
 use super::frf_type::{frf_type_at, Feature, FrfType};
 use super::lp::positive_combination;
 use super::pole_signs::{
-    block_pole_sign_data, pole_sign_data, type_fits, BlockPoleSigns, PoleSignCertificate,
-    PoleSignData, PoleSigns,
+    block_pole_sign_data, pole_sign_data, type_fits, BlockPoleSigns, BlockSignData, PoleSignData,
+    PoleSigns,
 };
 use crate::model::Model;
 use crate::tf::OMEGA;
@@ -664,7 +664,7 @@ pub(crate) struct Prover<'a> {
     /// (outer `None`: not yet; most models never need it).
     pole_signs: Option<Option<PoleSignData>>,
     /// The same for the block-product premise.
-    block_pole_signs: Option<Option<PoleSignData>>,
+    block_pole_signs: Option<Option<BlockSignData>>,
 }
 
 /// How far the search goes.
@@ -865,18 +865,19 @@ impl<'a> Prover<'a> {
         let one = self
             .pole_signs
             .get_or_insert_with(|| pole_sign_data(model, num, den));
-        let excludes = |d: &PoleSignData| t.resonances() == d.poles && !type_fits(d, t);
-        let d = match one.as_ref().filter(|d| excludes(d)) {
-            Some(d) => d,
-            None => self
-                .block_pole_signs
-                .get_or_insert_with(|| block_pole_sign_data(model, num, den))
-                .as_ref()
-                .filter(|d| excludes(d))?,
-        };
-        let open = match &d.certificate {
-            PoleSignCertificate::OneBlock(c) => OpenProof::PoleSigns(c.clone()),
-            PoleSignCertificate::Blocks(c) => OpenProof::BlockPoleSigns(c.clone()),
+        let open = match one
+            .as_ref()
+            .filter(|d| t.resonances() == d.poles && !type_fits(d, t))
+        {
+            Some(d) => OpenProof::PoleSigns(d.certificate.clone()),
+            None => {
+                let d = self
+                    .block_pole_signs
+                    .get_or_insert_with(|| block_pole_sign_data(model, num, den))
+                    .as_ref()
+                    .filter(|d| !d.configurations.fits(t, d.zeros))?;
+                OpenProof::BlockPoleSigns(d.certificate.clone())
+            }
         };
         Some(Proof {
             stratum: s.subs.clone(),

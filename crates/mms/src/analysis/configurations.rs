@@ -1,0 +1,654 @@
+//! The configurations of the block pole-sign certificate: how the poles of
+//! the chain's blocks and the eigenvalues of the blocks' principal minors
+//! can lie on the positive axis, and what each order says about the
+//! numerator's sign there (see [`super::pole_signs`]).
+//!
+//! Every block contributes its poles and the eigenvalues of the minors that
+//! divide its term `n_B` (or the pseudo-remainder of `n_B` by the block's
+//! pole polynomial). A minor's eigenvalues interlace the block's (Cauchy);
+//! one may sit *on* a pole, which cancels it. The blocks share no
+//! parameter, so their sequences merge in every order, two poles of
+//! different blocks possibly coinciding (a shared eigenvalue: the double
+//! root of the denominator cancels once or twice).
+//!
+//! Each configuration gives a list of *samples* in increasing order: the
+//! reduced numerator's sign at `0`, at every pole that stays (unknown at a
+//! shared one), at the eigenvalues of the minors of `n_B` (where `n_B`
+//! vanishes, so only the other block's term is left) and at infinity. A
+//! type fits a configuration if its antiresonances can be spread over the
+//! gaps between samples with the parity every sign change demands; when
+//! the TF is one block's term and `n_B` a product of minors, its zeros
+//! *are* the minors' eigenvalues and the counts must match exactly.
+
+use super::frf_type::{Feature, FrfType};
+use std::collections::BTreeSet;
+
+/// Configurations enumerated per model at most; beyond it the certificate
+/// is not attempted.
+const MAX_CONFIGURATIONS: usize = 400_000;
+
+/// A minor of a block: a run of its masses whose determinant divides the
+/// block's term (or its remainder).
+#[derive(Clone, Debug)]
+pub(crate) struct Minor {
+    /// First mass of the run, in the block (0-based).
+    pub start: usize,
+    /// Number of masses.
+    pub len: usize,
+    /// Sign of the rational multiple of the run's determinant.
+    pub sign: i32,
+    /// Exponent in the factorization.
+    pub exponent: u32,
+}
+
+/// What a block brings to the configurations.
+#[derive(Clone, Debug)]
+pub(crate) struct BlockEvents {
+    /// Masses in the block.
+    pub size: usize,
+    /// A free block: its lowest eigenvalue is the rigid-body `0`.
+    pub free: bool,
+    /// Sign of the pole polynomial's leading coefficient in `Omega`.
+    pub lead: i32,
+    /// The factors are those of `n_B` itself (its zeros are the minors'
+    /// eigenvalues), not of its pseudo-remainder.
+    pub direct: bool,
+    /// Sign of the factorization apart from the minors (at the block's
+    /// poles; also elsewhere when `direct`).
+    pub base: i32,
+    pub minors: Vec<Minor>,
+}
+
+impl BlockEvents {
+    fn first_pole(&self) -> usize {
+        1 + usize::from(self.free)
+    }
+}
+
+/// One sample of a configuration.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub(crate) enum Sample {
+    /// A pole of the reduced TF, with the reduced numerator's sign there
+    /// if it is known.
+    Pole(Option<i8>),
+    /// A point that is no pole, with the reduced numerator's sign.
+    Point(i8),
+    /// `k` zeros of the numerator at one point (exact mode only).
+    Zeros(u32),
+}
+
+/// All configurations of a model, as sample lists.
+#[derive(Clone, Debug)]
+pub(crate) struct Configurations {
+    /// The zeros are exactly the `Zeros` samples (one block, `n_B` a
+    /// product of minors); `nm` is then whether the numerator vanishes at
+    /// `Omega = 0`.
+    pub exact: Option<bool>,
+    pub patterns: BTreeSet<Vec<Sample>>,
+    /// Poles of the blocks together (the denominator's degree).
+    pub poles: u32,
+}
+
+/// A token of one block's sequence.
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum Tok {
+    /// A pole; `tied` lists the minors with an eigenvalue on it (it
+    /// cancels if any), `sign` is `n_B`'s sign there when none.
+    Pole { tied: Vec<usize>, sign: i32 },
+    /// An eigenvalue of minor `minor` between poles.
+    Eig { minor: usize },
+}
+
+/// The cell sequences of one minor's eigenvalues: cell `2j` is the block's
+/// `j`-th eigenvalue (1-based), cell `2j+1` the gap above it. Eigenvalue
+/// `i` of a run of `k` lies in `[lambda_i, lambda_(i+n-k)]` (Cauchy), never
+/// on the rigid-body `0`; two never share a pole (the run's eigenvalues
+/// are simple), and a run at an end of the block takes distinct cells
+/// (with the run beyond its neighbour it is the block less one mass, whose
+/// eigenvalues take one gap each).
+fn minor_cells(b: &BlockEvents, m: &Minor) -> Vec<Vec<usize>> {
+    let (n, k) = (b.size, m.len);
+    let at_end = m.start == 0 || m.start + k == n;
+    let mut out = Vec::new();
+    let mut cur = Vec::with_capacity(k);
+    fn grow(
+        i: usize,
+        n: usize,
+        k: usize,
+        first: usize,
+        at_end: bool,
+        cur: &mut Vec<usize>,
+        out: &mut Vec<Vec<usize>>,
+    ) {
+        if i > k {
+            out.push(cur.clone());
+            return;
+        }
+        for cell in 2 * i..=2 * (i + n - k) {
+            let on_pole = cell % 2 == 0;
+            if on_pole && cell / 2 < first {
+                continue;
+            }
+            if let Some(&last) = cur.last() {
+                let strict = at_end || on_pole;
+                if cell < last || (strict && cell == last) {
+                    continue;
+                }
+            }
+            cur.push(cell);
+            grow(i + 1, n, k, first, at_end, cur, out);
+            cur.pop();
+        }
+    }
+    grow(1, n, k, b.first_pole(), at_end, &mut cur, &mut out);
+    out
+}
+
+/// Every token sequence of block `b` (the eigenvalues of a remainder's
+/// minors only act through the poles' signs and ties, so they are left
+/// out).
+fn block_sequences(b: &BlockEvents, budget: &mut usize) -> Option<Vec<Vec<Tok>>> {
+    let per_minor: Vec<Vec<Vec<usize>>> = b.minors.iter().map(|m| minor_cells(b, m)).collect();
+    let mut out: Vec<Vec<Tok>> = Vec::new();
+    let mut choice = vec![0usize; b.minors.len()];
+    if per_minor.iter().any(|c| c.is_empty()) {
+        return Some(out);
+    }
+    loop {
+        // Cells of every eigenvalue: (cell, minor).
+        let mut eigs: Vec<(usize, usize)> = Vec::new();
+        for (m, cells) in per_minor.iter().enumerate() {
+            eigs.extend(cells[choice[m]].iter().map(|&c| (c, m)));
+        }
+        let mut seq_variants: Vec<Vec<Tok>> = vec![Vec::new()];
+        for j in b.first_pole()..=b.size {
+            let tied: Vec<usize> = eigs
+                .iter()
+                .filter(|(c, _)| *c == 2 * j)
+                .map(|(_, m)| *m)
+                .collect();
+            let mut sign = b.base;
+            for (m, minor) in b.minors.iter().enumerate() {
+                if minor.exponent % 2 == 1 {
+                    let below = eigs.iter().filter(|(c, mm)| *mm == m && *c < 2 * j).count();
+                    sign *= minor.sign * if below % 2 == 1 { -1 } else { 1 };
+                }
+            }
+            for s in seq_variants.iter_mut() {
+                s.push(Tok::Pole {
+                    tied: tied.clone(),
+                    sign,
+                });
+            }
+            if b.direct && j < b.size {
+                let mut in_gap: Vec<usize> = eigs
+                    .iter()
+                    .filter(|(c, _)| *c == 2 * j + 1)
+                    .map(|(_, m)| *m)
+                    .collect();
+                in_gap.sort_unstable();
+                let orders = permutations(&in_gap);
+                let mut grown = Vec::with_capacity(seq_variants.len() * orders.len());
+                for s in &seq_variants {
+                    for o in &orders {
+                        let mut v = s.clone();
+                        v.extend(o.iter().map(|&m| Tok::Eig { minor: m }));
+                        grown.push(v);
+                    }
+                }
+                seq_variants = grown;
+            }
+        }
+        // A free block's gap above the rigid-body 0 lies below its first
+        // pole: move its eigenvalues to the front.
+        if b.direct && b.free {
+            let below: Vec<usize> = eigs
+                .iter()
+                .filter(|(c, _)| *c == 3)
+                .map(|(_, m)| *m)
+                .collect();
+            if !below.is_empty() {
+                let orders = permutations(&below);
+                let mut grown = Vec::new();
+                for s in &seq_variants {
+                    for o in &orders {
+                        let mut v: Vec<Tok> = o.iter().map(|&m| Tok::Eig { minor: m }).collect();
+                        v.extend(s.iter().cloned());
+                        grown.push(v);
+                    }
+                }
+                seq_variants = grown;
+            }
+        }
+        *budget = budget.checked_sub(seq_variants.len())?;
+        for s in seq_variants {
+            if !out.contains(&s) {
+                out.push(s);
+            }
+        }
+        let mut i = 0;
+        loop {
+            if i == choice.len() {
+                return Some(out);
+            }
+            choice[i] += 1;
+            if choice[i] < per_minor[i].len() {
+                break;
+            }
+            choice[i] = 0;
+            i += 1;
+        }
+    }
+}
+
+/// The distinct orders of a sorted multiset.
+fn permutations(items: &[usize]) -> Vec<Vec<usize>> {
+    if items.len() <= 1 {
+        return vec![items.to_vec()];
+    }
+    let mut out = Vec::new();
+    for i in 0..items.len() {
+        if i > 0 && items[i] == items[i - 1] {
+            continue;
+        }
+        let mut rest = items.to_vec();
+        let x = rest.remove(i);
+        for mut p in permutations(&rest) {
+            p.insert(0, x);
+            out.push(p);
+        }
+    }
+    out
+}
+
+/// A token of a merged sequence.
+#[derive(Clone, Debug)]
+enum Merged {
+    One(usize, Tok),
+    /// Poles of two blocks at one point; the denominator's double root
+    /// cancels once (`double == false`: a pole stays) or twice.
+    Shared {
+        tied: [Vec<usize>; 2],
+        double: bool,
+    },
+}
+
+fn merge(
+    seqs: [&[Tok]; 2],
+    pos: [usize; 2],
+    cur: &mut Vec<Merged>,
+    out: &mut Vec<Vec<Merged>>,
+    budget: &mut usize,
+) -> Option<()> {
+    if pos[0] == seqs[0].len() && pos[1] == seqs[1].len() {
+        *budget = budget.checked_sub(1)?;
+        out.push(cur.clone());
+        return Some(());
+    }
+    for b in 0..2 {
+        if pos[b] < seqs[b].len() {
+            cur.push(Merged::One(b, seqs[b][pos[b]].clone()));
+            let mut next = pos;
+            next[b] += 1;
+            merge(seqs, next, cur, out, budget)?;
+            cur.pop();
+        }
+    }
+    if let (Some(Tok::Pole { tied: t0, .. }), Some(Tok::Pole { tied: t1, .. })) =
+        (seqs[0].get(pos[0]), seqs[1].get(pos[1]))
+    {
+        for double in [false, true] {
+            cur.push(Merged::Shared {
+                tied: [t0.clone(), t1.clone()],
+                double,
+            });
+            merge(seqs, [pos[0] + 1, pos[1] + 1], cur, out, budget)?;
+            cur.pop();
+        }
+    }
+    Some(())
+}
+
+/// The configurations of `blocks` (one or two with a term in the TF):
+/// `scale` is the sign of `-c`, `at_zero` and `at_inf` the numerator's
+/// signs at `0` and infinity, `nm_exact` whether it vanishes at `0`.
+pub(crate) fn configurations(
+    blocks: &[BlockEvents],
+    scale: i32,
+    at_zero: i32,
+    at_inf: i32,
+    nm_exact: bool,
+) -> Option<Configurations> {
+    let mut budget = MAX_CONFIGURATIONS;
+    let seqs: Vec<Vec<Vec<Tok>>> = blocks
+        .iter()
+        .map(|b| block_sequences(b, &mut budget))
+        .collect::<Option<_>>()?;
+    let mut patterns = BTreeSet::new();
+    let poles = blocks
+        .iter()
+        .map(|b| (b.size + 1 - b.first_pole()) as u32)
+        .sum();
+    match blocks.len() {
+        1 => {
+            let exact = blocks[0].direct;
+            for s in &seqs[0] {
+                let merged: Vec<Merged> = s.iter().map(|t| Merged::One(0, t.clone())).collect();
+                patterns.insert(samples(blocks, &merged, scale, at_zero, at_inf, exact));
+            }
+            Some(Configurations {
+                exact: exact.then_some(nm_exact),
+                patterns,
+                poles,
+            })
+        }
+        2 => {
+            for a in &seqs[0] {
+                for b in &seqs[1] {
+                    let mut out = Vec::new();
+                    merge([a, b], [0, 0], &mut Vec::new(), &mut out, &mut budget)?;
+                    for m in out {
+                        patterns.insert(samples(blocks, &m, scale, at_zero, at_inf, false));
+                    }
+                }
+            }
+            Some(Configurations {
+                exact: None,
+                patterns,
+                poles,
+            })
+        }
+        _ => None,
+    }
+}
+
+/// The samples of one merged sequence.
+fn samples(
+    blocks: &[BlockEvents],
+    seq: &[Merged],
+    scale: i32,
+    at_zero: i32,
+    at_inf: i32,
+    exact: bool,
+) -> Vec<Sample> {
+    let flip = |k: usize| if k % 2 == 1 { -1 } else { 1 };
+    let is_pole = |t: &Merged, b: usize| match t {
+        Merged::One(x, Tok::Pole { .. }) => *x == b,
+        Merged::Shared { .. } => true,
+        _ => false,
+    };
+    // Eigenvalues of minor `m` of block `b` strictly before position `p`.
+    let eigs_before = |p: usize, b: usize, m: usize| -> usize {
+        seq[..p]
+            .iter()
+            .map(|t| match t {
+                Merged::One(x, Tok::Eig { minor }) if *x == b && *minor == m => 1,
+                Merged::One(x, Tok::Pole { tied, .. }) if *x == b => {
+                    tied.iter().filter(|&&y| y == m).count()
+                }
+                Merged::Shared { tied, .. } => tied[b].iter().filter(|&&y| y == m).count(),
+                _ => 0,
+            })
+            .sum()
+    };
+    // The sign of n_B at a point that is none of its poles or zeros.
+    let n_sign = |p: usize, b: usize| -> Option<i32> {
+        let blk = &blocks[b];
+        if !blk.direct {
+            return None;
+        }
+        let mut s = blk.base;
+        for (m, minor) in blk.minors.iter().enumerate() {
+            if minor.exponent % 2 == 1 {
+                s *= minor.sign * flip(eigs_before(p, b, m));
+            }
+        }
+        Some(s)
+    };
+    let poles_after = |p: usize, b: usize| seq[p + 1..].iter().filter(|t| is_pole(t, b)).count();
+    // Points where the reduced TF divides out a factor (Omega - lambda):
+    // (position, times).
+    let mut divided: Vec<(usize, u32)> = Vec::new();
+    for (p, t) in seq.iter().enumerate() {
+        match t {
+            Merged::One(_, Tok::Pole { tied, .. }) if !tied.is_empty() => divided.push((p, 1)),
+            Merged::Shared { double, .. } => divided.push((p, if *double { 2 } else { 1 })),
+            _ => {}
+        }
+    }
+    let reduce = |p: usize, s: i32| -> i32 {
+        divided
+            .iter()
+            .filter(|(q, k)| *q > p && k % 2 == 1)
+            .fold(s, |s, _| -s)
+    };
+    let odd_divisions = divided.iter().filter(|(_, k)| k % 2 == 1).count();
+    let mut out = Vec::with_capacity(seq.len() + 2);
+    if !exact {
+        out.push(Sample::Point((at_zero * flip(odd_divisions)) as i8));
+    }
+    for (p, t) in seq.iter().enumerate() {
+        match t {
+            Merged::One(b, Tok::Pole { tied, sign }) => {
+                if exact {
+                    if tied.is_empty() {
+                        out.push(Sample::Pole(None));
+                    } else {
+                        let k: u32 = tied.iter().map(|&m| blocks[*b].minors[m].exponent).sum();
+                        if k > 1 {
+                            out.push(Sample::Zeros(k - 1));
+                        }
+                    }
+                    continue;
+                }
+                if !tied.is_empty() {
+                    continue; // cancelled: an unknown point
+                }
+                let mut s = scale * sign;
+                for (o, blk) in blocks.iter().enumerate() {
+                    if o != *b {
+                        s *= blk.lead * flip(poles_after(p, o));
+                    }
+                }
+                out.push(Sample::Pole(Some(reduce(p, s) as i8)));
+            }
+            Merged::Shared { double, .. } => {
+                if !double {
+                    out.push(Sample::Pole(None));
+                }
+            }
+            Merged::One(b, Tok::Eig { minor }) => {
+                if exact {
+                    out.push(Sample::Zeros(blocks[*b].minors[*minor].exponent));
+                    continue;
+                }
+                // n_B vanishes: num = -c * p_B * n_B' up to powers of Omega.
+                let o = 1 - *b;
+                let near_other = |q: Option<&Merged>| matches!(q, Some(Merged::One(x, Tok::Eig { .. })) if *x == o);
+                if near_other(seq.get(p + 1)) || (p > 0 && near_other(seq.get(p - 1))) {
+                    continue; // may coincide with the other block's zero
+                }
+                let Some(other) = n_sign(p, o) else { continue };
+                let s = scale * blocks[*b].lead * flip(poles_after(p, *b)) * other;
+                out.push(Sample::Point(reduce(p, s) as i8));
+            }
+        }
+    }
+    if !exact {
+        out.push(Sample::Point(at_inf as i8));
+    }
+    out
+}
+
+impl Configurations {
+    /// Whether `t` (simple resonances) fits some configuration; `zeros` is
+    /// the numerator's degree.
+    pub(crate) fn fits(&self, t: &FrfType, zeros: u32) -> bool {
+        let mut counts = vec![0u32];
+        for tok in &t.tokens {
+            match tok.feature {
+                Feature::Resonance => {
+                    if tok.multiplicity > 1 {
+                        return true; // not this certificate's business
+                    }
+                    counts.push(0);
+                }
+                Feature::Antiresonance => *counts.last_mut().expect("one") += tok.multiplicity,
+            }
+        }
+        // Every cancelled pole divides out a zero: the reduced numerator
+        // has degree `zeros - (poles - resonances)`, and the type is (nm)
+        // exactly when it has fewer positive zeros.
+        let resonances = counts.len() as u32 - 1;
+        let Some(degree) = (zeros + resonances).checked_sub(self.poles) else {
+            return false;
+        };
+        let total: u32 = counts.iter().sum();
+        if resonances > self.poles || total > degree || (total < degree) != t.nonminimum_phase {
+            return false;
+        }
+        if let Some(nm) = self.exact {
+            return t.nonminimum_phase == nm && self.patterns.iter().any(|p| exact_fit(p, &counts));
+        }
+        self.patterns.iter().any(|p| parity_fit(p, &counts))
+    }
+}
+
+fn exact_fit(samples: &[Sample], counts: &[u32]) -> bool {
+    let mut got = vec![0u32];
+    for s in samples {
+        match s {
+            Sample::Pole(_) => got.push(0),
+            Sample::Zeros(k) => *got.last_mut().expect("one") += k,
+            Sample::Point(_) => {}
+        }
+    }
+    got == counts
+}
+
+/// Whether `counts[i]` antiresonances between the `i`-th and `(i+1)`-th
+/// pole can be placed in the gaps between samples so that every gap
+/// between two samples of known sign holds an odd number exactly where the
+/// sign changes.
+fn parity_fit(samples: &[Sample], counts: &[u32]) -> bool {
+    let poles = samples
+        .iter()
+        .filter(|s| matches!(s, Sample::Pole(_)))
+        .count();
+    if poles + 1 != counts.len() {
+        return false;
+    }
+    // States: (interval, zeros used in it, parity since the last known
+    // sign, that sign).
+    let first = match samples.first() {
+        Some(Sample::Point(s)) => *s,
+        _ => return false,
+    };
+    let mut states: BTreeSet<(usize, u32, u32, i8)> = BTreeSet::new();
+    states.insert((0, 0, 0, first));
+    for s in &samples[1..] {
+        // Zeros in the gap before `s`.
+        let mut next = BTreeSet::new();
+        for &(i, used, par, last) in &states {
+            for z in 0..=counts[i] - used {
+                let (used, par) = (used + z, (par + z) % 2);
+                let known = match s {
+                    Sample::Point(x) | Sample::Pole(Some(x)) => Some(*x),
+                    _ => None,
+                };
+                let (par, last) = match known {
+                    Some(x) => {
+                        if (x != last) != (par == 1) {
+                            continue;
+                        }
+                        (0, x)
+                    }
+                    None => (par, last),
+                };
+                match s {
+                    Sample::Pole(_) => {
+                        if used == counts[i] {
+                            next.insert((i + 1, 0, par, last));
+                        }
+                    }
+                    _ => {
+                        next.insert((i, used, par, last));
+                    }
+                }
+            }
+        }
+        states = next;
+        if states.is_empty() {
+            return false;
+        }
+    }
+    states
+        .iter()
+        .any(|&(i, used, _, _)| i + 1 == counts.len() && used == counts[i])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parities_between_samples() {
+        use Sample::*;
+        // + at 0, pole with +, a point with -, pole with -, + at infinity.
+        let p = vec![Point(1), Pole(Some(1)), Point(-1), Pole(Some(-1)), Point(1)];
+        let counts = |s: &str| {
+            let mut c = vec![0u32];
+            for ch in s.chars() {
+                if ch == 'R' {
+                    c.push(0);
+                } else {
+                    *c.last_mut().unwrap() += 1;
+                }
+            }
+            c
+        };
+        // Between the poles the sign goes + -> - -> -: one zero at least.
+        // ... and above the last pole from - to +: one more.
+        assert!(!parity_fit(&p, &counts("RAR")));
+        assert!(!parity_fit(&p, &counts("RR")));
+        assert!(!parity_fit(&p, &counts("RRA")));
+        assert!(parity_fit(&p, &counts("RARA")));
+        assert!(parity_fit(&p, &counts("RAAARA")));
+        assert!(!parity_fit(&p, &counts("RAARA")));
+        // An unknown pole merges the parities of its two sides.
+        let q = vec![Point(1), Pole(None), Point(-1)];
+        assert!(parity_fit(&q, &counts("AR")));
+        assert!(parity_fit(&q, &counts("RA")));
+        assert!(!parity_fit(&q, &counts("R")));
+        assert!(!parity_fit(&q, &counts("ARA")));
+    }
+
+    #[test]
+    fn cells_follow_cauchy() {
+        // A grounded block of 3, the run of its last two masses: the
+        // eigenvalues lie in [l1, l2] and [l2, l3], in distinct cells.
+        let b = BlockEvents {
+            size: 3,
+            free: false,
+            lead: 1,
+            direct: true,
+            base: 1,
+            minors: vec![],
+        };
+        let m = Minor {
+            start: 1,
+            len: 2,
+            sign: 1,
+            exponent: 1,
+        };
+        let cells = minor_cells(&b, &m);
+        // cells 2..=4 and 4..=6, increasing, not both on pole 2 (cell 4).
+        assert!(cells.contains(&vec![3, 5]));
+        assert!(cells.contains(&vec![2, 4]));
+        assert!(!cells.contains(&vec![4, 4]));
+        assert!(!cells.contains(&vec![3, 3]));
+        assert!(cells
+            .iter()
+            .all(|c| c[0] >= 2 && c[0] <= 4 && c[1] >= 4 && c[1] <= 6));
+    }
+}
