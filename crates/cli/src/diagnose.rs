@@ -5,6 +5,10 @@
 
 use crate::identify::IdentifyFormat;
 use crate::recording::RecordingArgs;
+use ident::amplitude::{
+    amplitude_dependence, AmplitudeDependence, AmplitudeOptions, DampingTrend, Level,
+    StiffnessTrend,
+};
 use ident::diagnose::{
     diagnose, model_from_simulation, DiagnoseOptions, Diagnosis, EffectKind, Selection,
 };
@@ -35,7 +39,10 @@ pub enum ModelSource {
 /// Options of `mms diagnose` beyond the recording.
 pub struct DiagnoseArgs<'a> {
     pub recording: &'a RecordingArgs,
-    pub model: &'a ModelSource,
+    /// `None`: only the amplitude comparison of the levels.
+    pub model: Option<&'a ModelSource>,
+    /// Recordings of the same system at other excitation levels.
+    pub levels: &'a [PathBuf],
     pub select: SelectArg,
     pub tolerance: f64,
     pub band: Option<(f64, f64)>,
@@ -47,7 +54,15 @@ pub struct DiagnoseArgs<'a> {
 /// directory is given.
 pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     let rec = args.recording.read()?;
-    let model = match args.model {
+    let levels = amplitude(args, &rec)?;
+    let Some(model_source) = args.model else {
+        return match &levels {
+            Some((levels, a)) => amplitude_only(args, levels, a),
+            None => Err("give the model: --model MODEL.toml or --simulation FILE".into()),
+        };
+    };
+    let amplitude = levels.map(|(_, a)| a);
+    let model = match model_source {
         ModelSource::File(path) => {
             let text = std::fs::read_to_string(path)
                 .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
@@ -63,7 +78,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
                 .map_err(|e| format!("{}: {e}", path.display()))?
         }
     };
-    let source = match args.model {
+    let source = match model_source {
         ModelSource::File(path) => format!("Model: `{}` ({}).", path.display(), model.model.id()),
         ModelSource::Simulation(path) => format!(
             "Model: {} identified from the simulation `{}` (reproduced within {} dB).",
@@ -113,6 +128,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     if let Some(samples) = &rec.samples {
         let options = TimeOptions {
             tolerance: args.tolerance,
+            welch: args.recording.welch(),
             ..TimeOptions::default()
         };
         let td = diagnose_time(&samples.u, &samples.y, samples.fs, &model, &options)
@@ -122,7 +138,17 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
             .first()
             .is_some_and(|e| e.kind != EffectKind::None)
         {
-            return run_time(args, &name, &source, &rec.frf, samples, &model, td, d);
+            return run_time(
+                args,
+                &name,
+                &source,
+                &rec.frf,
+                samples,
+                &model,
+                td,
+                d,
+                amplitude.as_ref(),
+            );
         }
         time_check = Some(td);
     }
@@ -138,6 +164,10 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
                     "rms_time_rel": td.fit.before.rms_time_rel,
                 });
             }
+            if let Some(a) = &amplitude {
+                v["amplitude_dependence"] =
+                    serde_json::to_value(a).map_err(|e| format!("JSON: {e}"))?;
+            }
             let mut s = serde_json::to_string_pretty(&v).map_err(|e| format!("JSON: {e}"))?;
             s.push('\n');
             s
@@ -151,6 +181,9 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
             );
             if let Some(td) = &time_check {
                 m.push_str(&time_check_note(td));
+            }
+            if let Some(a) = &amplitude {
+                m.push_str(&amplitude_markdown(a));
             }
             if args.format == IdentifyFormat::Md {
                 m
@@ -297,22 +330,33 @@ fn run_time(
     model: &ModelFile,
     mut d: TimeDiagnosis,
     fd: Diagnosis,
+    amplitude: Option<&AmplitudeDependence>,
 ) -> Result<Option<String>, String> {
     d.mismatch = fd.mismatch.clone();
     d.frequency_domain = Some(fd);
     let plot = time_bode(recorded, &args.recording.welch(), samples, model, &d)?;
+    let markdown = |plot: Option<&str>| {
+        let mut m = time_markdown(name, source, &d, plot);
+        if let Some(a) = amplitude {
+            m.push_str(&amplitude_markdown(a));
+        }
+        m
+    };
     let report = match args.format {
         IdentifyFormat::Json => {
-            let mut s = serde_json::to_string_pretty(&d).map_err(|e| format!("JSON: {e}"))?;
+            let mut v = serde_json::to_value(&d).map_err(|e| format!("JSON: {e}"))?;
+            if let Some(a) = amplitude {
+                v["amplitude_dependence"] =
+                    serde_json::to_value(a).map_err(|e| format!("JSON: {e}"))?;
+            }
+            let mut s = serde_json::to_string_pretty(&v).map_err(|e| format!("JSON: {e}"))?;
             s.push('\n');
             s
         }
-        IdentifyFormat::Md => time_markdown(name, source, &d, args.out.map(|_| "bode.svg")),
-        IdentifyFormat::Html => crate::identify::html_page(
-            "mms diagnose",
-            &time_markdown(name, source, &d, None),
-            &plot.to_svg(),
-        ),
+        IdentifyFormat::Md => markdown(args.out.map(|_| "bode.svg")),
+        IdentifyFormat::Html => {
+            crate::identify::html_page("mms diagnose", &markdown(None), &plot.to_svg())
+        }
     };
     finish(args, &plot, &d.model_after, report)
 }
@@ -445,4 +489,211 @@ fn finish(
         &report,
     )?;
     Ok(None)
+}
+
+/// The amplitude dependence of the recording and the `--level` recordings,
+/// with the levels (`None` without `--level`).
+fn amplitude(
+    args: &DiagnoseArgs,
+    rec: &frf::Recording,
+) -> Result<Option<(Vec<Level>, AmplitudeDependence)>, String> {
+    if args.levels.is_empty() {
+        return Ok(None);
+    }
+    let welch = args.recording.welch();
+    let level = |path: &Path, rec: &frf::Recording| -> Result<Level, String> {
+        let name = path.display().to_string();
+        let s = rec.samples.as_ref().ok_or_else(|| {
+            format!("{name}: the amplitude dependence (--level) needs time-domain recordings")
+        })?;
+        Level::from_samples(&name, &s.u, &s.y, s.fs, &welch).map_err(|e| e.to_string())
+    };
+    let main = args.recording.path()?;
+    let mut levels = vec![level(main, rec)?];
+    for path in args.levels {
+        levels.push(level(path, &args.recording.read_file(path)?)?);
+    }
+    let options = AmplitudeOptions {
+        band_hz: args.band,
+        ..AmplitudeOptions::default()
+    };
+    let a = amplitude_dependence(&levels, &options)
+        .map_err(|e| format!("{}: amplitude dependence: {e}", main.display()))?;
+    Ok(Some((levels, a)))
+}
+
+/// `mms diagnose REC --level REC2 ...` without a model: the amplitude
+/// comparison alone, with a Bode plot of the levels (the residual panel
+/// relative to the lowest level).
+fn amplitude_only(
+    args: &DiagnoseArgs,
+    levels: &[Level],
+    a: &AmplitudeDependence,
+) -> Result<Option<String>, String> {
+    let name = args.recording.path()?.display().to_string();
+    let (lo, hi) = a.band_hz;
+    let mut plot = Bode::new("Excitation levels (H1 estimates)");
+    // In the report's order: the reference (lowest input RMS) first.
+    for (i, summary) in a.levels.iter().enumerate() {
+        let Some(l) = levels.iter().find(|l| l.label == summary.label) else {
+            continue;
+        };
+        let band = l.frf.band(lo, hi).unwrap_or_else(|| l.frf.clone());
+        let style = if i == 0 {
+            Style::points()
+        } else {
+            Style::line()
+        };
+        // The file name: whole paths do not fit the legend.
+        let file = Path::new(&l.label)
+            .file_name()
+            .map_or(l.label.clone(), |f| f.to_string_lossy().into_owned());
+        plot = plot.trace(
+            format!("{file} ({:.3e} RMS in)", l.input_rms),
+            band.freq_hz(),
+            band.response(),
+            style,
+        );
+    }
+    for m in &a.modes {
+        if m.shifts
+            .iter()
+            .any(|s| s.stiffness != StiffnessTrend::None || s.damping_trend != DampingTrend::None)
+        {
+            plot = plot.band(m.window_hz.0, m.window_hz.1, "amplitude-dependent mode");
+        }
+    }
+    let plot = plot.residual();
+    let report = match args.format {
+        IdentifyFormat::Json => {
+            let v = serde_json::json!({ "amplitude_dependence": a });
+            let mut s = serde_json::to_string_pretty(&v).map_err(|e| format!("JSON: {e}"))?;
+            s.push('\n');
+            s
+        }
+        IdentifyFormat::Md | IdentifyFormat::Html => {
+            let mut m = format!("# Amplitude dependence of `{name}`\n");
+            if args.format == IdentifyFormat::Md && args.out.is_some() {
+                m.push_str("\n![Bode plot: the levels](bode.svg)\n");
+            }
+            m.push_str(
+                amplitude_markdown(a)
+                    .trim_start()
+                    .trim_start_matches("## Amplitude dependence\n"),
+            );
+            if args.format == IdentifyFormat::Md {
+                m
+            } else {
+                crate::identify::html_page("mms diagnose", &m, &plot.to_svg())
+            }
+        }
+    };
+    match args.out {
+        None => Ok(Some(report)),
+        Some(dir) => {
+            crate::identify::write_report_dir(dir, args.format, &plot, &[], &report)?;
+            Ok(None)
+        }
+    }
+}
+
+/// The Markdown section of the amplitude dependence: the verdict, the
+/// levels, the bands beyond the noise and the modes.
+fn amplitude_markdown(a: &AmplitudeDependence) -> String {
+    let mut s = String::from("\n## Amplitude dependence\n\n");
+    let _ = writeln!(s, "{}\n", a.verdict);
+    let _ = writeln!(
+        s,
+        "Lines {:.4} to {:.4} Hz. The noise is each level's coherence over its averages; the \
+         cost is the mean of |ln(H / H_ref)|^2 / (2 sigma^2), 1 for noise alone; the \
+         distortion is the power at the unexcited lines above a periodic excitation (to 3 \
+         times its top) relative to the excited lines.\n",
+        a.band_hz.0, a.band_hz.1
+    );
+    s.push_str(
+        "| level | input RMS | ratio | averages | noise (dB) | change (dB RMS) | change (deg RMS) | cost | distortion out (in), dB |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for l in &a.levels {
+        let _ = writeln!(
+            s,
+            "| `{}` | {:.4e} | {:.2} | {} | {:.4} | {:.3} | {:.2} | {:.1} | {} |",
+            l.label,
+            l.input_rms,
+            l.ratio,
+            l.averages,
+            l.noise_db,
+            l.change_db,
+            l.change_deg,
+            l.cost,
+            l.distortion.map_or("-".to_string(), |d| format!(
+                "{:.1} ({:.1})",
+                d.output_db, d.input_db
+            ))
+        );
+    }
+    for l in a.levels.iter().skip(1) {
+        let _ = write!(s, "\nBands where `{}` differs beyond the noise: ", l.label);
+        if l.bands.is_empty() {
+            s.push_str("none.\n");
+        } else {
+            let b: Vec<String> = l
+                .bands
+                .iter()
+                .map(|b| {
+                    format!(
+                        "{:.3}-{:.3} Hz ({:.3} dB / {:.2} deg)",
+                        b.f_lo_hz, b.f_hi_hz, b.rms_db, b.rms_deg
+                    )
+                })
+                .collect();
+            let _ = writeln!(s, "{}.", b.join(", "));
+        }
+    }
+    s.push_str(
+        "\n### Modes\n\n| mode (Hz) | level | f (Hz) | shift (Hz) | shift (%) | z | damping | change | z | peak (dB) | reading |\n\
+         |---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n",
+    );
+    for m in &a.modes {
+        let r = &m.estimates[0];
+        let _ = writeln!(
+            s,
+            "| {:.3} | `{}` | {:.4} ± {:.4} | | | | {:.4} ± {:.4} | | | {:.2} | reference |",
+            m.f_ref_hz,
+            a.levels[0].label,
+            r.f_hz,
+            r.f_sigma_hz,
+            r.damping,
+            r.damping_sigma,
+            r.peak_db
+        );
+        for (sh, e) in m.shifts.iter().zip(&m.estimates[1..]) {
+            let _ = writeln!(
+                s,
+                "| | `{}` | {:.4} ± {:.4} | {:+.4} | {:+.2} | {:.1} | {:.4} ± {:.4} | {:+.4} | {:.1} | {:.2} ({:+.2}) | {} |",
+                sh.level,
+                e.f_hz,
+                e.f_sigma_hz,
+                sh.shift_hz,
+                100.0 * sh.shift_rel,
+                sh.shift_z,
+                e.damping,
+                e.damping_sigma,
+                sh.damping_change,
+                sh.damping_z,
+                e.peak_db,
+                sh.peak_db_change,
+                sh.reading
+            );
+        }
+    }
+    if !a.unfitted_hz.is_empty() {
+        let f: Vec<String> = a.unfitted_hz.iter().map(|f| format!("{f:.3}")).collect();
+        let _ = writeln!(
+            s,
+            "\nPeaks without a resonance fit at every level (Hz): {}.",
+            f.join(", ")
+        );
+    }
+    s
 }

@@ -162,11 +162,14 @@ enum Command {
     /// selection), add it and report the improvement. On a time-domain
     /// recording also the time-domain diagnosis: Coulomb friction or
     /// backlash, fitted by simulating the model from the recorded input.
+    /// With --level, recordings at other excitation levels: which modes
+    /// shift in frequency or damping with the level beyond the noise.
     Diagnose {
         #[command(flatten)]
         recording: recording::RecordingArgs,
         /// The model file (TOML), e.g. the model.toml `mms identify --out` writes.
-        /// Give exactly one of --model and --simulation.
+        /// Give exactly one of --model and --simulation (or neither, with
+        /// --level: then only the amplitude comparison runs).
         #[arg(long, value_name = "MODEL.toml")]
         model: Option<PathBuf>,
         /// A simulated FRF (FRF CSV or UFF58) in place of --model: the chain
@@ -174,6 +177,14 @@ enum Command {
         /// diagnosed.
         #[arg(long, value_name = "FILE")]
         simulation: Option<PathBuf>,
+        /// Another time-domain recording of the same system at a different
+        /// excitation level (repeatable), read with the same --u, --y,
+        /// --fs, --nfft, --period: the modes' frequency and damping are
+        /// compared across the levels against the noise (amplitude
+        /// dependence: friction or clearance at a joint). Without --model
+        /// and --simulation only this comparison runs.
+        #[arg(long = "level", value_name = "FILE")]
+        levels: Vec<PathBuf>,
         /// How an effect must earn its parameters: bic (information
         /// criterion on all lines) or holdout (every 4th line held out of
         /// the fits, the effect must lower their cost).
@@ -387,6 +398,7 @@ fn run(cli: Cli) -> Result<(), String> {
             recording,
             model,
             simulation,
+            levels,
             select,
             tolerance,
             band,
@@ -394,18 +406,21 @@ fn run(cli: Cli) -> Result<(), String> {
             out,
         } => {
             let model = match (model, simulation) {
-                (Some(m), None) => diagnose::ModelSource::File(m),
-                (None, Some(s)) => diagnose::ModelSource::Simulation(s),
+                (Some(m), None) => Some(diagnose::ModelSource::File(m)),
+                (None, Some(s)) => Some(diagnose::ModelSource::Simulation(s)),
                 (Some(_), Some(_)) => {
                     return Err("give either --model or --simulation, not both".into())
                 }
+                // The amplitude comparison alone needs no model.
+                (None, None) if !levels.is_empty() => None,
                 (None, None) => {
                     return Err("give the model: --model MODEL.toml or --simulation FILE".into())
                 }
             };
             let args = diagnose::DiagnoseArgs {
                 recording: &recording,
-                model: &model,
+                model: model.as_ref(),
+                levels: &levels,
                 select,
                 tolerance,
                 band: band.as_deref().map(parse_band).transpose()?,

@@ -690,7 +690,12 @@ fn summary(e: &[Complex64]) -> FitSummary {
 
 /// Bands of `e` (log errors; `sigma` per line) whose smoothed normalised
 /// cost exceeds the threshold.
-fn bands(freq: &[f64], e: &[Complex64], sigma: &[f64], o: &DiagnoseOptions) -> Vec<Band> {
+pub(crate) fn bands(
+    freq: &[f64],
+    e: &[Complex64],
+    sigma: &[f64],
+    o: &DiagnoseOptions,
+) -> Vec<Band> {
     let n = e.len();
     let z: Vec<f64> = e
         .iter()

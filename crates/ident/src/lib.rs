@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod advice;
+pub mod amplitude;
 pub mod classify;
 pub mod diagnose;
 pub mod fit;

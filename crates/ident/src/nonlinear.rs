@@ -107,6 +107,10 @@ pub struct TimeOptions {
     /// Also run the frequency-domain diagnosis ([`crate::diagnose`]) on
     /// the record's H1 estimate (its verdict is reported, not merged).
     pub frequency_domain: bool,
+    /// How the H1 estimates behind the FRF figures (`rms_db`, `rms_deg`)
+    /// and the evidence are made: the user's segment length or period, so
+    /// that they describe the lines the user looks at.
+    pub welch: WelchOptions,
 }
 
 impl Default for TimeOptions {
@@ -119,6 +123,7 @@ impl Default for TimeOptions {
             adequate: 0.05,
             max_iterations: 30,
             frequency_domain: false,
+            welch: WelchOptions::default(),
         }
     }
 }
@@ -419,12 +424,12 @@ pub fn diagnose_time(
 
     // Evidence from the H1 estimates.
     let mut evidence = Vec::new();
-    let welch = WelchOptions::default();
-    let measured = h1(u, y, fs, &welch).ok();
+    let welch = &o.welch;
+    let measured = h1(u, y, fs, welch).ok();
     if let Some(est) = &measured {
         evidence.extend(coherence_evidence(&est.frf));
     }
-    evidence.extend(amplitude_evidence(u, y, fs));
+    evidence.extend(amplitude_evidence(u, y, fs, welch));
     evidence.extend(harmonic_evidence(u, y));
 
     // Calibration of the linear chain (with the model's own effects).
@@ -451,7 +456,7 @@ pub fn diagnose_time(
         }
     }
     let y_cal = problem.simulate(EffectKind::None, &x_cal)?;
-    let before = time_fit(u, y, &y_cal, fs, measured.as_ref().map(|e| &e.frf));
+    let before = time_fit(u, y, &y_cal, fs, welch, measured.as_ref().map(|e| &e.frf));
     let price = (n as f64).ln() + o.margin;
 
     // Scale of each effect's parameter.
@@ -554,7 +559,7 @@ pub fn diagnose_time(
             (gain_bic - price).min(-1.0)
         };
         let y_k = problem.simulate(kind, &x)?;
-        let after = time_fit(u, y, &y_k, fs, measured.as_ref().map(|e| &e.frf));
+        let after = time_fit(u, y, &y_k, fs, welch, measured.as_ref().map(|e| &e.frf));
         let pname = if kind == EffectKind::Friction {
             "coulomb_n"
         } else {
@@ -608,7 +613,7 @@ pub fn diagnose_time(
     let after = match kept.first() {
         Some(_) => {
             let y_k = problem.simulate(after_kind, &after_x)?;
-            time_fit(u, y, &y_k, fs, measured.as_ref().map(|e| &e.frf))
+            time_fit(u, y, &y_k, fs, welch, measured.as_ref().map(|e| &e.frf))
         }
         None => before,
     };
@@ -685,13 +690,20 @@ fn good_lines(frf: &Frf) -> Vec<usize> {
 }
 
 /// Errors of a simulated output against the record.
-fn time_fit(u: &[f64], y: &[f64], sim: &[f64], fs: f64, measured: Option<&Frf>) -> TimeFit {
+fn time_fit(
+    u: &[f64],
+    y: &[f64],
+    sim: &[f64],
+    fs: f64,
+    welch: &WelchOptions,
+    measured: Option<&Frf>,
+) -> TimeFit {
     let n = y.len() as f64;
     let rms = |v: &mut dyn Iterator<Item = f64>| (v.map(|x| x * x).sum::<f64>() / n).sqrt();
     let rms_time = rms(&mut y.iter().zip(sim).map(|(a, b)| a - b));
     let rms_y = rms(&mut y.iter().copied());
     let (mut rms_db, mut rms_deg) = (f64::NAN, f64::NAN);
-    if let (Some(m), Ok(s)) = (measured, h1(u, sim, fs, &WelchOptions::default())) {
+    if let (Some(m), Ok(s)) = (measured, h1(u, sim, fs, welch)) {
         let lines = good_lines(m);
         let e: Vec<Complex64> = lines
             .iter()
@@ -728,11 +740,15 @@ fn coherence_evidence(frf: &Frf) -> Option<String> {
 
 /// The first half's FRF against the second half's, with their input
 /// levels; the difference in noise units of the coherence.
-fn amplitude_evidence(u: &[f64], y: &[f64], fs: f64) -> Option<String> {
-    let half = u.len() / 2;
-    let opts = WelchOptions::default();
-    let a = h1(&u[..half], &y[..half], fs, &opts).ok()?;
-    let b = h1(&u[half..2 * half], &y[half..2 * half], fs, &opts).ok()?;
+fn amplitude_evidence(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Option<String> {
+    // A periodic record splits at a period boundary, so that each half is
+    // made of whole periods.
+    let half = match opts.period {
+        Some(p) if p > 0 => u.len() / (2 * p) * p,
+        _ => u.len() / 2,
+    };
+    let a = h1(&u[..half], &y[..half], fs, opts).ok()?;
+    let b = h1(&u[half..2 * half], &y[half..2 * half], fs, opts).ok()?;
     let rms = |v: &[f64]| {
         let m = v.iter().sum::<f64>() / v.len() as f64;
         (v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / v.len() as f64).sqrt()

@@ -231,3 +231,78 @@ fn concealed_backlash() {
         "{errors:?}"
     );
 }
+
+/// The FRF figures of the time-domain diagnosis (`rms_db`, `rms_deg`) and
+/// its coherence evidence use the caller's H1 options, not defaults: each
+/// equals the same figure computed independently from `frf::h1` with those
+/// options, and the two option sets give different lines.
+#[test]
+fn frf_figures_follow_the_welch_options() {
+    use frf::welch::{h1, WelchOptions};
+    let c = case(1003, EffectKind::None);
+    // The model 10 % off and held there (a tiny tolerance), so that the
+    // FRF error is clearly above zero.
+    let mut nominal = c.nominal.clone();
+    let stiff: Vec<f64> = nominal
+        .parameters
+        .values()
+        .iter()
+        .map(|v| v * 1.1)
+        .collect();
+    nominal.parameters = Parameters::from_values(&nominal.model, stiff).unwrap();
+    let mut seen = Vec::new();
+    for welch in [
+        WelchOptions {
+            period: Some(PERIOD),
+            ..WelchOptions::default()
+        },
+        WelchOptions {
+            nfft: Some(256),
+            ..WelchOptions::default()
+        },
+    ] {
+        let o = TimeOptions {
+            tolerance: 1e-9,
+            damper_tolerance: 1e-9,
+            welch: welch.clone(),
+            ..TimeOptions::default()
+        };
+        let d = diagnose_time(&c.u, &c.y, FS, &nominal, &o).unwrap();
+        assert_eq!(d.effects[0].kind, EffectKind::None);
+        // Independently: the H1 of the record and of the calibrated model's
+        // simulated output, RMS over the lines with coherence >= 0.5.
+        let rec = h1(&c.u, &c.y, FS, &welch).unwrap().frf;
+        let y_cal = simulate(&d.model_after, &c.u, FS).unwrap();
+        let sim = h1(&c.u, &y_cal, FS, &welch).unwrap().frf;
+        let coh = rec.coherence().unwrap();
+        let e: Vec<_> = (0..rec.len())
+            .filter(|&k| coh[k] >= 0.5)
+            .map(|k| (rec.response()[k] / sim.response()[k]).ln())
+            .collect();
+        let rms = |f: &dyn Fn(&num_complex::Complex64) -> f64| {
+            (e.iter().map(|z| f(z).powi(2)).sum::<f64>() / e.len() as f64).sqrt()
+        };
+        let want_db = rms(&|z| z.re) * 20.0 / std::f64::consts::LN_10;
+        let want_deg = rms(&|z| z.im).to_degrees();
+        let b = d.fit.before;
+        assert!(
+            (b.rms_db - want_db).abs() <= 1e-9 * want_db,
+            "{b:?} vs {want_db}"
+        );
+        assert!(
+            (b.rms_deg - want_deg).abs() <= 1e-9 * want_deg,
+            "{b:?} vs {want_deg}"
+        );
+        // The coherence evidence counts the lines of these options.
+        let lines = format!("of {} lines below 0.9", rec.len());
+        assert!(
+            d.evidence.iter().any(|e| e.contains(&lines)),
+            "{:?}",
+            d.evidence
+        );
+        seen.push((b.rms_db, rec.len()));
+    }
+    // Period 500 gives 250 lines, nfft 256 gives 128: different figures.
+    assert_eq!((seen[0].1, seen[1].1), (PERIOD / 2, 128));
+    assert!((seen[0].0 - seen[1].0).abs() > 1e-3 * seen[0].0, "{seen:?}");
+}
