@@ -580,3 +580,84 @@ fn diagnose_recording_and_simulation_flags_and_holdout() {
         "{err}"
     );
 }
+
+/// `mms diagnose` on the EMPS record (closed position loop) with the
+/// recorded controller: the one-mass model without Coulomb friction gets
+/// `friction` (within 5 % of the published 20.39 N) and `offset`, the
+/// JSON says the loop was closed and carries the IDIM-LS estimates; bad
+/// loop options are one-line errors with exit code 2.
+#[test]
+fn diagnose_emps_closed_loop() {
+    let dir = temp_dir("emps");
+    let model = dir.join("emps.toml");
+    std::fs::write(
+        &model,
+        "masses = 1\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\noutput = \"position\"\n\
+         gain = 35.15\n[parameters]\nm1 = 100\n[effects]\nfriction = { viscous_ns_per_m = 200 }\n",
+    )
+    .unwrap();
+    let mat = real_data("emps/DATA_EMPS.mat");
+    let model = model.to_str().unwrap();
+    let base = [
+        "diagnose", &mat, "--u", "vir", "--y", "qm", "--fs", "1000", "--model", model,
+    ];
+    let mut args = base.to_vec();
+    args.extend([
+        "--reference",
+        "qg",
+        "--controller",
+        "kp=kp,kv=kv",
+        "--format",
+        "json",
+    ]);
+    let (code, out, err) = mms(&args);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["closed_loop"], true);
+    assert_eq!(v["effects"][0]["kind"], "friction", "{}", v["effects"]);
+    let fc = v["effects"][0]["parameters"]["coulomb_n"].as_f64().unwrap();
+    assert!((fc / 20.39 - 1.0).abs() < 0.05, "{fc}");
+    assert_eq!(v["effects"][1]["kind"], "offset", "{}", v["effects"]);
+    assert!(v["model_after"]["effects"]["offset"]["force_n"].is_number());
+    let id = &v["inverse_dynamics"]["estimates"];
+    assert_eq!(id[2]["name"], "coulomb_n");
+    let fc_id = id[2]["value"].as_f64().unwrap();
+    assert!((fc_id / 20.39 - 1.0).abs() < 0.02, "{fc_id}");
+
+    let fs_num = "kp=160.18,kv=243.45,filter=0.5:0.5,saturation=10";
+    let cases: [(&[&str], &str); 6] = [
+        (
+            &["--reference", "qg", "--controller", "kp=kp"],
+            "give both kp and kv",
+        ),
+        (
+            &["--reference", "qg", "--controller", "kp=nosuch,kv=kv"],
+            "no such number or variable",
+        ),
+        (
+            &["--reference", "qg", "--controller", "kp=1,kv=2,ki=3"],
+            "unknown key 'ki'",
+        ),
+        (
+            &["--reference", "nosuch", "--controller", fs_num],
+            "--reference nosuch",
+        ),
+        // The law with a wrong gain does not reproduce vir.
+        (
+            &["--reference", "qg", "--controller", "kp=160.18,kv=100"],
+            "controller law",
+        ),
+        (&["--reference", "qg"], "--controller"),
+    ];
+    for (extra, want) in cases {
+        let mut all = base.to_vec();
+        all.extend_from_slice(extra);
+        let (code, out, err) = mms(&all);
+        assert_eq!(code, 2, "{extra:?}: {err}");
+        assert!(out.is_empty());
+        assert!(err.contains(want), "{extra:?}: {err}");
+        if !want.starts_with("--") {
+            assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        }
+    }
+}

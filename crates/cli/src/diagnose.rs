@@ -12,9 +12,12 @@ use ident::amplitude::{
 use ident::diagnose::{
     diagnose, model_from_simulation, DiagnoseOptions, Diagnosis, EffectKind, Selection,
 };
-use ident::nonlinear::{diagnose_time, TimeDiagnosis, TimeOptions};
+use ident::nonlinear::{
+    diagnose_closed_loop, diagnose_time, LoopRecord, TimeDiagnosis, TimeOptions,
+};
 use mms::model_file::ModelFile;
 use mms::response::ChainResponse;
+use mms::simulate::{ClosedLoop, Controller, SimOptions, Simulator};
 use plot::{Bode, Style};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -36,6 +39,31 @@ pub enum ModelSource {
     Simulation(PathBuf),
 }
 
+/// `--reference`, `--controller`, `--disturbance`: the position loop a
+/// recording was taken in.
+pub struct LoopArgs {
+    pub reference: String,
+    pub controller: String,
+    pub disturbance: Option<String>,
+}
+
+/// The loop read from the recording.
+struct LoopData {
+    controller: Controller,
+    reference: Vec<f64>,
+    disturbance: Option<Vec<f64>>,
+}
+
+impl LoopData {
+    fn record(&self) -> LoopRecord<'_> {
+        LoopRecord {
+            controller: &self.controller,
+            reference: &self.reference,
+            disturbance: self.disturbance.as_deref(),
+        }
+    }
+}
+
 /// Options of `mms diagnose` beyond the recording.
 pub struct DiagnoseArgs<'a> {
     pub recording: &'a RecordingArgs,
@@ -46,6 +74,7 @@ pub struct DiagnoseArgs<'a> {
     pub select: SelectArg,
     pub tolerance: f64,
     pub band: Option<(f64, f64)>,
+    pub closed_loop: Option<LoopArgs>,
     pub format: IdentifyFormat,
     pub out: Option<&'a Path>,
 }
@@ -125,19 +154,34 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     // noted, so that a linear effect (a dead time) is not hidden behind a
     // time-domain "none".
     let mut time_check = None;
+    let looped = match &args.closed_loop {
+        Some(l) => Some(read_loop(args.recording, l, rec.samples.as_ref())?),
+        None => None,
+    };
     if let Some(samples) = &rec.samples {
         let options = TimeOptions {
             tolerance: args.tolerance,
             welch: args.recording.welch(),
             ..TimeOptions::default()
         };
-        let td = diagnose_time(&samples.u, &samples.y, samples.fs, &model, &options)
-            .map_err(|e| format!("{name}: time-domain diagnosis: {e}"))?;
+        let td = match &looped {
+            None => diagnose_time(&samples.u, &samples.y, samples.fs, &model, &options),
+            Some(l) => diagnose_closed_loop(
+                &samples.u,
+                &samples.y,
+                samples.fs,
+                &model,
+                &l.record(),
+                &options,
+            ),
+        }
+        .map_err(|e| format!("{name}: time-domain diagnosis: {e}"))?;
         if td
             .effects
             .first()
             .is_some_and(|e| e.kind != EffectKind::None)
         {
+            let record = looped.as_ref().map(|l| l.record());
             return run_time(
                 args,
                 &name,
@@ -145,6 +189,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
                 &rec.frf,
                 samples,
                 &model,
+                record,
                 td,
                 d,
                 amplitude.as_ref(),
@@ -162,6 +207,8 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
                     "rejected": td.rejected,
                     "evidence": td.evidence,
                     "rms_time_rel": td.fit.before.rms_time_rel,
+                    "closed_loop": td.closed_loop,
+                    "inverse_dynamics": td.inverse_dynamics,
                 });
             }
             if let Some(a) = &amplitude {
@@ -328,13 +375,21 @@ fn run_time(
     recorded: &frf::Frf,
     samples: &frf::Samples,
     model: &ModelFile,
+    record: Option<LoopRecord>,
     mut d: TimeDiagnosis,
     fd: Diagnosis,
     amplitude: Option<&AmplitudeDependence>,
 ) -> Result<Option<String>, String> {
     d.mismatch = fd.mismatch.clone();
     d.frequency_domain = Some(fd);
-    let plot = time_bode(recorded, &args.recording.welch(), samples, model, &d)?;
+    let plot = time_bode(
+        recorded,
+        &args.recording.welch(),
+        samples,
+        model,
+        record.as_ref(),
+        &d,
+    )?;
     let markdown = |plot: Option<&str>| {
         let mut m = time_markdown(name, source, &d, plot);
         if let Some(a) = amplitude {
@@ -362,18 +417,41 @@ fn run_time(
 }
 
 /// The recording's H1 estimate and those of the nominal and diagnosed
-/// models simulated from the recorded input, with the same options
-/// (`--nfft`, `--period`), so the curves share their lines.
+/// models simulated from the recorded input (in a closed loop: inside the
+/// loop, with the simulated input), with the same options (`--nfft`,
+/// `--period`), so the curves share their lines.
 fn time_bode(
     recorded: &frf::Frf,
     welch: &frf::WelchOptions,
     samples: &frf::Samples,
     model: &ModelFile,
+    record: Option<&LoopRecord>,
     d: &TimeDiagnosis,
 ) -> Result<Bode, String> {
     let sim = |m: &ModelFile| -> Result<frf::Frf, String> {
-        let y = mms::simulate::simulate(m, &samples.u, samples.fs).map_err(|e| e.to_string())?;
-        frf::h1(&samples.u, &y, samples.fs, welch)
+        let (u, y) = match record {
+            None => {
+                let y = mms::simulate::simulate(m, &samples.u, samples.fs)
+                    .map_err(|e| e.to_string())?;
+                (samples.u.clone(), y)
+            }
+            Some(r) => {
+                let q = &samples.y;
+                let run = Simulator::new(m, samples.fs, &SimOptions::default())
+                    .and_then(|s| {
+                        s.run_closed_loop(&ClosedLoop {
+                            controller: r.controller,
+                            reference: r.reference,
+                            disturbance: r.disturbance,
+                            initial_position: q[0],
+                            initial_velocity: (q[2] - q[0]) * samples.fs / 2.0,
+                        })
+                    })
+                    .map_err(|e| e.to_string())?;
+                (run.u, run.y)
+            }
+        };
+        frf::h1(&u, &y, samples.fs, welch)
             .map(|e| e.frf)
             .map_err(|e| format!("H1 estimate: {e}"))
     };
@@ -394,25 +472,40 @@ fn time_markdown(name: &str, source: &str, d: &TimeDiagnosis, plot: Option<&str>
     let _ = writeln!(s, "# Diagnosis of `{name}` (time domain)\n");
     let _ = writeln!(
         s,
-        "{} samples at {} Hz, simulated with the model from the recorded input.\n",
-        d.samples, d.fs
+        "{} samples at {} Hz, simulated with the model {}.\n",
+        d.samples,
+        d.fs,
+        if d.closed_loop {
+            "inside the recorded position loop (controller and reference)"
+        } else {
+            "from the recorded input"
+        }
     );
     let (b, a) = (&d.fit.before, &d.fit.after);
     let verdict = match d.effects.first() {
         Some(e) if e.kind != EffectKind::None => {
-            let params: Vec<String> = e
-                .parameters
+            let causes: Vec<String> = d
+                .effects
                 .iter()
-                .map(|(k, v)| format!("{k} = {v:.4e}"))
+                .map(|e| {
+                    let params: Vec<String> = e
+                        .parameters
+                        .iter()
+                        .map(|(k, v)| format!("{k} = {v:.4e}"))
+                        .collect();
+                    format!("**{}** ({})", e.kind.as_str(), params.join(", "))
+                })
                 .collect();
             format!(
-                "Most likely missing: **{}** ({}); adding it brings the time-domain error from \
-                 {:.2} % to {:.2} % of the output RMS, and the FRF error from {:.3} dB / {:.2} deg \
-                 to {:.3} dB / {:.2} deg.",
-                e.kind.as_str(),
-                params.join(", "),
-                100.0 * b.rms_time_rel,
-                100.0 * a.rms_time_rel,
+                "Most likely missing: {}; adding {} brings the time-domain error from {:.4e} to \
+                 {:.4e} ({} % to {} % of the output RMS), and the FRF error from {:.3} dB / \
+                 {:.2} deg to {:.3} dB / {:.2} deg.",
+                causes.join(" together with "),
+                if causes.len() > 1 { "them" } else { "it" },
+                b.rms_time,
+                a.rms_time,
+                ident::nonlinear::percent(b.rms_time_rel),
+                ident::nonlinear::percent(a.rms_time_rel),
                 b.rms_db,
                 b.rms_deg,
                 a.rms_db,
@@ -420,9 +513,9 @@ fn time_markdown(name: &str, source: &str, d: &TimeDiagnosis, plot: Option<&str>
             )
         }
         _ => format!(
-            "No nonlinear effect is missing: the calibrated linear model leaves {:.2} % of the \
+            "No nonlinear effect is missing: the calibrated linear model leaves {} % of the \
              output RMS in the time domain ({:.3} dB / {:.2} deg on the FRF).",
-            100.0 * b.rms_time_rel,
+            ident::nonlinear::percent(b.rms_time_rel),
             b.rms_db,
             b.rms_deg
         ),
@@ -442,8 +535,23 @@ fn time_markdown(name: &str, source: &str, d: &TimeDiagnosis, plot: Option<&str>
         &d.rejected,
         &d.calibration,
     );
+    let _ = writeln!(
+        s,
+        "\n## Model after diagnosis\n\n```toml\n{}```",
+        d.model_after.to_toml()
+    );
+    if let Some(id) = &d.inverse_dynamics {
+        s.push_str(&inverse_dynamics_section(id));
+    }
     if let Some(fd) = &d.frequency_domain {
         s.push_str("\n## Frequency domain (H1 estimate, linear effects)\n\n");
+        if d.closed_loop {
+            s.push_str(
+                "In a closed loop the H1 estimate from the controller output to the position \
+                 is biased where the loop feeds noise back (low coherence); read this part with \
+                 care.\n\n",
+            );
+        }
         let body = markdown(name, source, fd, None);
         // Drop its title; keep the verdict and tables.
         let body = body
@@ -457,17 +565,173 @@ fn time_markdown(name: &str, source: &str, d: &TimeDiagnosis, plot: Option<&str>
 
 /// The time-domain check of a recording where it found no nonlinear effect.
 fn time_check_note(td: &TimeDiagnosis) -> String {
-    let mut s = String::from("\n## Time-domain check (Coulomb friction, backlash)\n\n");
+    let mut s = String::from("\n## Time-domain check (Coulomb friction, backlash, offset)\n\n");
     let _ = writeln!(
         s,
-        "Simulated from the recorded input, the calibrated linear model leaves {:.2} % of the \
-         output RMS; neither Coulomb friction nor backlash earns its parameter.\n",
-        100.0 * td.fit.before.rms_time_rel
+        "Simulated {}, the calibrated linear model leaves {} % of the output RMS; neither \
+         Coulomb friction nor backlash nor a force offset earns its parameter.\n",
+        if td.closed_loop {
+            "inside the recorded position loop"
+        } else {
+            "from the recorded input"
+        },
+        ident::nonlinear::percent(td.fit.before.rms_time_rel)
     );
     for e in &td.evidence {
         let _ = writeln!(s, "- {e}");
     }
+    if let Some(id) = &td.inverse_dynamics {
+        s.push_str(&inverse_dynamics_section(id));
+    }
     s
+}
+
+/// The IDIM-LS estimates as a Markdown section.
+fn inverse_dynamics_section(id: &ident::idim::InverseDynamics) -> String {
+    let mut s = String::from("\n## Inverse dynamics (IDIM-LS, second method)\n\n");
+    let _ = writeln!(
+        s,
+        "Force residual of `F = M q'' + ...` with `q'`, `q''` from the position filtered at \
+         {} Hz (zero phase, order {}) and decimated by {} ({} samples, condition number \
+         {:.1}): {:.2} % of the force RMS for the model's own terms, {:.2} % with the selected \
+         effects.\n",
+        id.cutoff_hz,
+        id.order,
+        id.decimation,
+        id.samples,
+        id.condition,
+        100.0 * id.rel_err_before,
+        100.0 * id.rel_err
+    );
+    s.push_str("| parameter | value | std |\n|---|---:|---:|\n");
+    for e in &id.estimates {
+        let _ = writeln!(s, "| {} | {:.4e} | {:.2e} |", e.name, e.value, e.std);
+    }
+    effects_and_calibration(
+        &mut s,
+        "Effects (inverse dynamics)",
+        &id.effects,
+        &id.rejected,
+        &[],
+    );
+    s
+}
+
+/// Reads the loop of `--reference`, `--controller` and `--disturbance`
+/// from the recording.
+fn read_loop(
+    rec: &RecordingArgs,
+    l: &LoopArgs,
+    samples: Option<&frf::Samples>,
+) -> Result<LoopData, String> {
+    let path = rec.path()?;
+    let Some(samples) = samples else {
+        return Err(format!(
+            "--reference needs a time-domain recording; {} is an FRF",
+            path.display()
+        ));
+    };
+    // Another signal of the same file, read as the input of the same
+    // output.
+    let signal = |flag: &str, var: &str| -> Result<Vec<f64>, String> {
+        let args = RecordingArgs {
+            u: Some(var.to_string()),
+            ..rec.clone()
+        };
+        let r = args.read().map_err(|e| format!("--{flag} {var}: {e}"))?;
+        let s = r
+            .samples
+            .ok_or_else(|| format!("--{flag} {var}: no samples"))?;
+        if s.u.len() != samples.u.len() {
+            return Err(format!(
+                "--{flag} {var}: {} samples, the recording has {}",
+                s.u.len(),
+                samples.u.len()
+            ));
+        }
+        Ok(s.u)
+    };
+    let reference = signal("reference", &l.reference)?;
+    let disturbance = l
+        .disturbance
+        .as_deref()
+        .map(|d| signal("disturbance", d))
+        .transpose()?;
+    let controller = parse_controller(&l.controller, path)?;
+    Ok(LoopData {
+        controller,
+        reference,
+        disturbance,
+    })
+}
+
+/// `kp=K,kv=K[,filter=A:B:..][,saturation=S]`; a value that is not a number
+/// names a scalar variable of the .mat recording `path`.
+fn parse_controller(spec: &str, path: &Path) -> Result<Controller, String> {
+    let bad = |m: String| format!("--controller {spec}: {m}");
+    let mut mat: Option<frf::mat::MatFile> = None;
+    let mut value = |key: &str, v: &str| -> Result<f64, String> {
+        if let Ok(x) = v.trim().parse::<f64>() {
+            return Ok(x);
+        }
+        if mat.is_none() {
+            let is_mat = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("mat"));
+            if !is_mat {
+                return Err(bad(format!(
+                    "{key}={v} is not a number (variable names need a .mat recording)"
+                )));
+            }
+            let bytes =
+                std::fs::read(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+            mat = Some(frf::mat::read_mat(&bytes).map_err(|e| format!("{}: {e}", path.display()))?);
+        }
+        let var = mat.as_ref().and_then(|m| m.get(v.trim()));
+        match var.map(|x| x.scalar()) {
+            Some(Some(x)) => Ok(x),
+            Some(None) => Err(bad(format!("variable '{v}' is not a real scalar"))),
+            None => Err(bad(format!(
+                "{key}={v}: no such number or variable in {}",
+                path.display()
+            ))),
+        }
+    };
+    let (mut kp, mut kv) = (None, None);
+    let mut c = Controller::new(1.0, 1.0);
+    for part in spec.split(',').filter(|p| !p.trim().is_empty()) {
+        let (key, v) = part
+            .split_once('=')
+            .ok_or_else(|| bad(format!("'{part}' is not KEY=VALUE")))?;
+        match key.trim() {
+            "kp" => kp = Some(value("kp", v)?),
+            "kv" => kv = Some(value("kv", v)?),
+            "saturation" => c.saturation = Some(value("saturation", v)?),
+            "filter" => {
+                c.filter = v
+                    .split(':')
+                    .map(|t| {
+                        t.trim()
+                            .parse::<f64>()
+                            .map_err(|_| bad(format!("filter tap '{t}' is not a number")))
+                    })
+                    .collect::<Result<_, _>>()?
+            }
+            other => {
+                return Err(bad(format!(
+                    "unknown key '{other}' (expected kp, kv, filter, saturation)"
+                )))
+            }
+        }
+    }
+    match (kp, kv) {
+        (Some(p), Some(v)) => {
+            c.kp = p;
+            c.kv = v;
+            Ok(c)
+        }
+        _ => Err(bad("give both kp and kv".into())),
+    }
 }
 
 /// The report to stdout, or with the plot and `model_after.toml` into

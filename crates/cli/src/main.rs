@@ -198,6 +198,24 @@ enum Command {
         /// band the classification trusts).
         #[arg(long, value_name = "LO:HI")]
         band: Option<String>,
+        /// Closed-loop recording: the position reference (VAR[:COL], as for
+        /// --u). The model is then simulated inside the loop of
+        /// --controller, driven by this reference, instead of from the
+        /// recorded input.
+        #[arg(long, value_name = "VAR[:COL]", requires = "controller")]
+        reference: Option<String>,
+        /// The position controller of a closed-loop recording, u = kv (kp
+        /// (r - q) - v) with v the backward difference of the FIR-filtered
+        /// position: kp=K,kv=K[,filter=A:B:..][,saturation=S]. Each value
+        /// is a number or, in a .mat recording, the name of a scalar
+        /// variable (kp=kp,kv=kv). Default filter 0.5:0.5 (v = (q[k] -
+        /// q[k-2]) fs / 2).
+        #[arg(long, value_name = "SPEC", requires = "reference")]
+        controller: Option<String>,
+        /// A known signal added to the controller output of a closed-loop
+        /// recording (VAR[:COL]), e.g. injected pulses.
+        #[arg(long, value_name = "VAR[:COL]", requires = "reference")]
+        disturbance: Option<String>,
         #[arg(long, value_enum, default_value_t = identify::IdentifyFormat::Md)]
         format: identify::IdentifyFormat,
         /// Write report, Bode plots and model_after.toml into this directory.
@@ -402,6 +420,9 @@ fn run(cli: Cli) -> Result<(), String> {
             select,
             tolerance,
             band,
+            reference,
+            controller,
+            disturbance,
             format,
             out,
         } => {
@@ -424,6 +445,14 @@ fn run(cli: Cli) -> Result<(), String> {
                 select,
                 tolerance,
                 band: band.as_deref().map(parse_band).transpose()?,
+                closed_loop: match (reference, controller) {
+                    (Some(reference), Some(controller)) => Some(diagnose::LoopArgs {
+                        reference,
+                        controller,
+                        disturbance,
+                    }),
+                    _ => None,
+                },
                 format,
                 out: out.as_deref(),
             };

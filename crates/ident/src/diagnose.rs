@@ -163,6 +163,10 @@ pub enum EffectKind {
     /// A dead zone in the spring next to the driven mass (time domain
     /// only, [`crate::nonlinear`]); parameter `gap`.
     Backlash,
+    /// A constant force bias on the driven mass (time domain only,
+    /// [`crate::nonlinear`] and [`crate::idim`]); parameter `force_n`,
+    /// either sign.
+    Offset,
     /// An unmodelled mass and compliance: the model refitted with one more
     /// mass (at the free end of the chain, or at its start for a free
     /// chain); parameters `resonance_hz` and `antiresonance_hz`, the
@@ -191,6 +195,7 @@ impl EffectKind {
             EffectKind::HystereticDamping => "hysteretic_damping",
             EffectKind::Friction => "friction",
             EffectKind::Backlash => "backlash",
+            EffectKind::Offset => "offset",
             EffectKind::ExtraMode => "extra_mode",
             EffectKind::None => "none",
         }
@@ -207,6 +212,7 @@ impl EffectKind {
             EffectKind::HystereticDamping => Some("loss_factor"),
             EffectKind::Friction => Some("viscous_ns_per_m"),
             EffectKind::Backlash => Some("gap"),
+            EffectKind::Offset => Some("force_n"),
             EffectKind::None => None,
         }
     }
@@ -221,6 +227,7 @@ impl EffectKind {
             EffectKind::HystereticDamping => e.loss_factor = Some(value),
             EffectKind::Friction => e.viscous_friction = Some(value),
             EffectKind::Backlash => e.backlash_gap = Some(value),
+            EffectKind::Offset => e.offset_force = Some(value),
             EffectKind::ExtraMode | EffectKind::None => {}
         }
         e
@@ -235,6 +242,7 @@ impl EffectKind {
             EffectKind::HystereticDamping => base.loss_factor,
             EffectKind::Friction => base.viscous_friction,
             EffectKind::Backlash => base.backlash_gap,
+            EffectKind::Offset => base.offset_force,
             EffectKind::ExtraMode | EffectKind::None => None,
         }
     }
@@ -347,6 +355,9 @@ pub(crate) fn ser_model<S: serde::Serializer>(m: &ModelFile, s: S) -> Result<S::
     }
     if let Some(v) = m.effects.backlash_gap {
         effects.entry("backlash").or_default().insert("gap", v);
+    }
+    if let Some(v) = m.effects.offset_force {
+        effects.entry("offset").or_default().insert("force_n", v);
     }
     let mut map = s.serialize_map(Some(5))?;
     map.serialize_entry("structure", &m.model.id())?;
@@ -1107,7 +1118,10 @@ impl Context<'_> {
                 1e-4 * self.total_mass * 2.0 * PI * self.f_lo,
                 1e2 * self.total_mass * 2.0 * PI * self.f_hi,
             ),
-            EffectKind::ExtraMode | EffectKind::Backlash | EffectKind::None => (1.0, 1.0),
+            EffectKind::ExtraMode
+            | EffectKind::Backlash
+            | EffectKind::Offset
+            | EffectKind::None => (1.0, 1.0),
         }
     }
 

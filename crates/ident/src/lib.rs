@@ -12,6 +12,7 @@ pub mod classify;
 pub mod diagnose;
 pub mod fit;
 pub mod identify;
+pub mod idim;
 pub mod nonlinear;
 pub mod start;
 pub mod synth;

@@ -256,8 +256,9 @@ fn draw_many(seed: u64, kinds: &[EffectKind]) -> Case {
                     last = Some((ext, q, r));
                 }
             }
-            // Backlash is time-domain only (tests/nonlinear.rs).
-            EffectKind::Backlash | EffectKind::None => continue,
+            // Backlash and offset are time-domain only (tests/nonlinear.rs,
+            // tests/closed_loop.rs).
+            EffectKind::Backlash | EffectKind::Offset | EffectKind::None => continue,
         };
         truth.push((kind, value));
     }

@@ -177,8 +177,12 @@ fn score(kind: EffectKind, seed0: u64) -> (usize, Vec<f64>) {
         if ok && kind != EffectKind::None {
             errors.push(err);
         }
+        let also: Vec<String> = d.effects[1..]
+            .iter()
+            .map(|e| format!("{} {:?} {}", e.kind.as_str(), e.parameters, e.evidence))
+            .collect();
         eprintln!(
-            "{kind:?} seed {}: {} {} got {:?} {:?} (truth {:.4e}); score {:.1}; {}",
+            "{kind:?} seed {}: {} {} got {:?} {:?} (truth {:.4e}); score {:.1}; also {also:?}; {}",
             seed0 + i,
             c.nominal.model.id(),
             c.nominal.output,

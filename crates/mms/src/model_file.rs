@@ -21,6 +21,7 @@
 //! time_delay = { delay_s = 2e-4 }
 //! friction = { viscous_ns_per_m = 0.5, coulomb_n = 0.2 }   # either or both
 //! backlash = { gap = 1e-4 }  # m (or rad): dead zone in a spring
+//! offset = { force_n = -3.2 } # N (or N m), either sign: a constant force bias
 //! ```
 //!
 //! `structure = "A2"` (a paper ID, or a generic ID such as
@@ -117,13 +118,14 @@ const TOP_KEYS: [&str; 10] = [
 
 /// `(key, parameters)` of each effect in the `[effects]` table; every
 /// effect needs at least one of its parameters.
-const EFFECT_KEYS: [(&str, &[&str]); 6] = [
+const EFFECT_KEYS: [(&str, &[&str]); 7] = [
     ("time_delay", &["delay_s"]),
     ("lowpass", &["corner_hz"]),
     ("gain_error", &["factor"]),
     ("hysteretic_damping", &["loss_factor"]),
     ("friction", &["viscous_ns_per_m", "coulomb_n"]),
     ("backlash", &["gap"]),
+    ("offset", &["force_n"]),
 ];
 
 struct Reader<'a> {
@@ -356,11 +358,12 @@ impl ModelFile {
                     let Some(pv) = t.get(pname) else { continue };
                     let x = r.number(pname, pv)?;
                     // Delays, damping, friction and gaps may be zero (the
-                    // effect switched off); a corner or a gain factor not.
-                    let ok = if matches!(pname, "corner_hz" | "factor") {
-                        x > 0.0
-                    } else {
-                        x >= 0.0
+                    // effect switched off); a corner or a gain factor not;
+                    // an offset force has either sign.
+                    let ok = match pname {
+                        "corner_hz" | "factor" => x > 0.0,
+                        "force_n" => x.is_finite(),
+                        _ => x >= 0.0,
                     };
                     if !ok {
                         return Err(r.err(pv.span(), format!("'{pname}' = {x} is out of range")));
@@ -372,6 +375,7 @@ impl ModelFile {
                         "loss_factor" => effects.loss_factor = Some(x),
                         "viscous_ns_per_m" => effects.viscous_friction = Some(x),
                         "coulomb_n" => effects.coulomb_friction = Some(x),
+                        "force_n" => effects.offset_force = Some(x),
                         _ => effects.backlash_gap = Some(x),
                     }
                 }
@@ -416,7 +420,7 @@ impl ModelFile {
         let e = &self.effects;
         if !e.is_empty() {
             s.push_str("\n[effects]\n");
-            let values: [&[(&str, Option<f64>)]; 6] = [
+            let values: [&[(&str, Option<f64>)]; 7] = [
                 &[("delay_s", e.time_delay_s)],
                 &[("corner_hz", e.lowpass_hz)],
                 &[("factor", e.gain_factor)],
@@ -426,6 +430,7 @@ impl ModelFile {
                     ("coulomb_n", e.coulomb_friction),
                 ],
                 &[("gap", e.backlash_gap)],
+                &[("force_n", e.offset_force)],
             ];
             for ((key, _), params) in EFFECT_KEYS.iter().zip(values) {
                 let set: Vec<String> = params

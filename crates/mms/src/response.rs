@@ -215,6 +215,13 @@ pub struct Effects {
     /// the first spring on the free side of the driven mass (see
     /// [`crate::simulate`]). Nonlinear: the FRF ignores it.
     pub backlash_gap: Option<f64>,
+    /// `offset {force_n}`: a constant force bias on the driven mass, N (or
+    /// N m), either sign, in the sense of the inverse dynamics `F = M q'' +
+    /// ... + offset` (a measured force that carries an offset, or a
+    /// constant load such as gravity on an inclined axis). It moves only
+    /// the static equilibrium: the FRF ignores it; [`crate::simulate`]
+    /// applies it in the time domain.
+    pub offset_force: Option<f64>,
 }
 
 impl Effects {

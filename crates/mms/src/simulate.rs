@@ -29,6 +29,12 @@
 //!   the driven mass (between masses `p` and `p + 1` for `p` the actuator's
 //!   `plus` mass), else the one on its ground side: the coupling next to
 //!   the motor, where a gearbox or a coupling with play sits.
+//! - **Offset** (`offset {force_n}`): a constant force `-force_n` on the
+//!   driven mass (the inverse dynamics `F = M q'' + ... + offset`); at rest
+//!   Coulomb friction balances it like any other force.
+//! - **Closed loop** ([`Simulator::run_closed_loop`]): a sampled position
+//!   [`Controller`] computes the input from the simulated sensor reading
+//!   and a reference, as the real controller did from the measured one.
 //! - **Integration**: classical fixed-step RK4 with sub-steps per sample,
 //!   `h <= 0.3 / rate`, where `rate` bounds the largest eigenvalue of the
 //!   linear part (Gershgorin on `M^-1 C` for the stiffness, on `M^-1 D` for
@@ -86,6 +92,9 @@ pub enum SimulateError {
     /// The place of a nonlinearity does not exist in the model.
     #[error("{0}")]
     Place(String),
+    /// A controller or closed-loop setting that cannot run.
+    #[error("closed loop: {0}")]
+    Controller(String),
     /// The state left the finite numbers (a wrong step or parameters).
     #[error("the simulation diverged at sample {0}")]
     Diverged(usize),
@@ -123,6 +132,8 @@ pub struct Simulator {
     /// Coulomb force and its mass (0-based).
     coulomb: f64,
     friction_mass: usize,
+    /// Constant offset force on `driven` (subtracted).
+    offset: f64,
     /// Backlash: the link index in `links` and the half gap.
     backlash: Option<(usize, f64)>,
     /// Lag: `2 pi f_c` (0: none).
@@ -210,6 +221,14 @@ impl Simulator {
         let viscous = check("friction.viscous_ns_per_m", effects.viscous_friction, true)?;
         let coulomb = check("friction.coulomb_n", effects.coulomb_friction, true)?;
         let gap = check("backlash.gap", effects.backlash_gap, true)?;
+        let offset = match effects.offset_force {
+            Some(f) if !f.is_finite() => {
+                return Err(SimulateError::Effect(format!(
+                    "offset.force_n = {f} is not finite"
+                )))
+            }
+            f => f.unwrap_or(0.0),
+        };
         let delay = check("time_delay.delay_s", effects.time_delay_s, true)?;
         let lag = match effects.lowpass_hz {
             None => 0.0,
@@ -276,6 +295,7 @@ impl Simulator {
             driven,
             coulomb,
             friction_mass,
+            offset,
             backlash,
             lag,
             delay_steps: (delay / h).round() as usize,
@@ -295,7 +315,7 @@ impl Simulator {
         for (i, o) in out.iter_mut().enumerate() {
             *o = self.input[i] * f;
         }
-        out[self.driven] -= self.viscous * s.v[self.driven];
+        out[self.driven] -= self.viscous * s.v[self.driven] + self.offset;
         let node = |v: &[f64], k: usize| if k == 0 { 0.0 } else { v[k - 1] };
         for (k, &(a, b, c, d)) in self.links.iter().enumerate() {
             let dx = node(&s.x, b) - node(&s.x, a);
@@ -357,17 +377,25 @@ impl Simulator {
         let mut a = vec![0.0; self.n];
         let mut scratch = vec![0.0; self.n];
         let dot = |w: &[f64], v: &[f64]| w.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
-        self.integrate(u, |s, f_in| {
-            y.push(match self.output {
-                Output::Position => dot(&self.sensor, &s.x),
-                Output::Velocity => dot(&self.sensor, &s.v),
-                Output::Acceleration => {
-                    self.deriv(s, f_in, &mut a, &mut scratch);
-                    dot(&self.sensor, &a)
-                }
-            });
-            y.last().is_some_and(|v| v.is_finite())
-        })?;
+        if let Some(k) = u.iter().position(|x| !x.is_finite()) {
+            return Err(SimulateError::Input(k));
+        }
+        self.integrate(
+            u.len(),
+            Start::Rest,
+            |k, _| u[k],
+            |s, f_in| {
+                y.push(match self.output {
+                    Output::Position => dot(&self.sensor, &s.x),
+                    Output::Velocity => dot(&self.sensor, &s.v),
+                    Output::Acceleration => {
+                        self.deriv(s, f_in, &mut a, &mut scratch);
+                        dot(&self.sensor, &a)
+                    }
+                });
+                y.last().is_some_and(|v| v.is_finite())
+            },
+        )?;
         Ok(y)
     }
 
@@ -389,36 +417,126 @@ impl Simulator {
     /// ```
     pub fn positions(&self, u: &[f64]) -> Result<Vec<Vec<f64>>, SimulateError> {
         let mut out = Vec::with_capacity(u.len());
-        self.integrate(u, |s, _| {
-            out.push(s.x.clone());
-            s.x.iter().all(|x| x.is_finite())
-        })?;
-        Ok(out)
-    }
-
-    /// Integrates from rest; `sample(state, held input)` is called at each
-    /// sample time and returns false if the state is no longer finite.
-    fn integrate(
-        &self,
-        u: &[f64],
-        mut sample: impl FnMut(&State, f64) -> bool,
-    ) -> Result<(), SimulateError> {
         if let Some(k) = u.iter().position(|x| !x.is_finite()) {
             return Err(SimulateError::Input(k));
         }
+        self.integrate(
+            u.len(),
+            Start::Rest,
+            |k, _| u[k],
+            |s, _| {
+                out.push(s.x.clone());
+                s.x.iter().all(|x| x.is_finite())
+            },
+        )?;
+        Ok(out)
+    }
+
+    /// Simulates the model inside a sampled position loop: at each sample
+    /// `k` the controller reads the simulated sensor position (plus
+    /// `initial_position`) and the reference `r[k]`, and its output `u[k]`
+    /// (plus the disturbance `d[k]`, then saturated) is held until the next
+    /// sample, as the recorded controller did. The model starts in a rigid
+    /// motion at `initial_velocity` (every mass) with its springs relaxed,
+    /// and the controller's past readings continue that motion. Returns the
+    /// simulated sensor position and the controller output.
+    ///
+    /// The output must be a position.
+    ///
+    /// ```
+    /// use mms::model_file::ModelFile;
+    /// use mms::simulate::{ClosedLoop, Controller, SimOptions, Simulator};
+    /// // A 10 kg body, 40 N/V drive, in the loop of a P position / P
+    /// // velocity controller; the reference steps to 1 mm.
+    /// let text = "masses = 1\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\n\
+    ///             output = \"position\"\ngain = 40\n[parameters]\nm1 = 10\n";
+    /// let file = ModelFile::parse(text)?;
+    /// let sim = Simulator::new(&file, 1000.0, &SimOptions::default())?;
+    /// let r = vec![1e-3; 2000];
+    /// let c = Controller::new(50.0, 20.0);
+    /// let run = sim.run_closed_loop(&ClosedLoop::new(&c, &r))?;
+    /// // The loop settles on the reference (no force is left at rest).
+    /// assert!((run.y[1999] - 1e-3).abs() < 1e-9);
+    /// assert!(run.u[1999].abs() < 1e-6);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn run_closed_loop(&self, cl: &ClosedLoop) -> Result<ClosedLoopRun, SimulateError> {
+        if self.output != Output::Position {
+            return Err(SimulateError::Controller(format!(
+                "the controller reads a position; the model's output is {}",
+                self.output
+            )));
+        }
+        let bad = |s: String| Err(SimulateError::Controller(s));
+        let n = cl.reference.len();
+        if let Some(d) = cl.disturbance {
+            if d.len() != n {
+                return bad(format!(
+                    "the disturbance has {} samples, the reference {n}",
+                    d.len()
+                ));
+            }
+        }
+        let check = cl
+            .reference
+            .iter()
+            .chain(cl.disturbance.unwrap_or(&[]))
+            .position(|x| !x.is_finite());
+        if let Some(k) = check {
+            return Err(SimulateError::Input(k % n.max(1)));
+        }
+        if !(cl.initial_position.is_finite() && cl.initial_velocity.is_finite()) {
+            return bad("the initial position and velocity must be finite".into());
+        }
+        cl.controller.validate()?;
+        let fs = 1.0 / (self.h * self.substeps as f64);
+        let dot = |w: &[f64], v: &[f64]| w.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+        let mut hist = History::new(cl.controller, cl.initial_position, cl.initial_velocity, fs);
+        let mut y = Vec::with_capacity(n);
+        let start = Start::Moving(cl.initial_velocity);
+        let u = self.integrate(
+            n,
+            start,
+            |k, s| {
+                let reading = dot(&self.sensor, &s.x) + cl.initial_position;
+                y.push(reading);
+                let d = cl.disturbance.map_or(0.0, |d| d[k]);
+                hist.output(cl.controller, cl.reference[k], reading, d)
+            },
+            |s, _| s.x.iter().chain(&s.v).all(|v| v.is_finite()),
+        )?;
+        Ok(ClosedLoopRun { y, u })
+    }
+
+    /// Integrates `n` samples from `start`; at each sample time `input(k,
+    /// state)` gives the sample's input `u[k]` (before the gain), then
+    /// `sample(state, held input)` is called and returns false if the state
+    /// is no longer finite. Returns the inputs.
+    fn integrate(
+        &self,
+        samples: usize,
+        start: Start,
+        mut input: impl FnMut(usize, &State) -> f64,
+        mut sample: impl FnMut(&State, f64) -> bool,
+    ) -> Result<Vec<f64>, SimulateError> {
         let n = self.n;
+        let v0 = match start {
+            Start::Rest => 0.0,
+            Start::Moving(v) => v,
+        };
         let mut s = State {
             x: vec![0.0; n],
-            v: vec![0.0; n],
+            v: vec![v0; n],
             f: 0.0,
         };
+        let mut u: Vec<f64> = Vec::with_capacity(samples);
         let mut tmp = s.clone();
         let (mut k1, mut k2, mut k3, mut k4) =
             (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         let mut scratch = vec![0.0; n];
         let (mut v1, mut v2, mut v3) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         let h = self.h;
-        let held = |step: usize| -> f64 {
+        let held = |u: &[f64], step: usize| -> f64 {
             // The sub-step's input: the held sample, `delay_steps` earlier.
             match step.checked_sub(self.delay_steps) {
                 Some(t) => self.scale * u[t / self.substeps],
@@ -426,13 +544,18 @@ impl Simulator {
             }
         };
         let j = self.friction_mass;
-        for k in 0..u.len() {
+        for k in 0..samples {
             let step0 = k * self.substeps;
-            if !sample(&s, held(step0)) {
+            let uk = input(k, &s);
+            if !uk.is_finite() {
+                return Err(SimulateError::Diverged(k));
+            }
+            u.push(uk);
+            if !sample(&s, held(&u, step0)) {
                 return Err(SimulateError::Diverged(k));
             }
             for sub in 0..self.substeps {
-                let f_in = held(step0 + sub);
+                let f_in = held(&u, step0 + sub);
                 let v0 = s.v[j];
                 // RK4 on (x, v, f): k = velocity derivative (acceleration);
                 // position derivative is the stage's velocity.
@@ -466,8 +589,252 @@ impl Simulator {
                 }
             }
         }
+        Ok(u)
+    }
+}
+
+/// How a simulation starts.
+#[derive(Clone, Copy)]
+enum Start {
+    /// At rest.
+    Rest,
+    /// Every mass at this velocity (a rigid motion, springs relaxed).
+    Moving(f64),
+}
+
+/// A sampled P position loop around a P velocity loop, as in drives and
+/// robot joints (and the EMPS benchmark):
+///
+/// ```text
+/// u[k] = kv (kp (r[k] - q[k]) - v[k]),   v[k] = (qf[k] - qf[k-1]) fs,
+/// qf[k] = sum_i filter[i] q[k - i]
+/// ```
+///
+/// The velocity is the backward difference of the FIR-filtered position
+/// (`filter = [0.5, 0.5]`, the EMPS default, makes it the central
+/// difference `(q[k] - q[k-2]) fs / 2`), and the output is clipped to
+/// `±saturation` if given.
+///
+/// ```
+/// use mms::simulate::Controller;
+/// // Recorded position, reference and output: the law reproduces u
+/// // (from the third sample on, where it needs no reading before the
+/// // record).
+/// let c = Controller::new(160.18, 243.45);
+/// let q: Vec<f64> = (0..8).map(|k| 1e-5 * (k * k) as f64).collect();
+/// let r = [1e-4; 8];
+/// let u: Vec<f64> = (0..8)
+///     .map(|k| {
+///         let v = if k < 2 { 0.0 } else { (q[k] - q[k - 2]) * 1000.0 / 2.0 };
+///         243.45 * (160.18 * (r[k] - q[k]) - v)
+///     })
+///     .collect();
+/// let check = c.check(&r, &q, &u, None, 1000.0)?;
+/// assert!(check.rms_rel < 1e-12);
+/// // A plain backward difference does not.
+/// let backward = Controller { filter: vec![1.0], ..c };
+/// assert!(backward.check(&r, &q, &u, None, 1000.0)?.rms_rel > 0.01);
+/// # Ok::<(), mms::simulate::SimulateError>(())
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Controller {
+    /// Position gain (1/s): velocity demand per position error.
+    pub kp: f64,
+    /// Velocity gain: controller output per velocity error (e.g. V per
+    /// m/s).
+    pub kv: f64,
+    /// FIR taps applied to the position before the velocity difference.
+    pub filter: Vec<f64>,
+    /// Symmetric limit of the output, if any.
+    pub saturation: Option<f64>,
+}
+
+impl Controller {
+    /// The EMPS law with gains `kp` and `kv`: filter `[0.5, 0.5]`, no
+    /// saturation.
+    pub fn new(kp: f64, kv: f64) -> Controller {
+        Controller {
+            kp,
+            kv,
+            filter: vec![0.5, 0.5],
+            saturation: None,
+        }
+    }
+
+    fn validate(&self) -> Result<(), SimulateError> {
+        let bad = |s: String| Err(SimulateError::Controller(s));
+        if !(self.kp.is_finite() && self.kv.is_finite() && self.kp > 0.0 && self.kv > 0.0) {
+            return bad(format!(
+                "gains kp = {} and kv = {} must be positive and finite",
+                self.kp, self.kv
+            ));
+        }
+        let sum: f64 = self.filter.iter().sum();
+        if self.filter.is_empty()
+            || self.filter.iter().any(|t| !t.is_finite())
+            || (sum - 1.0).abs() > 1e-9
+        {
+            return bad(format!(
+                "the position filter {:?} must have finite taps summing to 1",
+                self.filter
+            ));
+        }
+        if let Some(s) = self.saturation {
+            if !(s.is_finite() && s > 0.0) {
+                return bad(format!("saturation {s} must be positive and finite"));
+            }
+        }
         Ok(())
     }
+
+    /// Applies the law to a recorded position `q` and reference `r` (with
+    /// an additive `disturbance` if the record has one) and compares it
+    /// with the recorded output `u`: a closed-loop simulation is only as
+    /// good as this match. The first `filter.len()` samples, whose law
+    /// needs readings from before the record, are not compared.
+    pub fn check(
+        &self,
+        r: &[f64],
+        q: &[f64],
+        u: &[f64],
+        disturbance: Option<&[f64]>,
+        fs: f64,
+    ) -> Result<ControllerCheck, SimulateError> {
+        self.validate()?;
+        let n = q.len();
+        if r.len() != n || u.len() != n || disturbance.is_some_and(|d| d.len() != n) {
+            return Err(SimulateError::Controller(
+                "reference, position, output and disturbance differ in length".into(),
+            ));
+        }
+        if n < self.filter.len() + 3 {
+            return Err(SimulateError::Controller(format!(
+                "{n} samples are too few to check the law"
+            )));
+        }
+        if !(fs.is_finite() && fs > 0.0) {
+            return Err(SimulateError::SampleRate(fs));
+        }
+        let v0 = (q[2] - q[0]) * fs / 2.0;
+        let mut hist = History::new(self, q[0], v0, fs);
+        let (mut e2, mut u2, mut max_abs) = (0.0, 0.0, 0.0f64);
+        let mut saturated = 0;
+        for k in 0..n {
+            let d = disturbance.map_or(0.0, |d| d[k]);
+            let law = hist.output(self, r[k], q[k], d);
+            if k < self.filter.len() {
+                continue;
+            }
+            if self.saturation.is_some_and(|s| law.abs() >= s) {
+                saturated += 1;
+            }
+            let e = u[k] - law;
+            e2 += e * e;
+            u2 += u[k] * u[k];
+            max_abs = max_abs.max(e.abs());
+        }
+        if !(e2.is_finite() && u2.is_finite()) {
+            return Err(SimulateError::Controller("samples are not finite".into()));
+        }
+        Ok(ControllerCheck {
+            rms_rel: if u2 > 0.0 {
+                (e2 / u2).sqrt()
+            } else {
+                e2.sqrt()
+            },
+            max_abs,
+            saturated,
+        })
+    }
+}
+
+/// How well a [`Controller`] reproduces a recorded output
+/// ([`Controller::check`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ControllerCheck {
+    /// RMS of `u - law` over the RMS of `u`.
+    pub rms_rel: f64,
+    /// Largest `|u - law|`.
+    pub max_abs: f64,
+    /// Samples where the law reached the saturation.
+    pub saturated: usize,
+}
+
+/// The controller's memory: past readings for the FIR filter and the
+/// last filtered position.
+struct History {
+    q: Vec<f64>,
+    qf_prev: f64,
+    fs: f64,
+}
+
+impl History {
+    /// Past readings of a motion through `q0` at velocity `v0`.
+    fn new(c: &Controller, q0: f64, v0: f64, fs: f64) -> History {
+        let past = |i: usize| q0 - v0 * i as f64 / fs;
+        let q: Vec<f64> = (1..=c.filter.len()).map(past).collect();
+        let qf_prev = c
+            .filter
+            .iter()
+            .enumerate()
+            .map(|(i, t)| t * past(i + 1))
+            .sum();
+        History { q, qf_prev, fs }
+    }
+
+    /// The output for reference `r` and reading `q` (the newest), plus `d`.
+    fn output(&mut self, c: &Controller, r: f64, q: f64, d: f64) -> f64 {
+        // Shift in the new reading.
+        self.q.rotate_right(1);
+        self.q[0] = q;
+        let qf: f64 = c.filter.iter().zip(&self.q).map(|(t, q)| t * q).sum();
+        let v = (qf - self.qf_prev) * self.fs;
+        self.qf_prev = qf;
+        let u = c.kv * (c.kp * (r - q) - v) + d;
+        match c.saturation {
+            Some(s) => u.clamp(-s, s),
+            None => u,
+        }
+    }
+}
+
+/// A closed position loop around the model
+/// ([`Simulator::run_closed_loop`]).
+#[derive(Clone, Copy, Debug)]
+pub struct ClosedLoop<'a> {
+    /// The controller.
+    pub controller: &'a Controller,
+    /// The position reference, one sample per output sample.
+    pub reference: &'a [f64],
+    /// A known signal added to the controller's output (e.g. injected
+    /// pulses), in its units.
+    pub disturbance: Option<&'a [f64]>,
+    /// The sensor's position at the start.
+    pub initial_position: f64,
+    /// The velocity at the start (every mass).
+    pub initial_velocity: f64,
+}
+
+impl<'a> ClosedLoop<'a> {
+    /// A loop starting at rest at position 0, without disturbance.
+    pub fn new(controller: &'a Controller, reference: &'a [f64]) -> ClosedLoop<'a> {
+        ClosedLoop {
+            controller,
+            reference,
+            disturbance: None,
+            initial_position: 0.0,
+            initial_velocity: 0.0,
+        }
+    }
+}
+
+/// The result of [`Simulator::run_closed_loop`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClosedLoopRun {
+    /// Simulated sensor position.
+    pub y: Vec<f64>,
+    /// Controller output (the model's input before its gain).
+    pub u: Vec<f64>,
 }
 
 /// `out = s + dt * (v, a, g)`.

@@ -194,3 +194,37 @@ fn nonlinear_effects_round_trip() {
         assert_eq!(ModelFile::parse(&written).unwrap().to_toml(), written);
     }
 }
+
+/// A force offset (`offset {force_n}`, either sign) reads and writes back;
+/// a non-finite one is an error naming the line.
+#[test]
+fn offset_round_trip_and_errors() {
+    let base = "structure = \"A2\"\noutput = \"position\"\n[parameters]\nm1 = 1\nm2 = 1\nm3 = 1\nc12 = 1\nc23 = 1\nd12 = 0\nd23 = 0\n[effects]\n";
+    for (tail, want) in [
+        ("offset = { force_n = -3.16 }\n", -3.16),
+        (
+            "friction = { coulomb_n = 20 }\noffset = { force_n = 0.5 }\n",
+            0.5,
+        ),
+    ] {
+        let f = ModelFile::parse(&format!("{base}{tail}")).unwrap();
+        assert_eq!(f.effects.offset_force, Some(want), "{tail}");
+        let written = f.to_toml();
+        assert_eq!(ModelFile::parse(&written).unwrap(), f, "{written}");
+    }
+    for (tail, want) in [
+        (
+            "offset = { force_n = nan }\n",
+            "line 12: 'force_n' must be finite",
+        ),
+        (
+            "offset = { force = 1 }\n",
+            "line 12: unknown key 'force' in effect 'offset' (expected force_n)",
+        ),
+    ] {
+        let got = ModelFile::parse(&format!("{base}{tail}"))
+            .unwrap_err()
+            .to_string();
+        assert!(got.starts_with(want), "got: {got}\nwant: {want}");
+    }
+}

@@ -275,3 +275,126 @@ fn substeps_and_places() {
     assert!(simulate(&hyst, &[1.0], 100.0).is_err());
     assert!(simulate(&soft, &[f64::NAN], 100.0).is_err());
 }
+
+/// The offset force in the sense of the inverse dynamics `F = M a + ... +
+/// offset`: with no input a mass accelerates at `-offset / m`; Coulomb
+/// friction above the offset holds it at rest.
+#[test]
+fn offset_force_newton_and_stiction() {
+    let mut f = one_mass(2.0, 0.0, Output::Position);
+    f.effects.offset_force = Some(-3.0);
+    let fs = 100.0;
+    let y = simulate(&f, &[0.0; 101], fs).unwrap();
+    // a = +1.5 m/s^2: x(1 s) = 0.75 m (exact for RK4 on a constant force).
+    assert!((y[100] - 0.75).abs() < 1e-12, "{}", y[100]);
+    f.effects.coulomb_friction = Some(3.5);
+    let y = simulate(&f, &[0.0; 101], fs).unwrap();
+    assert!(y.iter().all(|&v| v == 0.0));
+    // The net force without friction is u + 3: u = -1 gives 2 < 3.5 and
+    // sticks; u = 1 gives 4 and slips at (4 - 3.5) / 2 = 0.25 m/s^2; u =
+    // -8 gives -5, slipping at (-5 + 3.5) / 2 = -0.75 m/s^2.
+    for (u, a) in [(-1.0, 0.0), (1.0, 0.25), (-8.0, -0.75)] {
+        let y = simulate(&f, &[u; 101], fs).unwrap();
+        assert!((y[100] - 0.5 * a).abs() < 1e-12, "u = {u}: {}", y[100]);
+    }
+}
+
+/// The sampled P/P loop against an independent evaluation: a frictionless
+/// mass under a held force moves exactly as `x += v h + a h^2 / 2`, `v += a
+/// h` per sample, and the law is evaluated here from its definition. RK4
+/// is exact on a constant force, so the two agree to rounding.
+#[test]
+fn closed_loop_matches_exact_sampled_loop() {
+    use mms::simulate::{ClosedLoop, Controller};
+    let (m, gain, kp, kv, fs) = (5.0, 30.0, 80.0, 40.0, 1000.0);
+    let mut f = one_mass(m, 0.0, Output::Position);
+    f.effects.coulomb_friction = None;
+    f.gain = gain;
+    let n = 3000;
+    let r: Vec<f64> = (0..n)
+        .map(|k| 0.1 * (2.0 * PI * 0.7 * k as f64 / fs).sin() + 0.02)
+        .collect();
+    let (q0, v0) = (0.01, 0.05);
+    let c = Controller::new(kp, kv);
+    let sim = Simulator::new(&f, fs, &SimOptions::default()).unwrap();
+    let run = sim
+        .run_closed_loop(&ClosedLoop {
+            initial_position: q0,
+            initial_velocity: v0,
+            ..ClosedLoop::new(&c, &r)
+        })
+        .unwrap();
+    // Independent: exact ZOH update, law u = kv (kp (r - q) - (q[k] -
+    // q[k-2]) fs / 2) with the past continuing the initial motion.
+    let h = 1.0 / fs;
+    let (mut x, mut v) = (q0, v0);
+    let mut q = vec![q0 - 2.0 * v0 * h, q0 - v0 * h];
+    for k in 0..n {
+        q.push(x);
+        let vel = (q[k + 2] - q[k]) * fs / 2.0;
+        let u = kv * (kp * (r[k] - x) - vel);
+        assert!((run.y[k] - x).abs() < 1e-12, "y[{k}]: {} vs {x}", run.y[k]);
+        assert!((run.u[k] - u).abs() < 1e-8 * (1.0 + u.abs()), "u[{k}]");
+        let a = gain * u / m;
+        x += v * h + 0.5 * a * h * h;
+        v += a * h;
+    }
+    // The law reproduces its own output exactly.
+    let check = c.check(&r, &run.y, &run.u, None, fs).unwrap();
+    assert!(check.rms_rel < 1e-12, "{check:?}");
+}
+
+/// At rest in the loop, a constant offset force is held by the position
+/// error `offset / (gain kp kv)`; saturation clips the output; bad
+/// controllers and outputs are errors.
+#[test]
+fn closed_loop_static_error_saturation_and_errors() {
+    use mms::simulate::{ClosedLoop, Controller, SimulateError};
+    let (gain, kp, kv) = (35.0, 160.0, 240.0);
+    let mut f = one_mass(95.0, 0.0, Output::Position);
+    f.effects.coulomb_friction = None;
+    f.effects.viscous_friction = Some(200.0);
+    f.effects.offset_force = Some(-3.2);
+    f.gain = gain;
+    let sim = Simulator::new(&f, 1000.0, &SimOptions::default()).unwrap();
+    let r = vec![0.1; 4000];
+    let c = Controller::new(kp, kv);
+    let run = sim.run_closed_loop(&ClosedLoop::new(&c, &r)).unwrap();
+    // gain u = offset at rest, u = kv kp (r - q).
+    let want = 0.1 - (-3.2) / (gain * kp * kv);
+    assert!(
+        (run.y[3999] - want).abs() < 1e-12,
+        "{} vs {want}",
+        run.y[3999]
+    );
+    assert!((gain * run.u[3999] - (-3.2)).abs() < 1e-9);
+    // The step of 0.1 m asks for kv kp 0.1 = 3840 V at first; a 10 V limit
+    // clips it.
+    let limited = Controller {
+        saturation: Some(10.0),
+        ..c.clone()
+    };
+    let run = sim.run_closed_loop(&ClosedLoop::new(&limited, &r)).unwrap();
+    assert_eq!(run.u[0], 10.0);
+    assert!(run.u.iter().all(|u| u.abs() <= 10.0));
+    // Errors.
+    let bad = Controller::new(-1.0, kv);
+    assert!(matches!(
+        sim.run_closed_loop(&ClosedLoop::new(&bad, &r)),
+        Err(SimulateError::Controller(_))
+    ));
+    let bad_filter = Controller {
+        filter: vec![0.5, 0.6],
+        ..c.clone()
+    };
+    assert!(sim
+        .run_closed_loop(&ClosedLoop::new(&bad_filter, &r))
+        .is_err());
+    let mut vel = f.clone();
+    vel.output = Output::Velocity;
+    let sim = Simulator::new(&vel, 1000.0, &SimOptions::default()).unwrap();
+    let e = sim.run_closed_loop(&ClosedLoop::new(&c, &r)).unwrap_err();
+    assert!(e.to_string().contains("reads a position"), "{e}");
+    let short = [0.0; 2];
+    assert!(c.check(&short, &short, &short, None, 1000.0).is_err());
+}

@@ -1,0 +1,520 @@
+//! Inverse-dynamics identification (IDIM-LS) of a rigid body driven by a
+//! measured force: the standard method of robot identification (Gautier
+//! 1997; Janot, Gautier and Brunot, "Data Set and Reference Models of
+//! EMPS", 2019), used by the time-domain diagnosis as a second method
+//! independent of any simulation.
+//!
+//! The inverse dynamic model of one body with viscous and Coulomb friction
+//! and a force offset is linear in its parameters:
+//!
+//! ```text
+//! F(t) = M q''(t) + F_v q'(t) + F_c sign(q'(t)) + offset
+//! ```
+//!
+//! 1. **Derivatives.** The measured position is low-pass filtered by a
+//!    Butterworth filter run forward and backward (zero phase, so no lag
+//!    enters the regressors), then differentiated by central differences.
+//! 2. **Decimation.** Every column (the force and each regressor) is
+//!    filtered by the same zero-phase low-pass at `0.8 fs / (2 d)` and one
+//!    sample in `d` is kept: the force carries ripples the controller
+//!    rejects and that the model does not explain.
+//! 3. **Least squares** (normal equations with column scaling); standard
+//!    deviations from the residual variance.
+//! 4. **Selection.** The base model is the chain's own terms (`M q''` and,
+//!    by default, `F_v q'`). Coulomb friction (`sign q'`, kind `friction`,
+//!    parameter `coulomb_n`) and the offset (a constant, kind `offset`,
+//!    parameter `force_n`) are added by forward selection: each must lower
+//!    the force residual by the BIC price `ln n + margin` (`n ln(RSS_0 /
+//!    RSS_1)`) and remove at least `min_share` of the residual energy.
+//!
+//! ```
+//! use ident::diagnose::EffectKind;
+//! use ident::idim::{idim_ls, IdimOptions};
+//! // A 2 kg body with 3 N s/m viscous and 0.5 N Coulomb friction, moved
+//! // along q(t) = sin(2 pi t) + 0.3 sin(6 pi t); the force is what the
+//! // model needs.
+//! let fs = 1000.0;
+//! let w = 2.0 * std::f64::consts::PI;
+//! let (mut q, mut f) = (Vec::new(), Vec::new());
+//! for k in 0..4000 {
+//!     let t = k as f64 / fs;
+//!     let (x, v, a) = (
+//!         (w * t).sin() + 0.3 * (3.0 * w * t).sin(),
+//!         w * (w * t).cos() + 0.9 * w * (3.0 * w * t).cos(),
+//!         -w * w * (w * t).sin() - 2.7 * w * w * (3.0 * w * t).sin(),
+//!     );
+//!     q.push(x);
+//!     f.push(2.0 * a + 3.0 * v + 0.5 * v.signum());
+//! }
+//! let id = idim_ls(&f, &q, fs, &IdimOptions::default())?;
+//! assert_eq!(id.effects[0].kind, EffectKind::Friction);
+//! assert!((id.value("m").unwrap() / 2.0 - 1.0).abs() < 0.01);
+//! assert!((id.value("coulomb_n").unwrap() / 0.5 - 1.0).abs() < 0.05);
+//! # Ok::<(), ident::idim::IdimError>(())
+//! ```
+
+use crate::diagnose::{EffectKind, EffectVerdict};
+use crate::fit::solve_spd;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// Options of [`idim_ls`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct IdimOptions {
+    /// Corner of the zero-phase Butterworth filter of the position before
+    /// differentiation, Hz; `None`: `fs / 10` (the authors' rule of thumb
+    /// is at least 5 times the closed-loop bandwidth, 20 Hz for EMPS).
+    pub cutoff_hz: Option<f64>,
+    /// Order of the Butterworth filters (even).
+    pub order: usize,
+    /// Decimation factor `d` of the parallel filtering.
+    pub decimation: usize,
+    /// Fit a viscous friction term in the base model.
+    pub viscous: bool,
+    /// What an effect must gain beyond the BIC price of its parameter.
+    pub margin: f64,
+    /// The share of the residual energy an effect must remove as well.
+    pub min_share: f64,
+}
+
+impl Default for IdimOptions {
+    fn default() -> IdimOptions {
+        IdimOptions {
+            cutoff_hz: None,
+            order: 4,
+            decimation: 10,
+            viscous: true,
+            margin: 10.0,
+            min_share: 0.05,
+        }
+    }
+}
+
+/// Why an inverse-dynamics identification cannot run.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum IdimError {
+    /// Bad samples or options.
+    #[error("{0}")]
+    Input(String),
+    /// The regressors do not determine the parameters (no motion, no
+    /// acceleration, or a velocity of one sign where the offset and the
+    /// Coulomb force cannot be told apart).
+    #[error("the inverse-dynamics regressors are singular: {0}")]
+    Singular(String),
+}
+
+/// One estimated parameter.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Estimate {
+    /// `m` (mass or inertia), `viscous_ns_per_m`, `coulomb_n`, or
+    /// `offset_n`.
+    pub name: String,
+    /// Least-squares value.
+    pub value: f64,
+    /// Its standard deviation (from the residual variance).
+    pub std: f64,
+}
+
+/// The result of [`idim_ls`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct InverseDynamics {
+    /// Parameters of the selected model, in regressor order.
+    pub estimates: Vec<Estimate>,
+    /// Effects kept by the selection, in the order kept; `[none]` if the
+    /// base model explains the force.
+    pub effects: Vec<EffectVerdict>,
+    /// Effects that did not earn their parameter.
+    pub rejected: Vec<EffectVerdict>,
+    /// Relative force error `|F - F_model| / |F|` of the base model.
+    pub rel_err_before: f64,
+    /// The same for the selected model.
+    pub rel_err: f64,
+    /// Samples after decimation.
+    pub samples: usize,
+    /// Position filter corner, Hz.
+    pub cutoff_hz: f64,
+    /// Decimation factor.
+    pub decimation: usize,
+    /// Order of the Butterworth filters.
+    pub order: usize,
+    /// Condition number of the scaled observation matrix.
+    pub condition: f64,
+}
+
+impl InverseDynamics {
+    /// The estimate called `name`, if the selected model has it.
+    pub fn value(&self, name: &str) -> Option<f64> {
+        self.estimates
+            .iter()
+            .find(|e| e.name == name)
+            .map(|e| e.value)
+    }
+
+    /// Relative force error of this model on another record (cross-test
+    /// validation), with the same filters.
+    pub fn validate(&self, force: &[f64], q: &[f64], fs: f64) -> Result<f64, IdimError> {
+        let names: Vec<&str> = self.estimates.iter().map(|e| e.name.as_str()).collect();
+        let (cols, y) = regressors(
+            force,
+            q,
+            fs,
+            self.cutoff_hz,
+            self.order,
+            self.decimation,
+            &names,
+        )?;
+        let theta: Vec<f64> = self.estimates.iter().map(|e| e.value).collect();
+        let pred: Vec<f64> = (0..y.len())
+            .map(|k| cols.iter().zip(&theta).map(|(c, t)| c[k] * t).sum())
+            .collect();
+        Ok(rel_err(&y, &pred))
+    }
+}
+
+/// Second-order sections `(b0, b1, b2, a1, a2)` of a low-pass
+/// Butterworth filter of even `order` with corner `fc` at rate `fs`
+/// (bilinear transform with a prewarped corner).
+fn butterworth(order: usize, fc: f64, fs: f64) -> Vec<[f64; 5]> {
+    let k = (std::f64::consts::PI * fc / fs).tan();
+    (1..=order / 2)
+        .map(|i| {
+            // 2 zeta of the pole pair i of the analogue prototype.
+            let two_zeta =
+                2.0 * (std::f64::consts::PI * (2 * i - 1) as f64 / (2 * order) as f64).sin();
+            let a0 = 1.0 + two_zeta * k + k * k;
+            let b = k * k / a0;
+            [
+                b,
+                2.0 * b,
+                b,
+                (2.0 * k * k - 2.0) / a0,
+                (1.0 - two_zeta * k + k * k) / a0,
+            ]
+        })
+        .collect()
+}
+
+/// One pass of the sections over `x`, each started in the steady state of
+/// its first input (so a constant offset gives no transient).
+fn filter(sections: &[[f64; 5]], x: &mut [f64]) {
+    for &[b0, b1, b2, a1, a2] in sections {
+        let Some(&x0) = x.first() else { return };
+        // Direct form II transposed, steady state for the input x0 (unit
+        // DC gain).
+        let mut z2 = (b2 - a2) * x0;
+        let mut z1 = (b1 - a1) * x0 + z2;
+        for v in x.iter_mut() {
+            let u = *v;
+            let y = b0 * u + z1;
+            z1 = b1 * u - a1 * y + z2;
+            z2 = b2 * u - a2 * y;
+            *v = y;
+        }
+    }
+}
+
+/// Zero-phase filtering: forward and backward, with `pad` samples of odd
+/// reflection at each end so the ends carry no transient.
+fn filtfilt(sections: &[[f64; 5]], x: &[f64], pad: usize) -> Vec<f64> {
+    let n = x.len();
+    let pad = pad.min(n - 1);
+    let mut v = Vec::with_capacity(n + 2 * pad);
+    v.extend((1..=pad).rev().map(|i| 2.0 * x[0] - x[i]));
+    v.extend_from_slice(x);
+    v.extend((1..=pad).map(|i| 2.0 * x[n - 1] - x[n - 1 - i]));
+    filter(sections, &mut v);
+    v.reverse();
+    filter(sections, &mut v);
+    v.reverse();
+    v[pad..pad + n].to_vec()
+}
+
+/// The decimated regressor columns named in `names` and the decimated
+/// force.
+fn regressors(
+    force: &[f64],
+    q: &[f64],
+    fs: f64,
+    cutoff_hz: f64,
+    order: usize,
+    decimation: usize,
+    names: &[&str],
+) -> Result<(Vec<Vec<f64>>, Vec<f64>), IdimError> {
+    let bad = |s: String| Err(IdimError::Input(s));
+    let n = q.len();
+    if force.len() != n {
+        return bad(format!("force has {} samples, position {n}", force.len()));
+    }
+    if !(fs.is_finite() && fs > 0.0) {
+        return bad(format!("sample rate {fs} Hz must be positive and finite"));
+    }
+    if !(cutoff_hz > 0.0 && cutoff_hz < 0.5 * fs) {
+        return bad(format!(
+            "position filter corner {cutoff_hz} Hz must lie between 0 and fs/2 = {} Hz",
+            0.5 * fs
+        ));
+    }
+    if decimation == 0 || order == 0 || order % 2 == 1 {
+        return bad("the decimation must be at least 1 and the order even".into());
+    }
+    if n < 20 * decimation.max(10) {
+        return bad(format!("{n} samples are too few"));
+    }
+    if let Some(k) = q.iter().chain(force).position(|v| !v.is_finite()) {
+        return bad(format!("sample {} is not finite", k % n));
+    }
+    // Long enough for the filters' transients (a few time constants).
+    let pad = |fc: f64| ((3.0 * fs / fc).ceil() as usize).max(3 * order);
+    let qf = filtfilt(&butterworth(order, cutoff_hz, fs), q, pad(cutoff_hz));
+    let dt = 1.0 / fs;
+    let mut qd = vec![0.0; n];
+    let mut qdd = vec![0.0; n];
+    for k in 1..n - 1 {
+        qd[k] = (qf[k + 1] - qf[k - 1]) / (2.0 * dt);
+        qdd[k] = (qf[k + 1] - 2.0 * qf[k] + qf[k - 1]) / (dt * dt);
+    }
+    // The end samples have one-sided differences only: copy the neighbours.
+    qd[0] = qd[1];
+    qd[n - 1] = qd[n - 2];
+    qdd[0] = qdd[1];
+    qdd[n - 1] = qdd[n - 2];
+    let mut cols = Vec::with_capacity(names.len());
+    for name in names {
+        cols.push(match *name {
+            "m" => qdd.clone(),
+            "viscous_ns_per_m" => qd.clone(),
+            "coulomb_n" => qd.iter().map(|v| sign(*v)).collect(),
+            "offset_n" => vec![1.0; n],
+            other => return bad(format!("unknown regressor '{other}'")),
+        });
+    }
+    // Parallel filtering and decimation of every column and the force.
+    let fd = 0.8 * fs / (2.0 * decimation as f64);
+    let (sections, p) = (butterworth(order, fd, fs), pad(fd));
+    let decimate = |x: &[f64]| -> Vec<f64> {
+        let y = if decimation > 1 {
+            filtfilt(&sections, x, p)
+        } else {
+            x.to_vec()
+        };
+        // Drop the ends where the differences and filters are one-sided.
+        let skip = 2 * decimation;
+        y[skip..n - skip]
+            .iter()
+            .step_by(decimation)
+            .copied()
+            .collect()
+    };
+    let cols = cols.iter().map(|c| decimate(c)).collect();
+    Ok((cols, decimate(force)))
+}
+
+/// `sign` with 0 at 0.
+fn sign(v: f64) -> f64 {
+    if v > 0.0 {
+        1.0
+    } else if v < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// `|y - p| / |y|`.
+fn rel_err(y: &[f64], p: &[f64]) -> f64 {
+    let e: f64 = y.iter().zip(p).map(|(a, b)| (a - b) * (a - b)).sum();
+    let s: f64 = y.iter().map(|a| a * a).sum();
+    if s > 0.0 {
+        (e / s).sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// Least squares of `y` on `cols`: parameters, standard deviations, RSS,
+/// condition number of the column-scaled normal matrix (its square root).
+fn least_squares(cols: &[&Vec<f64>], y: &[f64]) -> Option<(Vec<f64>, Vec<f64>, f64, f64)> {
+    let p = cols.len();
+    let n = y.len();
+    // Column scaling makes the normal equations well conditioned enough
+    // for a handful of regressors of very different sizes.
+    let scale: Vec<f64> = cols
+        .iter()
+        .map(|c| c.iter().map(|v| v * v).sum::<f64>().sqrt())
+        .collect();
+    if scale.iter().any(|&s| s.is_nan() || s <= 0.0) || n <= p {
+        return None;
+    }
+    let mut a = vec![0.0; p * p];
+    let mut g = vec![0.0; p];
+    for i in 0..p {
+        for j in 0..=i {
+            let s: f64 = cols[i].iter().zip(cols[j]).map(|(a, b)| a * b).sum::<f64>()
+                / (scale[i] * scale[j]);
+            a[i * p + j] = s;
+            a[j * p + i] = s;
+        }
+        g[i] = cols[i].iter().zip(y).map(|(a, b)| a * b).sum::<f64>() / scale[i];
+    }
+    let z = solve_spd(&a, &g, p)?;
+    let theta: Vec<f64> = z.iter().zip(&scale).map(|(z, s)| z / s).collect();
+    let rss: f64 = (0..n)
+        .map(|k| {
+            let e = y[k] - cols.iter().zip(&theta).map(|(c, t)| c[k] * t).sum::<f64>();
+            e * e
+        })
+        .sum();
+    // Diagonal of the inverse normal matrix, one column at a time.
+    let var = rss / (n - p) as f64;
+    let mut std = Vec::with_capacity(p);
+    let mut cond_inv_max: f64 = 0.0;
+    for i in 0..p {
+        let mut e = vec![0.0; p];
+        e[i] = 1.0;
+        let col = solve_spd(&a, &e, p)?;
+        std.push((var * col[i]).sqrt() / scale[i]);
+        cond_inv_max = cond_inv_max.max(col.iter().map(|v| v.abs()).sum());
+    }
+    // ||A||_1 ||A^-1||_1 bounds the 2-norm condition number of the scaled
+    // normal matrix; its square root is that of the observation matrix.
+    let norm_a = (0..p)
+        .map(|j| (0..p).map(|i| a[i * p + j].abs()).sum::<f64>())
+        .fold(0.0, f64::max);
+    Some((theta, std, rss, (norm_a * cond_inv_max).sqrt()))
+}
+
+/// IDIM-LS of a rigid body: force `force[k]` (N, or N m) and position
+/// `q[k]` (m, or rad) at rate `fs`; see the module documentation.
+pub fn idim_ls(
+    force: &[f64],
+    q: &[f64],
+    fs: f64,
+    o: &IdimOptions,
+) -> Result<InverseDynamics, IdimError> {
+    if !(o.margin.is_finite() && (0.0..1.0).contains(&o.min_share)) {
+        return Err(IdimError::Input(
+            "the margin must be finite and the share in [0, 1)".into(),
+        ));
+    }
+    let cutoff_hz = o.cutoff_hz.unwrap_or(0.1 * fs);
+    let all = ["m", "viscous_ns_per_m", "coulomb_n", "offset_n"];
+    let (cols, y) = regressors(force, q, fs, cutoff_hz, o.order, o.decimation, &all)?;
+    let n = y.len();
+    let mut chosen: Vec<usize> = if o.viscous { vec![0, 1] } else { vec![0] };
+    let fit = |idx: &[usize]| {
+        let c: Vec<&Vec<f64>> = idx.iter().map(|&i| &cols[i]).collect();
+        least_squares(&c, &y)
+    };
+    let singular = |what: &str| IdimError::Singular(what.to_string());
+    let (_, _, rss0, _) = fit(&chosen).ok_or_else(|| singular("no acceleration or velocity"))?;
+    let y_energy: f64 = y.iter().map(|v| v * v).sum();
+    let rel_err_before = (rss0 / y_energy).sqrt();
+    let price = (n as f64).ln() + o.margin;
+    let candidates = [(2, EffectKind::Friction), (3, EffectKind::Offset)];
+    let mut effects = Vec::new();
+    let mut rejected = Vec::new();
+    let mut rss_base = rss0;
+    let mut step = 1;
+    let mut left: Vec<(usize, EffectKind)> = candidates.to_vec();
+    while !left.is_empty() {
+        // Each remaining effect added to the kept ones, refitted jointly.
+        let mut tried: Vec<(usize, EffectVerdict)> = Vec::new();
+        for (pos, &(col, kind)) in left.iter().enumerate() {
+            let mut idx = chosen.clone();
+            idx.push(col);
+            let Some((theta, _, rss, _)) = fit(&idx) else {
+                continue;
+            };
+            let gain = n as f64 * (rss_base / rss).ln();
+            let share = 1.0 - rss / rss_base;
+            let score = if share >= o.min_share {
+                gain - price
+            } else {
+                (gain - price).min(-1.0)
+            };
+            let (pname, value) = match kind {
+                EffectKind::Friction => ("coulomb_n", theta[idx.len() - 1]),
+                _ => ("force_n", theta[idx.len() - 1]),
+            };
+            let mut parameters = BTreeMap::new();
+            parameters.insert(pname.to_string(), value);
+            tried.push((
+                pos,
+                EffectVerdict {
+                    kind,
+                    parameters,
+                    evidence: format!(
+                        "force residual {:.2} % -> {:.2} % of the force RMS (removes {:.1} % \
+                         of the residual energy); BIC gain {gain:.1} (price {price:.1})",
+                        100.0 * (rss_base / y_energy).sqrt(),
+                        100.0 * (rss / y_energy).sqrt(),
+                        100.0 * share
+                    ),
+                    score,
+                    step,
+                },
+            ));
+        }
+        tried.sort_by(|a, b| b.1.score.total_cmp(&a.1.score));
+        match tried.first() {
+            Some((pos, v)) if v.score > 0.0 => {
+                let (col, _) = left.remove(*pos);
+                chosen.push(col);
+                rss_base = fit(&chosen).map(|r| r.2).unwrap_or(rss_base);
+                effects.push(v.clone());
+                step += 1;
+            }
+            _ => {
+                rejected = tried.into_iter().map(|t| t.1).collect();
+                break;
+            }
+        }
+    }
+    let (theta, std, rss, condition) =
+        fit(&chosen).ok_or_else(|| singular("the selected regressors are dependent"))?;
+    // Effect parameters from the final joint fit.
+    for e in &mut effects {
+        let col = if e.kind == EffectKind::Friction { 2 } else { 3 };
+        let at = chosen.iter().position(|&c| c == col).unwrap_or(0);
+        for v in e.parameters.values_mut() {
+            *v = theta[at];
+        }
+    }
+    if effects.is_empty() {
+        effects.push(EffectVerdict {
+            kind: EffectKind::None,
+            parameters: BTreeMap::new(),
+            evidence: match rejected.first() {
+                Some(v) => format!(
+                    "no effect earns its parameter; best was {} ({})",
+                    v.kind.as_str(),
+                    v.evidence
+                ),
+                None => "no effect could be fitted".into(),
+            },
+            score: 0.0,
+            step: 0,
+        });
+    }
+    let estimates = chosen
+        .iter()
+        .zip(theta.iter().zip(&std))
+        .map(|(&c, (&value, &std))| Estimate {
+            name: all[c].to_string(),
+            value,
+            std,
+        })
+        .collect();
+    Ok(InverseDynamics {
+        estimates,
+        effects,
+        rejected,
+        rel_err_before,
+        rel_err: (rss / y_energy).sqrt(),
+        samples: n,
+        cutoff_hz,
+        decimation: o.decimation,
+        order: o.order,
+        condition,
+    })
+}
