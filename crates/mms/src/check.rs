@@ -1287,11 +1287,7 @@ impl ModelChecker {
         let mut anchors: Vec<i64> = Vec::new();
         for (i, f) in list.iter().enumerate() {
             let fp = format!("{jp}.remainder_factors[{i}]");
-            let g = poly_field(f, "factor", &fp)?;
-            let k = uint_field(f, "exponent", &fp)? as u32;
-            if k == 0 {
-                return Err(format!("{fp}: exponent 0"));
-            }
+            let (g, k) = listed_factor(f, &fp)?;
             product = &product * &g.pow(k);
             if g.degree(OMEGA) == 0 {
                 let s = one_sign(&g).ok_or(format!("{fp}: {g} changes sign"))?;
@@ -1520,11 +1516,7 @@ impl ModelChecker {
             let mut runs: Vec<CheckRun> = Vec::new();
             for (i, f) in arr_field(entry, "factors", bp)?.iter().enumerate() {
                 let fp = format!("{bp}.factors[{i}]");
-                let g = poly_field(f, "factor", &fp)?;
-                let k = uint_field(f, "exponent", &fp)? as u32;
-                if k == 0 {
-                    return Err(format!("{fp}: exponent 0"));
-                }
+                let (g, k) = listed_factor(f, &fp)?;
                 product = &product * &g.pow(k);
                 if g.degree(OMEGA) == 0 {
                     base *= one_sign(&g)
@@ -1802,6 +1794,16 @@ impl ModelChecker {
 }
 
 /// `g > 0` on the open positive orthant by the argument `d`.
+/// A `{"factor", "exponent"}` entry of a certificate (exponent at least 1).
+fn listed_factor(f: &Value, fp: &str) -> Result<(Poly, u32), String> {
+    let g = poly_field(f, "factor", fp)?;
+    let k = uint_field(f, "exponent", fp)?;
+    match u32::try_from(k) {
+        Ok(k) if k > 0 => Ok((g, k)),
+        _ => Err(format!("{fp}: exponent {k}")),
+    }
+}
+
 /// Configurations the block pole-sign check enumerates at most.
 const CHECK_MAX_CONFIGURATIONS: usize = 2_000_000;
 

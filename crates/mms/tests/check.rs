@@ -509,7 +509,6 @@ fn pole_sign_certificates_are_checked_and_tampering_rejected() {
 fn pole_sign_verdicts_agree_with_random_points() {
     use mms::analysis::frf_type_at;
     use mms::xorshift::XorShift;
-    use poly::Rat;
     let model = n4_block_model();
     let excluded: Vec<String> = model["types"]
         .as_array()
@@ -523,15 +522,7 @@ fn pole_sign_verdicts_agree_with_random_points() {
     let mut rng = XorShift::new(41);
     let mut seen = std::collections::BTreeSet::new();
     for _ in 0..300 {
-        let point: std::collections::BTreeMap<String, Rat> = m
-            .undamped_parameters()
-            .into_iter()
-            .map(|p| {
-                let v = rng.log_uniform(1.0 / 64.0, 64.0);
-                let r = Rat::new(((v * 1000.0).round() as i64).into(), 1000.into());
-                (p, r)
-            })
-            .collect();
+        let point = random_point(&m, &mut rng);
         let t = frf_type_at(&tf.num, &tf.den, mms::OMEGA, &point)
             .unwrap()
             .to_string();
@@ -628,7 +619,6 @@ fn block_pole_sign_certificates_are_checked_and_tampering_rejected() {
 fn block_pole_sign_verdicts_agree_with_random_points() {
     use mms::analysis::frf_type_at;
     use mms::xorshift::XorShift;
-    use poly::Rat;
     let free_chain = Model::from_id("N4-g0-a1.0-s2.0").unwrap();
     let free_chain = serde_json::to_value(analyze(&free_chain, &SearchLimits::default())).unwrap();
     for (id, model, seed) in [
@@ -645,17 +635,7 @@ fn block_pole_sign_verdicts_agree_with_random_points() {
         let mut rng = XorShift::new(seed);
         let mut seen = std::collections::BTreeSet::new();
         for _ in 0..300 {
-            let point: std::collections::BTreeMap<String, Rat> = m
-                .undamped_parameters()
-                .into_iter()
-                .map(|p| {
-                    let v = rng.log_uniform(1.0 / 64.0, 64.0);
-                    (
-                        p,
-                        Rat::new(((v * 1000.0).round() as i64).into(), 1000.into()),
-                    )
-                })
-                .collect();
+            let point = random_point(&m, &mut rng);
             let t = frf_type_at(&tf.num, &tf.den, mms::OMEGA, &point)
                 .unwrap()
                 .to_string();
@@ -738,5 +718,54 @@ fn double_antiresonances_get_exact_witnesses() {
             .as_constant()
             .unwrap();
         assert!(at_zero.signum() * lead.signum() < 0, "{}: {g}", v["type"]);
+    }
+}
+
+/// A random rational point, log-uniform over about `[1/64, 64]`, with
+/// three decimals.
+fn random_point(
+    m: &Model,
+    rng: &mut mms::xorshift::XorShift,
+) -> std::collections::BTreeMap<String, poly::Rat> {
+    m.undamped_parameters()
+        .into_iter()
+        .map(|p| {
+            let v = rng.log_uniform(1.0 / 64.0, 64.0);
+            let r = poly::Rat::new(((v * 1000.0).round() as i64).into(), 1000.into());
+            (p, r)
+        })
+        .collect()
+}
+
+/// Cancellations built from the chain's blocks: N4-g1-a2.1-s3.1 shows
+/// `RAAR` and `RRAA` only where a pole cancels, which sampling never hits.
+/// At the witnesses the numerator and the denominator share a positive
+/// root (their gcd, recomputed here), and the checker accepts them.
+#[test]
+fn block_cancellations_get_exact_witnesses() {
+    use poly::{gcd, Rat};
+    let m = Model::from_id("N4-g1-a2.1-s3.1").unwrap();
+    let a = serde_json::to_value(analyze(&m, &SearchLimits::default())).unwrap();
+    check_analysis(&a).unwrap();
+    let tf = m.undamped_tf();
+    for t in ["RAAR", "RRAA"] {
+        let v = a["types"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|v| v["type"] == t)
+            .unwrap();
+        assert_eq!(v["status"], "possible", "{t}");
+        let (mut num, mut den) = (tf.num.clone(), tf.den.clone());
+        for (p, x) in v["witness"].as_object().unwrap() {
+            let x: Rat = x.as_str().unwrap().parse().unwrap();
+            num = num.subs(p, &x);
+            den = den.subs(p, &x);
+        }
+        let g = gcd(&num, &den);
+        assert_eq!(g.degree(mms::OMEGA), 1, "{t}: {g}");
+        let c = g.coeffs_in(mms::OMEGA);
+        let root = -&(&c[0].as_constant().unwrap() / &c[1].as_constant().unwrap());
+        assert!(root.signum() > 0, "{t}: {g}");
     }
 }

@@ -22,6 +22,21 @@ struct W {
     out: String,
 }
 
+/// `f1 * (f2)^k * ...`: a certificate's factor list as text.
+fn factor_product(w: &W, factors: &[super::RemainderFactor]) -> String {
+    let parts: Vec<String> = factors
+        .iter()
+        .map(|f| {
+            if f.exponent == 1 {
+                w.poly(&f.factor)
+            } else {
+                format!("({})^{}", w.poly(&f.factor), f.exponent)
+            }
+        })
+        .collect();
+    parts.join(" * ")
+}
+
 impl W {
     fn poly(&self, p: &Poly) -> String {
         if self.latex {
@@ -305,21 +320,10 @@ fn open(w: &mut W, o: &OpenProof) {
             w.para(&s)
         }
         OpenProof::PoleSigns(ps) => {
-            let factors: Vec<String> = ps
-                .remainder_factors
-                .iter()
-                .map(|f| {
-                    if f.exponent == 1 {
-                        w.poly(&f.factor)
-                    } else {
-                        format!("({})^{}", w.poly(&f.factor), f.exponent)
-                    }
-                })
-                .collect();
+            let factors = factor_product(w, &ps.remainder_factors);
             let s = format!(
                 "The denominator is the determinant of one chain block, with simple positive roots. At each of them the numerator has the sign of its pseudo-remainder by it, {} * {}: factors of one sign, powers of Omega, and diagonal entries K_jj - Omega*M_jj of the block, whose root K_jj/M_jj lies strictly between the block's lowest and highest eigenvalue. For every placement of those roots among the poles, the signs at 0, at the poles and at infinity fix the parity of the antiresonances between consecutive poles; the type matches none of them (and a pole where the numerator vanished would cancel, leaving fewer resonances than the type has).",
-                ps.remainder_unit,
-                factors.join(" * ")
+                ps.remainder_unit, factors
             );
             w.para(&s)
         }
@@ -332,17 +336,7 @@ fn open(w: &mut W, o: &OpenProof) {
                 .iter()
                 .filter(|b| !b.factors.is_empty())
                 .map(|b| {
-                    let factors: Vec<String> = b
-                        .factors
-                        .iter()
-                        .map(|f| {
-                            if f.exponent == 1 {
-                                w.poly(&f.factor)
-                            } else {
-                                format!("({})^{}", w.poly(&f.factor), f.exponent)
-                            }
-                        })
-                        .collect();
+                    let factors = factor_product(w, &b.factors);
                     format!(
                         "(masses {:?}: {} = {} * {})",
                         b.masses,
@@ -352,7 +346,7 @@ fn open(w: &mut W, o: &OpenProof) {
                             "n_B"
                         },
                         b.unit,
-                        factors.join(" * ")
+                        factors
                     )
                 })
                 .collect();

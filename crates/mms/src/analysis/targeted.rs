@@ -457,8 +457,9 @@ impl Prover<'_> {
             let Some((zeros, _, _)) = tf_roots(&tf, &x) else {
                 continue;
             };
-            // The positive zeros in order, grouped as `t` merges them.
-            let mut roots: Vec<(Rat, u32)> = Vec::new();
+            // The positive zeros in order, grouped as `t` merges them: the
+            // log-range of each group.
+            let mut groups: Vec<(f64, f64, u32)> = Vec::new();
             let mut next = 0;
             for k in t
                 .tokens
@@ -470,26 +471,34 @@ impl Prover<'_> {
                     break;
                 }
                 if m > 1 {
-                    let mean = zeros[next..next + m].iter().map(|z| z.ln()).sum::<f64>() / m as f64;
-                    if let Some(r) = short_rational(mean.exp(), 4) {
-                        roots.push((r, k.multiplicity));
-                    }
+                    groups.push((zeros[next].ln(), zeros[next + m - 1].ln(), k.multiplicity));
                 }
                 next += m;
             }
-            if roots.len() != mults.len() {
+            if groups.len() != mults.len() {
                 continue;
             }
             let size = mults.iter().sum::<u32>() as usize;
-            for vars in linear_sets(&[&self.num, &self.den], &params, size) {
-                let fixed: BTreeMap<String, Rat> = w
+            // Only the numerator's conditions: it alone must be linear.
+            let sets = linear_sets(&[&self.num], &params, size);
+            // The merged root at several places across each group, every
+            // parameter set: the first that keeps the rest of the order.
+            'merge: for frac in MERGE_FRACTIONS {
+                let roots: Option<Vec<(Rat, u32)>> = groups
                     .iter()
-                    .filter(|(p, _)| !vars.contains(p))
-                    .map(|(p, v)| (p.clone(), v.clone()))
+                    .map(|&(a, b, k)| Some((short_rational((a + frac * (b - a)).exp(), 4)?, k)))
                     .collect();
-                self.solve_root_conditions(&vars, fixed, &[], &roots, &derivatives);
-                if self.witnesses.contains_key(t) {
-                    break;
+                let Some(roots) = roots else { continue };
+                for vars in sets.iter().take(MERGE_SETS) {
+                    let fixed: BTreeMap<String, Rat> = w
+                        .iter()
+                        .filter(|(p, _)| !vars.contains(p))
+                        .map(|(p, v)| (p.clone(), v.clone()))
+                        .collect();
+                    self.solve_root_conditions(vars, fixed, &[], &roots, &derivatives);
+                    if self.witnesses.contains_key(t) {
+                        break 'merge;
+                    }
                 }
             }
         }
@@ -497,7 +506,12 @@ impl Prover<'_> {
         let mut rng = Sampler::new(seed);
         for (cancelled, mults) in signatures {
             let size = 2 * cancelled as usize + mults.iter().sum::<u32>() as usize;
-            let sets = linear_sets(&[&self.num, &self.den], &self.params, size);
+            let polys: Vec<&Poly> = if cancelled == 0 {
+                vec![&self.num]
+            } else {
+                vec![&self.num, &self.den]
+            };
+            let sets = linear_sets(&polys, &self.params, size);
             if sets.is_empty() {
                 continue;
             }
@@ -512,6 +526,129 @@ impl Prover<'_> {
                 let cancel: Vec<Rat> = (0..cancelled).map(|_| rng.value()).collect();
                 let multiple: Vec<(Rat, u32)> = mults.iter().map(|&k| (rng.value(), k)).collect();
                 self.solve_root_conditions(&vars, fixed, &cancel, &multiple, &derivatives);
+            }
+        }
+        wanted
+            .iter()
+            .filter(|t| self.witnesses.contains_key(t))
+            .count()
+    }
+
+    /// Constructs cancellations from the chain's blocks (issue 4, item 2):
+    /// a pole of a block cancels where the eigenvalue of a run of the
+    /// block's masses falls on it, or where another block has the same
+    /// eigenvalue. Both are two determinant conditions at a chosen `r`,
+    /// `det(K_S - r M_S) = 0` and `det(K_B - r M_B) = 0`, each of degree
+    /// one in a mass the other does not contain (a mass of the run, then
+    /// one of the block outside it; or one of each block): solved one
+    /// after the other, exactly. Where the denominator shares a monomial
+    /// with every pair of parameters (five masses) the root conditions
+    /// cannot pose a cancellation as a linear system; this can. Returns
+    /// how many of `wanted` it found.
+    pub(crate) fn cancellation_search(&mut self, wanted: &[FrfType], seed: u64) -> usize {
+        let degree = self.den.degree(OMEGA);
+        let counts: BTreeSet<u32> = wanted
+            .iter()
+            .filter(|t| {
+                t.resonances() < degree
+                    && t.tokens.iter().all(|k| k.multiplicity == 1)
+                    && !self.witnesses.contains_key(t)
+            })
+            .map(|t| degree - t.resonances())
+            .collect();
+        if counts.is_empty() {
+            return 0;
+        }
+        let om = Poly::var(OMEGA);
+        let mass = self.model.mass_matrix();
+        let stiff = self.model.stiffness_matrix();
+        let names = self.model.masses();
+        let det_of = |lo: usize, hi: usize| -> Poly {
+            let m: Vec<Vec<Poly>> = (lo..hi)
+                .map(|i| {
+                    (lo..hi)
+                        .map(|j| &stiff[i][j] - &(&om * &mass[i][j]))
+                        .collect()
+                })
+                .collect();
+            poly::det(&m)
+        };
+        let mut blocks: Vec<(usize, usize)> = Vec::new();
+        for i in 0..names.len() {
+            match blocks.last_mut() {
+                Some(b) if !stiff[i - 1][i].is_zero() => b.1 = i + 1,
+                _ => blocks.push((i, i + 1)),
+            }
+        }
+        // Mechanisms: (first determinant, its masses; second, its masses).
+        type Mechanism = (Poly, Vec<usize>, Poly, Vec<usize>);
+        let mut mechanisms: Vec<Mechanism> = Vec::new();
+        for (k, &(lo, hi)) in blocks.iter().enumerate() {
+            let whole = det_of(lo, hi);
+            for a in lo..hi {
+                for z in a + 1..=hi {
+                    if z - a < hi - lo {
+                        let outside: Vec<usize> = (lo..hi).filter(|i| *i < a || *i >= z).collect();
+                        mechanisms.push((det_of(a, z), (a..z).collect(), whole.clone(), outside));
+                    }
+                }
+            }
+            for &(lo2, hi2) in &blocks[k + 1..] {
+                if hi - lo >= 1 && hi2 - lo2 >= 1 {
+                    mechanisms.push((
+                        whole.clone(),
+                        (lo..hi).collect(),
+                        det_of(lo2, hi2),
+                        (lo2..hi2).collect(),
+                    ));
+                }
+            }
+        }
+        if mechanisms.is_empty() {
+            return 0;
+        }
+        let mut rng = Sampler::new(seed);
+        let counts: Vec<u32> = counts.into_iter().collect();
+        for trial in 0..CANCEL_TRIALS {
+            let c = counts[trial % counts.len()] as usize;
+            let mut point: BTreeMap<String, Rat> = self
+                .params
+                .iter()
+                .map(|p| (p.clone(), rng.value()))
+                .collect();
+            let mut used: Vec<usize> = Vec::new();
+            let mut ok = true;
+            for _ in 0..c {
+                let (d1, m1, d2, m2) = &mechanisms[rng.index(mechanisms.len())];
+                let r = rng.value();
+                let free1: Vec<usize> = m1.iter().copied().filter(|i| !used.contains(i)).collect();
+                let free2: Vec<usize> = m2.iter().copied().filter(|i| !used.contains(i)).collect();
+                if free1.is_empty() || free2.is_empty() {
+                    ok = false;
+                    break;
+                }
+                let x = free1[rng.index(free1.len())];
+                let y = free2[rng.index(free2.len())];
+                for (d, v) in [(d1, x), (d2, y)] {
+                    let name = &names[v];
+                    let e = point
+                        .iter()
+                        .filter(|(p, _)| *p != name)
+                        .fold(d.subs(OMEGA, &r), |e, (p, val)| e.subs(p, val));
+                    match solve_linear(&[e], std::slice::from_ref(name)) {
+                        Some(sol) if sol[0].signum() > 0 => {
+                            point.insert(name.clone(), sol[0].clone());
+                        }
+                        _ => ok = false,
+                    }
+                }
+                used.extend([x, y]);
+                if !ok {
+                    break;
+                }
+            }
+            if ok {
+                self.record(point);
             }
         }
         wanted
@@ -572,6 +709,13 @@ impl Prover<'_> {
     }
 }
 
+/// Trials of the block cancellation construction per model.
+const CANCEL_TRIALS: usize = 3000;
+/// Where between the zeros of a split witness the merged root goes (as a
+/// fraction of their log-distance), in the order tried.
+const MERGE_FRACTIONS: [f64; 5] = [0.5, 0.25, 0.75, 0.1, 0.9];
+/// Parameter sets tried per merged root, at most.
+const MERGE_SETS: usize = 24;
 /// Trials per root-coincidence signature in the root-condition search.
 const ROOT_TRIALS: usize = 2000;
 /// Candidate parameter sets kept for the root-condition search, at most.
