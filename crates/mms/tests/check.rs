@@ -507,8 +507,6 @@ fn pole_sign_certificates_are_checked_and_tampering_rejected() {
 /// the model's possible types).
 #[test]
 fn pole_sign_verdicts_agree_with_random_points() {
-    use mms::analysis::frf_type_at;
-    use mms::xorshift::XorShift;
     let model = n4_block_model();
     let excluded: Vec<String> = model["types"]
         .as_array()
@@ -518,19 +516,12 @@ fn pole_sign_verdicts_agree_with_random_points() {
         .map(|v| v["type"].as_str().unwrap().to_string())
         .collect();
     let m = Model::from_id("N4-g3-a4.1-s4.2").unwrap();
-    let tf = m.undamped_tf();
-    let mut rng = XorShift::new(41);
-    let mut seen = std::collections::BTreeSet::new();
-    for _ in 0..300 {
-        let point = random_point(&m, &mut rng);
-        let t = frf_type_at(&tf.num, &tf.den, mms::OMEGA, &point)
-            .unwrap()
-            .to_string();
-        assert!(!excluded.contains(&t), "{t} at {point:?}");
-        seen.insert(t);
+    let seen = observed_types(&m, 41, 300);
+    if let Some((t, point)) = seen.iter().find(|(t, _)| excluded.contains(t)) {
+        panic!("{t} at {point:?}");
     }
     assert!(
-        seen.contains("ARARRA") && seen.contains("ARRARA"),
+        seen.contains_key("ARARRA") && seen.contains_key("ARRARA"),
         "{seen:?}"
     );
 }
@@ -617,8 +608,6 @@ fn block_pole_sign_certificates_are_checked_and_tampering_rejected() {
 /// rational points never shows a type they exclude.
 #[test]
 fn block_pole_sign_verdicts_agree_with_random_points() {
-    use mms::analysis::frf_type_at;
-    use mms::xorshift::XorShift;
     let free_chain = Model::from_id("N4-g0-a1.0-s2.0").unwrap();
     let free_chain = serde_json::to_value(analyze(&free_chain, &SearchLimits::default())).unwrap();
     for (id, model, seed) in [
@@ -631,22 +620,15 @@ fn block_pole_sign_verdicts_agree_with_random_points() {
             .collect();
         assert!(!excluded.is_empty(), "{id}");
         let m = Model::from_id(id).unwrap();
-        let tf = m.undamped_tf();
-        let mut rng = XorShift::new(seed);
-        let mut seen = std::collections::BTreeSet::new();
-        for _ in 0..300 {
-            let point = random_point(&m, &mut rng);
-            let t = frf_type_at(&tf.num, &tf.den, mms::OMEGA, &point)
-                .unwrap()
-                .to_string();
-            assert!(!excluded.contains(&t), "{id}: {t} at {point:?}");
-            seen.insert(t);
+        let seen = observed_types(&m, seed, 300);
+        if let Some((t, point)) = seen.iter().find(|(t, _)| excluded.contains(t)) {
+            panic!("{id}: {t} at {point:?}");
         }
         assert!(seen.len() >= 2, "{id}: {seen:?}");
         // And the checker's own enumeration: a certificate moved onto a
         // type that occurs must be rejected.
         let cert = with_kind(model, "block_pole_signs")[0]["certificate"].clone();
-        for t in &seen {
+        for t in seen.keys() {
             let forged = json!({"type": t, "status": "impossible", "certificate": cert});
             let mut m = model.clone();
             m["types"] = json!([forged]);
@@ -721,51 +703,30 @@ fn double_antiresonances_get_exact_witnesses() {
     }
 }
 
-/// A random rational point, log-uniform over about `[1/64, 64]`, with
-/// three decimals.
-fn random_point(
+/// The exact type at `n` random rational points (log-uniform over about
+/// `[1/64, 64]`, three decimals), with the first point showing each.
+fn observed_types(
     m: &Model,
-    rng: &mut mms::xorshift::XorShift,
-) -> std::collections::BTreeMap<String, poly::Rat> {
-    m.undamped_parameters()
-        .into_iter()
-        .map(|p| {
-            let v = rng.log_uniform(1.0 / 64.0, 64.0);
-            let r = poly::Rat::new(((v * 1000.0).round() as i64).into(), 1000.into());
-            (p, r)
-        })
-        .collect()
-}
-
-/// Cancellations built from the chain's blocks: N4-g1-a2.1-s3.1 shows
-/// `RAAR` and `RRAA` only where a pole cancels, which sampling never hits.
-/// At the witnesses the numerator and the denominator share a positive
-/// root (their gcd, recomputed here), and the checker accepts them.
-#[test]
-fn block_cancellations_get_exact_witnesses() {
-    use poly::{gcd, Rat};
-    let m = Model::from_id("N4-g1-a2.1-s3.1").unwrap();
-    let a = serde_json::to_value(analyze(&m, &SearchLimits::default())).unwrap();
-    check_analysis(&a).unwrap();
+    seed: u64,
+    n: usize,
+) -> std::collections::BTreeMap<String, std::collections::BTreeMap<String, poly::Rat>> {
     let tf = m.undamped_tf();
-    for t in ["RAAR", "RRAA"] {
-        let v = a["types"]
-            .as_array()
+    let mut rng = mms::xorshift::XorShift::new(seed);
+    let mut seen = std::collections::BTreeMap::new();
+    for _ in 0..n {
+        let point: std::collections::BTreeMap<String, poly::Rat> = m
+            .undamped_parameters()
+            .into_iter()
+            .map(|p| {
+                let v = rng.log_uniform(1.0 / 64.0, 64.0);
+                let r = poly::Rat::new(((v * 1000.0).round() as i64).into(), 1000.into());
+                (p, r)
+            })
+            .collect();
+        let t = mms::analysis::frf_type_at(&tf.num, &tf.den, mms::OMEGA, &point)
             .unwrap()
-            .iter()
-            .find(|v| v["type"] == t)
-            .unwrap();
-        assert_eq!(v["status"], "possible", "{t}");
-        let (mut num, mut den) = (tf.num.clone(), tf.den.clone());
-        for (p, x) in v["witness"].as_object().unwrap() {
-            let x: Rat = x.as_str().unwrap().parse().unwrap();
-            num = num.subs(p, &x);
-            den = den.subs(p, &x);
-        }
-        let g = gcd(&num, &den);
-        assert_eq!(g.degree(mms::OMEGA), 1, "{t}: {g}");
-        let c = g.coeffs_in(mms::OMEGA);
-        let root = -&(&c[0].as_constant().unwrap() / &c[1].as_constant().unwrap());
-        assert!(root.signum() > 0, "{t}: {g}");
+            .to_string();
+        seen.entry(t).or_insert(point);
     }
+    seen
 }

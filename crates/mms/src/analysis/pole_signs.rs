@@ -240,14 +240,7 @@ fn placements(
                 return Some(PoleSignData {
                     certificate: PoleSigns {
                         remainder_unit: f.unit.clone(),
-                        remainder_factors: f
-                            .factors
-                            .iter()
-                            .map(|(g, k)| RemainderFactor {
-                                factor: g.clone(),
-                                exponent: *k,
-                            })
-                            .collect(),
+                        remainder_factors: listed(&f),
                     },
                     poles,
                     zeros,
@@ -262,6 +255,17 @@ fn placements(
             i += 1;
         }
     }
+}
+
+/// A factorization's factors as a certificate lists them.
+fn listed(f: &poly::Factorization) -> Vec<RemainderFactor> {
+    f.factors
+        .iter()
+        .map(|(g, k)| RemainderFactor {
+            factor: g.clone(),
+            exponent: *k,
+        })
+        .collect()
 }
 
 /// `g = c * h` with `c` a nonzero rational: the sign of `c`.
@@ -411,14 +415,7 @@ pub(crate) fn block_pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Opt
             numerator: n_b.clone(),
             remainder,
             unit: f.unit.clone(),
-            factors: f
-                .factors
-                .iter()
-                .map(|(g, k)| RemainderFactor {
-                    factor: g.clone(),
-                    exponent: *k,
-                })
-                .collect(),
+            factors: listed(&f),
         });
         events.push(BlockEvents {
             size: blk.len(),

@@ -389,12 +389,7 @@ impl Prover<'_> {
             if !simple_poles || t.resonances() > degree {
                 continue;
             }
-            let mults: Vec<u32> = t
-                .tokens
-                .iter()
-                .filter(|k| k.feature == Feature::Antiresonance && k.multiplicity > 1)
-                .map(|k| k.multiplicity)
-                .collect();
+            let mults = multiple_antiresonances(t);
             let cancelled = degree - t.resonances();
             if cancelled > 0 || !mults.is_empty() {
                 signatures.insert((cancelled, mults));
@@ -419,12 +414,7 @@ impl Prover<'_> {
         let tf = UndampedCoefficients::new(self.model);
         let params = self.params.clone();
         for t in wanted {
-            let mults: Vec<u32> = t
-                .tokens
-                .iter()
-                .filter(|k| k.feature == Feature::Antiresonance && k.multiplicity > 1)
-                .map(|k| k.multiplicity)
-                .collect();
+            let mults = multiple_antiresonances(t);
             if mults.is_empty()
                 || t.resonances() != degree
                 || self.witnesses.contains_key(t)
@@ -707,6 +697,15 @@ impl Prover<'_> {
         }
         false
     }
+}
+
+/// The multiplicities of `t`'s multiple antiresonances, in order.
+fn multiple_antiresonances(t: &FrfType) -> Vec<u32> {
+    t.tokens
+        .iter()
+        .filter(|k| k.feature == Feature::Antiresonance && k.multiplicity > 1)
+        .map(|k| k.multiplicity)
+        .collect()
 }
 
 /// Trials of the block cancellation construction per model.
