@@ -1377,7 +1377,7 @@ impl ModelChecker {
         }
     }
 
-    /// The denominator is `c * Omega^delta` times the pole polynomials of
+    /// The denominator is `c` times the pole polynomials of
     /// the listed blocks (each block's determinant, a free block's divided
     /// by `Omega`), `c` free of `Omega` and of one sign; the TF is
     /// `-Omega * sum_B n_B / d_B` with the listed `n_B` (checked as a polynomial
@@ -1428,7 +1428,10 @@ impl ModelChecker {
                 .into_iter()
                 .map(|i| i as usize - 1)
                 .collect();
-            let (lo, hi) = (idx[0], idx[idx.len() - 1] + 1);
+            let (Some(&lo), Some(&last)) = (idx.first(), idx.last()) else {
+                return Err(format!("{bp}.masses: empty"));
+            };
+            let hi = last + 1;
             if idx.iter().enumerate().any(|(i, &m)| m != lo + i) {
                 return Err(format!("{bp}.masses: not consecutive"));
             }
@@ -1452,6 +1455,11 @@ impl ModelChecker {
                 d.clone()
             };
             let n = poly_field(b, "numerator", &bp)?;
+            // A block without a term has no poles in the TF: its poles
+            // would all cancel, which the argument does not allow for.
+            if n.is_zero() {
+                return Err(format!("{bp}.numerator: zero"));
+            }
             blocks.push((lo, hi, d, p, free, n, bp, b));
         }
         // The denominator's form.
@@ -1461,12 +1469,12 @@ impl ModelChecker {
             .div_exact(&prod_p)
             .ok_or("the blocks' pole polynomials do not divide the denominator")?
             .coeffs_in(OMEGA);
-        let delta = rest.len() - 1;
-        if rest[..delta].iter().any(|x| !x.is_zero()) {
-            return Err("the denominator over the pole polynomials is not c * Omega^k".into());
+        // `den = c * prod p_B`, `c` free of Omega (a power of Omega would
+        // change the degree and (nm) rules below).
+        if rest.len() != 1 {
+            return Err("the denominator over the pole polynomials depends on Omega".into());
         }
-        let c_sign =
-            one_sign(&rest[delta]).ok_or("the denominator's remaining factor changes sign")?;
+        let c_sign = one_sign(&rest[0]).ok_or("the denominator's remaining factor changes sign")?;
         // The TF as the sum of the block terms.
         let prod_d = blocks.iter().fold(Poly::one(), |a, b| &a * &b.2);
         let mut sum = Poly::zero();
@@ -2129,11 +2137,25 @@ fn configuration_fits(
                 // n_B = 0 here: num = -c * p_B * n_B' up to powers of Omega.
                 let o = 1 - *k;
                 let other = &blocks[o];
-                let next_to_other = [i.checked_sub(1), Some(i + 1)].iter().any(|j| {
-                    j.and_then(|j| order.get(j))
-                        .is_some_and(|(kk, e)| *kk == o && matches!(e, CheckEvent::Eig { .. }))
-                });
-                if !other.direct || next_to_other {
+                // Past this block's own eigenvalues on either side: the
+                // other block's eigenvalue, a cancelled pole of it or a
+                // shared pole may coincide with this point, where the
+                // numerator's order of vanishing is unknown.
+                let is_own_eig =
+                    |j: usize| order[j].0 == *k && matches!(order[j].1, CheckEvent::Eig { .. });
+                let may_vanish = |j: usize| -> bool {
+                    let shared_here = shared.iter().any(|&(s, _)| s == j || s + 1 == j);
+                    shared_here
+                        || (order[j].0 == o
+                            && match &order[j].1 {
+                                CheckEvent::Eig { .. } => true,
+                                CheckEvent::Pole { on, .. } => !on.is_empty(),
+                            })
+                };
+                let after = (i + 1..order.len()).find(|&j| !is_own_eig(j));
+                let before = (0..i).rev().find(|&j| !is_own_eig(j));
+                if !other.direct || after.is_some_and(may_vanish) || before.is_some_and(may_vanish)
+                {
                     continue;
                 }
                 let mut n_other = other.base;

@@ -596,6 +596,16 @@ fn block_pole_sign_certificates_are_checked_and_tampering_rejected() {
     let e = with_cert(certified[0].clone(), &bad);
     assert!(e.contains("the factors multiply to"), "{e}");
 
+    // A block listed with no term: its poles would all cancel (found by
+    // review: with a zero numerator the identity and the factors hold
+    // trivially).
+    let mut bad = cert.clone();
+    bad["open"]["blocks"][0]["numerator"] = json!("0");
+    bad["open"]["blocks"][0]["unit"] = json!("0");
+    bad["open"]["blocks"][0]["factors"] = json!([]);
+    let e = with_cert(certified[0].clone(), &bad);
+    assert!(e.contains("numerator: zero"), "{e}");
+
     // Blocks that are not blocks of the chain.
     let mut bad = cert.clone();
     bad["open"]["blocks"][0]["masses"] = json!([1, 2, 3]);

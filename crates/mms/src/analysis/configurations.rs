@@ -464,9 +464,22 @@ fn samples(
                 }
                 // n_B vanishes: num = -c * p_B * n_B' up to powers of Omega.
                 let o = 1 - *b;
-                let near_other = |q: Option<&Merged>| matches!(q, Some(Merged::One(x, Tok::Eig { .. })) if *x == o);
-                if near_other(seq.get(p + 1)) || (p > 0 && near_other(seq.get(p - 1))) {
-                    continue; // may coincide with the other block's zero
+                // The first token on each side past this block's own
+                // eigenvalues: if it is the other block's eigenvalue or a
+                // cancelled pole of it (or a shared pole), all of them may
+                // sit at one point, where the numerator vanishes to an
+                // order the formula cannot see; the sample is dropped.
+                let vanishing = |t: &Merged| match t {
+                    Merged::One(x, Tok::Eig { .. }) => *x == o,
+                    Merged::One(x, Tok::Pole { tied, .. }) => *x == o && !tied.is_empty(),
+                    Merged::Shared { .. } => true,
+                };
+                let own_eig =
+                    |t: &&Merged| matches!(t, Merged::One(x, Tok::Eig { .. }) if *x == *b);
+                let right = seq[p + 1..].iter().find(|t| !own_eig(t));
+                let left = seq[..p].iter().rev().find(|t| !own_eig(t));
+                if right.is_some_and(vanishing) || left.is_some_and(vanishing) {
+                    continue;
                 }
                 let Some(other) = n_sign(p, o) else { continue };
                 let s = scale * blocks[*b].lead * flip(poles_after(p, *b)) * other;
