@@ -1865,8 +1865,8 @@ enum CheckEvent {
 
 /// Every order of one block's events: each run's eigenvalue `i` (of `k`,
 /// block of `n`) at a position from the block's eigenvalue `i` to `i+n-k`
-/// (Cauchy), on an eigenvalue (position `2j`, not the rigid-body one) or in
-/// the gap above it (`2j+1`); increasing, equal only in a gap and only for
+/// (Cauchy), on an eigenvalue (position `2j`, neither the block's lowest
+/// nor its highest) or in the gap above it (`2j+1`); increasing, equal only in a gap and only for
 /// a run inside the block (a run at an end takes one gap per eigenvalue).
 /// A remainder's runs act only through the poles (signs, cancellation).
 fn block_orders(b: &CheckBlock) -> Vec<Vec<CheckEvent>> {
@@ -1879,7 +1879,10 @@ fn block_orders(b: &CheckBlock) -> Vec<Vec<CheckEvent>> {
             let mut grown = Vec::new();
             for sq in &seqs {
                 for q in 2 * i..=2 * (i + n - r.len) {
-                    if q % 2 == 0 && q / 2 < b.lowest_pole() {
+                    // Not on the block's extreme eigenvalues: those of a
+                    // proper run of an irreducible tridiagonal pencil lie
+                    // strictly inside (Perron-Frobenius).
+                    if q % 2 == 0 && (q / 2 == 1 || q / 2 == n) {
                         continue;
                     }
                     if let Some(&last) = sq.last() {

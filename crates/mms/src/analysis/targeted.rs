@@ -598,7 +598,9 @@ impl Prover<'_> {
             return 0;
         }
         let mut rng = Sampler::new(seed);
-        let counts: Vec<u32> = counts.into_iter().collect();
+        // Every number of cancellations in turn, not just the wanted ones:
+        // the trials stay the same when other verdicts change.
+        let counts: Vec<u32> = (1..degree.max(1) + 1).collect();
         for trial in 0..CANCEL_TRIALS {
             let c = counts[trial % counts.len()] as usize;
             let mut point: BTreeMap<String, Rat> = self
@@ -709,7 +711,7 @@ fn multiple_antiresonances(t: &FrfType) -> Vec<u32> {
 }
 
 /// Trials of the block cancellation construction per model.
-const CANCEL_TRIALS: usize = 3000;
+const CANCEL_TRIALS: usize = 10_000;
 /// Where between the zeros of a split witness the merged root goes (as a
 /// fraction of their log-distance), in the order tried.
 const MERGE_FRACTIONS: [f64; 5] = [0.5, 0.25, 0.75, 0.1, 0.9];
