@@ -104,7 +104,7 @@ fn num(v: &Value) -> f64 {
 #[test]
 fn f16_level_1_against_level_7() {
     let (l1, l7) = (f16(1), f16(7));
-    let v = json(&[
+    let levels = [
         "diagnose",
         &l1,
         "--level",
@@ -117,28 +117,12 @@ fn f16_level_1_against_level_7() {
         "8192",
         "--band",
         "2:15",
-        "--format",
-        "json",
-    ]);
+    ];
+    let v = json(&[&levels[..], &["--format", "json"]].concat());
     let a = &v["amplitude_dependence"];
     // The Markdown report with its plot of the levels.
     let dir = temp_dir("f16-levels");
-    let (code, _, err) = mms(&[
-        "diagnose",
-        &l1,
-        "--level",
-        &l7,
-        "--u",
-        "Force",
-        "--y",
-        "Acceleration:1",
-        "--period",
-        "8192",
-        "--band",
-        "2:15",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
+    let (code, _, err) = mms(&[&levels[..], &["--out", dir.to_str().unwrap()]].concat());
     assert_eq!(code, 0, "{err}");
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(md.starts_with("# Amplitude dependence of `"), "{md}");

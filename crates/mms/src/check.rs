@@ -1273,15 +1273,6 @@ impl ModelChecker {
             .parse()
             .map_err(|_| format!("{jp}.remainder_unit: not a rational"))?;
         let list = arr_field(open, "remainder_factors", jp)?;
-        let one_sign = |q: &Poly| -> Option<i64> {
-            if q.all_coefs_positive() {
-                Some(1)
-            } else if q.all_coefs_negative() {
-                Some(-1)
-            } else {
-                None
-            }
-        };
         let mut product = Poly::constant(unit.clone());
         let mut sign: i64 = unit.signum() as i64;
         let mut anchors: Vec<i64> = Vec::new();
@@ -1400,15 +1391,6 @@ impl ModelChecker {
                         .collect()
                 })
                 .collect()
-        };
-        let one_sign = |q: &Poly| -> Option<i64> {
-            if q.all_coefs_positive() {
-                Some(1)
-            } else if q.all_coefs_negative() {
-                Some(-1)
-            } else {
-                None
-            }
         };
         let list = arr_field(open, "blocks", jp)?;
         if list.is_empty() {
@@ -1802,6 +1784,18 @@ impl ModelChecker {
 }
 
 /// `g > 0` on the open positive orthant by the argument `d`.
+/// `1` or `-1` if every coefficient of `q` has that sign (so `q` has that
+/// sign on the whole orthant), else `None`.
+fn one_sign(q: &Poly) -> Option<i64> {
+    if q.all_coefs_positive() {
+        Some(1)
+    } else if q.all_coefs_negative() {
+        Some(-1)
+    } else {
+        None
+    }
+}
+
 /// A `{"factor", "exponent"}` entry of a certificate (exponent at least 1).
 fn listed_factor(f: &Value, fp: &str) -> Result<(Poly, u32), String> {
     let g = poly_field(f, "factor", fp)?;
