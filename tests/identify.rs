@@ -7,13 +7,10 @@ use mms::xorshift::XorShift;
 use mms::Model;
 use std::path::{Path, PathBuf};
 mod common;
-use common::mms;
+use common::{mms, real_data};
 
 fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("mms-identify-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::temp_dir("identify", name)
 }
 
 /// A noise-free recording of `id` as FRF CSV, with 1 % noise if asked.
@@ -32,15 +29,6 @@ fn recording(dir: &Path, id: &str, noise: f64, seed: u64) -> (PathBuf, ident::sy
     let path = dir.join(format!("{id}.csv"));
     std::fs::write(&path, frf::write_csv(&s.frf, frf::CsvLayout::ReIm)).unwrap();
     (path, s)
-}
-
-/// A file of the shared real recordings (see ../shared/data/real/README.md).
-fn real_data(rel: &str) -> String {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/real")
-        .join(rel);
-    assert!(p.exists(), "real recording {} missing", p.display());
-    p.to_string_lossy().into_owned()
 }
 
 #[test]

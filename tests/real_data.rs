@@ -15,23 +15,11 @@
 
 use std::path::{Path, PathBuf};
 mod common;
-use common::mms;
+use common::{mms, real_data};
 use serde_json::Value;
 
 fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("mms-real-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// A file of the shared real recordings (see ../shared/data/real/README.md).
-fn real_data(rel: &str) -> String {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/real")
-        .join(rel);
-    assert!(p.exists(), "real recording {} missing", p.display());
-    p.to_string_lossy().into_owned()
+    common::temp_dir("real", name)
 }
 
 const F16_PERIOD: usize = 8192;

@@ -272,18 +272,7 @@ fn markdown(name: &str, source: &str, d: &Diagnosis, plot: Option<&str>) -> Stri
     let best = d.effects.first();
     let verdict = match best {
         Some(e) if e.kind != EffectKind::None => {
-            let causes: Vec<String> = d
-                .effects
-                .iter()
-                .map(|e| {
-                    let params: Vec<String> = e
-                        .parameters
-                        .iter()
-                        .map(|(k, v)| format!("{k} = {v:.4e}"))
-                        .collect();
-                    format!("**{}** ({})", e.kind.as_str(), params.join(", "))
-                })
-                .collect();
+            let causes = effect_names(&d.effects);
             let bands: Vec<String> = d
                 .mismatch
                 .iter()
@@ -467,6 +456,21 @@ fn time_bode(
     Ok(b.residual())
 }
 
+/// `**kind** (parameter = value, ...)` for each effect, best first.
+fn effect_names(effects: &[ident::diagnose::EffectVerdict]) -> Vec<String> {
+    effects
+        .iter()
+        .map(|e| {
+            let params: Vec<String> = e
+                .parameters
+                .iter()
+                .map(|(k, v)| format!("{k} = {v:.4e}"))
+                .collect();
+            format!("**{}** ({})", e.kind.as_str(), params.join(", "))
+        })
+        .collect()
+}
+
 fn time_markdown(name: &str, source: &str, d: &TimeDiagnosis, plot: Option<&str>) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Diagnosis of `{name}` (time domain)\n");
@@ -484,18 +488,7 @@ fn time_markdown(name: &str, source: &str, d: &TimeDiagnosis, plot: Option<&str>
     let (b, a) = (&d.fit.before, &d.fit.after);
     let verdict = match d.effects.first() {
         Some(e) if e.kind != EffectKind::None => {
-            let causes: Vec<String> = d
-                .effects
-                .iter()
-                .map(|e| {
-                    let params: Vec<String> = e
-                        .parameters
-                        .iter()
-                        .map(|(k, v)| format!("{k} = {v:.4e}"))
-                        .collect();
-                    format!("**{}** ({})", e.kind.as_str(), params.join(", "))
-                })
-                .collect();
+            let causes = effect_names(&d.effects);
             format!(
                 "Most likely missing: {}; adding {} brings the time-domain error from {:.4e} to \
                  {:.4e} ({} % to {} % of the output RMS), and the FRF error from {:.3} dB / \

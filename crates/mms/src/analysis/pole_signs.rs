@@ -136,28 +136,11 @@ pub(crate) fn pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Option<Po
     let mass = model.mass_matrix();
     let stiff = model.stiffness_matrix();
     let om = Poly::var(OMEGA);
-    // The blocks: maximal runs linked by nonzero off-diagonal entries.
-    let n = mass.len();
-    let mut blocks: Vec<Vec<usize>> = vec![vec![0]];
-    for i in 1..n {
-        if stiff[i - 1][i].is_zero() {
-            blocks.push(vec![i]);
-        } else {
-            blocks.last_mut().expect("a block").push(i);
-        }
-    }
-    for b in &blocks {
+    for b in &chain_blocks(&stiff) {
         if b.len() < 2 {
             continue;
         }
-        let pencil: Vec<Vec<Poly>> = b
-            .iter()
-            .map(|&i| {
-                b.iter()
-                    .map(|&j| &stiff[i][j] - &(&om * &mass[i][j]))
-                    .collect()
-            })
-            .collect();
+        let pencil = pencil(&mass, &stiff, b);
         let d = det(&pencil);
         let free = d.subs(OMEGA, &poly::Rat::ZERO).is_zero();
         let p = if free { d.div_exact(&om)? } else { d };
@@ -297,8 +280,20 @@ pub(crate) fn type_fits(data: &PoleSignData, t: &FrfType) -> bool {
         .any(|par| par.iter().zip(&counts).all(|(odd, c)| *odd == (c % 2 == 1)))
 }
 
+/// `K - Omega*M` restricted to the masses `idx` (0-based).
+pub(crate) fn pencil(mass: &[Vec<Poly>], stiff: &[Vec<Poly>], idx: &[usize]) -> Vec<Vec<Poly>> {
+    let om = Poly::var(OMEGA);
+    idx.iter()
+        .map(|&i| {
+            idx.iter()
+                .map(|&j| &stiff[i][j] - &(&om * &mass[i][j]))
+                .collect()
+        })
+        .collect()
+}
+
 /// The chain's blocks: maximal runs of masses joined by springs (0-based).
-fn chain_blocks(stiff: &[Vec<Poly>]) -> Vec<Vec<usize>> {
+pub(crate) fn chain_blocks(stiff: &[Vec<Poly>]) -> Vec<Vec<usize>> {
     let mut blocks: Vec<Vec<usize>> = Vec::new();
     for i in 0..stiff.len() {
         match blocks.last_mut() {
@@ -327,15 +322,7 @@ pub(crate) fn block_pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Opt
     let stiff = model.stiffness_matrix();
     let (b, c) = (model.input_vector(), model.output_vector());
     let om = Poly::var(OMEGA);
-    let pencil_of = |idx: &[usize]| -> Vec<Vec<Poly>> {
-        idx.iter()
-            .map(|&i| {
-                idx.iter()
-                    .map(|&j| &stiff[i][j] - &(&om * &mass[i][j]))
-                    .collect()
-            })
-            .collect()
-    };
+    let pencil_of = |idx: &[usize]| pencil(&mass, &stiff, idx);
     // (indices, d_B, p_B, free, n_B) of every block the TF has a term of.
     let mut parts = Vec::new();
     for blk in chain_blocks(&stiff) {

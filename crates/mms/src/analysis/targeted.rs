@@ -22,6 +22,7 @@
 //! measure-zero types live on walls, which the exact search samples.
 
 use super::frf_type::{Feature, FrfType};
+use super::pole_signs::{chain_blocks, pencil};
 use super::prover::{positive_full_point, substitute, Prover, Sampler, Substitution};
 use crate::tf::UndampedCoefficients;
 use crate::tf::OMEGA;
@@ -549,27 +550,16 @@ impl Prover<'_> {
         if counts.is_empty() {
             return 0;
         }
-        let om = Poly::var(OMEGA);
         let mass = self.model.mass_matrix();
         let stiff = self.model.stiffness_matrix();
         let names = self.model.masses();
-        let det_of = |lo: usize, hi: usize| -> Poly {
-            let m: Vec<Vec<Poly>> = (lo..hi)
-                .map(|i| {
-                    (lo..hi)
-                        .map(|j| &stiff[i][j] - &(&om * &mass[i][j]))
-                        .collect()
-                })
-                .collect();
-            poly::det(&m)
-        };
-        let mut blocks: Vec<(usize, usize)> = Vec::new();
-        for i in 0..names.len() {
-            match blocks.last_mut() {
-                Some(b) if !stiff[i - 1][i].is_zero() => b.1 = i + 1,
-                _ => blocks.push((i, i + 1)),
-            }
-        }
+        let det_of =
+            |lo: usize, hi: usize| poly::det(&pencil(&mass, &stiff, &(lo..hi).collect::<Vec<_>>()));
+        // Blocks as [first, last + 1).
+        let blocks: Vec<(usize, usize)> = chain_blocks(&stiff)
+            .iter()
+            .map(|b| (b[0], b[b.len() - 1] + 1))
+            .collect();
         // Mechanisms: (first determinant, its masses; second, its masses).
         type Mechanism = (Poly, Vec<usize>, Poly, Vec<usize>);
         let mut mechanisms: Vec<Mechanism> = Vec::new();
@@ -584,14 +574,12 @@ impl Prover<'_> {
                 }
             }
             for &(lo2, hi2) in &blocks[k + 1..] {
-                if hi - lo >= 1 && hi2 - lo2 >= 1 {
-                    mechanisms.push((
-                        whole.clone(),
-                        (lo..hi).collect(),
-                        det_of(lo2, hi2),
-                        (lo2..hi2).collect(),
-                    ));
-                }
+                mechanisms.push((
+                    whole.clone(),
+                    (lo..hi).collect(),
+                    det_of(lo2, hi2),
+                    (lo2..hi2).collect(),
+                ));
             }
         }
         if mechanisms.is_empty() {
