@@ -718,6 +718,9 @@ struct ModelChecker {
     /// The model's mass and stiffness matrices.
     mass: Vec<Vec<Poly>>,
     stiff: Vec<Vec<Poly>>,
+    /// Actuator and sensor vectors.
+    input: Vec<i64>,
+    output: Vec<i64>,
     num: Poly,
     den: Poly,
     strata: HashMap<String, Rc<Stratum>>,
@@ -748,6 +751,8 @@ fn check_model_at(m: &Value, path: &str) -> Result<CheckReport, CheckError> {
         jacobi: unreduced_blocks(&model),
         mass: model.mass_matrix(),
         stiff: model.stiffness_matrix(),
+        input: model.input_vector(),
+        output: model.output_vector(),
         num,
         den,
         strata: HashMap::new(),
@@ -1545,6 +1550,16 @@ impl ModelChecker {
                     }
                 ));
             }
+            let mut collocated = 0;
+            for s in [1, -1] {
+                if (lo..hi).all(|i| self.output[i] == s * self.input[i]) {
+                    collocated = s;
+                }
+            }
+            let mut omega_power = 0;
+            while n.coeffs_in(OMEGA)[omega_power as usize].is_zero() {
+                omega_power += 1;
+            }
             infos.push(CheckBlock {
                 size: hi - lo,
                 free,
@@ -1552,6 +1567,8 @@ impl ModelChecker {
                 direct: !remainder,
                 base,
                 runs,
+                collocated,
+                omega_power,
             });
         }
         if infos.len() > 2 {
@@ -1818,6 +1835,11 @@ struct CheckBlock {
     direct: bool,
     base: i64,
     runs: Vec<CheckRun>,
+    /// `s` when the sensor vector on the block is `s` times the
+    /// actuator's (`s = +-1`), else `0`.
+    collocated: i64,
+    /// How often `Omega` divides `n_B`.
+    omega_power: u32,
 }
 
 impl CheckBlock {
@@ -1891,6 +1913,13 @@ fn block_orders(b: &CheckBlock) -> Vec<Vec<CheckEvent>> {
             }
             seqs = grown;
         }
+        // A common eigenvalue of the block and a run at its end is one of
+        // the block beyond the run's neighbour (expand det P across the
+        // spring between them; the run less its first mass interlaces the
+        // run strictly): n - len - 1 of them at most.
+        if at_end {
+            seqs.retain(|sq| sq.iter().filter(|&&q| q % 2 == 0).count() + r.len < n);
+        }
         per_run.push(seqs);
     }
     // Every combination of the runs' positions.
@@ -1907,6 +1936,7 @@ fn block_orders(b: &CheckBlock) -> Vec<Vec<CheckEvent>> {
             })
             .collect();
     }
+    combos.retain(|c| union_cauchy(b, &per_run, c) && end_ties_shared(b, &per_run, c));
     let mut out: Vec<Vec<CheckEvent>> = Vec::new();
     for c in combos {
         let at = |q: usize| -> Vec<usize> {
@@ -1980,6 +2010,85 @@ fn block_orders(b: &CheckBlock) -> Vec<Vec<CheckEvent>> {
     out
 }
 
+/// Cauchy interlacing for every set of runs no spring joins (the matrix
+/// on their masses is block diagonal, so its spectrum is theirs together):
+/// with `k` masses in a block of `n`, the set's `i`-th smallest eigenvalue
+/// sits at a position from `2i` to `2(i+n-k)`.
+fn union_cauchy(b: &CheckBlock, per_run: &[Vec<Vec<usize>>], c: &[usize]) -> bool {
+    let n = b.size;
+    for set in 0u64..(1u64 << b.runs.len()) {
+        if set.count_ones() < 2 {
+            continue;
+        }
+        // Which run owns each mass; two runs may neither share a mass nor
+        // touch.
+        let mut owner: Vec<Option<usize>> = vec![None; n];
+        let mut apart = true;
+        for (r, run) in b.runs.iter().enumerate() {
+            if set & (1 << r) == 0 {
+                continue;
+            }
+            for slot in &mut owner[run.first..run.first + run.len] {
+                if slot.is_some() {
+                    apart = false;
+                }
+                *slot = Some(r);
+            }
+        }
+        for m in 1..n {
+            if let (Some(x), Some(y)) = (owner[m - 1], owner[m]) {
+                if x != y {
+                    apart = false;
+                }
+            }
+        }
+        if !apart {
+            continue;
+        }
+        let k = owner.iter().filter(|o| o.is_some()).count();
+        let mut positions: Vec<usize> = Vec::new();
+        for (r, seqs) in per_run.iter().enumerate() {
+            if set & (1 << r) != 0 {
+                positions.extend(seqs[c[r]].iter().copied());
+            }
+        }
+        positions.sort_unstable();
+        for (i, q) in positions.iter().enumerate() {
+            let i = i + 1;
+            if *q < 2 * i || *q > 2 * (i + n - k) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// A run at one end of the block and the run at the other end, with one
+/// mass between them: a block eigenvalue on an eigenvalue of the first is
+/// one of the second (det P expanded across the spring to the mass
+/// between), so every position on an eigenvalue the first takes, the
+/// second takes too.
+fn end_ties_shared(b: &CheckBlock, per_run: &[Vec<Vec<usize>>], c: &[usize]) -> bool {
+    let n = b.size;
+    for (x, rx) in b.runs.iter().enumerate() {
+        for (y, ry) in b.runs.iter().enumerate() {
+            let ends = (rx.first == 0 && ry.first + ry.len == n)
+                || (ry.first == 0 && rx.first + rx.len == n);
+            if x == y || !ends || rx.len + ry.len + 1 != n {
+                continue;
+            }
+            let ys = &per_run[y][c[y]];
+            if per_run[x][c[x]]
+                .iter()
+                .any(|q| q % 2 == 0 && !ys.contains(q))
+            {
+                return false;
+            }
+        }
+    }
+    true
+}
+
 /// What [`interleave`] hands over: the merged order and the coincident
 /// poles.
 type ConfigurationVisitor<'a> = &'a mut dyn FnMut(&[(usize, CheckEvent)], &[(usize, bool)]);
@@ -2035,6 +2144,11 @@ enum CheckSample {
     Sign(i64),
     /// Zeros at a point (one block whose zeros are its runs' eigenvalues).
     Zeros(u32),
+    /// At most this many zeros between the samples on either side: none
+    /// when both blocks' terms `T_B = n_B / d_B` have one and the same sign
+    /// on that open interval, one (simple) when all are strictly monotone
+    /// there in one direction.
+    Cap(u32),
 }
 
 /// Whether the type with `counts` antiresonances between its resonances
@@ -2052,6 +2166,33 @@ fn configuration_fits(
 ) -> bool {
     let sgn = |k: usize| (-1i64).pow(k as u32 % 2);
     let partner = |i: usize| shared.iter().any(|&(j, _)| j + 1 == i);
+    // At coincident poles the terms' residues decide the cancellation: a
+    // pole with a run's eigenvalue on it has none; otherwise the residue
+    // has the sign of n_B times p_B' (the leading sign, flipped for each
+    // of the block's poles above). Twice needs both gone or a zero sum.
+    for &(j, double) in shared {
+        let residue = |i: usize| -> Option<i64> {
+            let (k, e) = &order[i];
+            match e {
+                CheckEvent::Pole { on, n_sign, .. } if on.is_empty() => {
+                    let above = order[i + 1..]
+                        .iter()
+                        .filter(|(kk, ee)| kk == k && matches!(ee, CheckEvent::Pole { .. }))
+                        .count();
+                    Some(n_sign * blocks[*k].lead * sgn(above))
+                }
+                _ => None,
+            }
+        };
+        let ok = match (residue(j), residue(j + 1)) {
+            (None, None) => double,
+            (Some(a), Some(b)) => !double || a != b,
+            _ => !double,
+        };
+        if !ok {
+            return false;
+        }
+    }
     // Eigenvalues of run `r` of block `k` before position `i` (those on a
     // pole count where the pole is).
     let eigs_before = |i: usize, k: usize, r: usize| -> usize {
@@ -2090,19 +2231,113 @@ fn configuration_fits(
             .filter(|&&(j, k)| j > i && k % 2 == 1)
             .fold(s, |s, _| -s)
     };
+    // The sign of block k's term n_B / p_B just below position i (above
+    // every event when i is the length), if its runs give every zero of
+    // n_B.
+    let term_sign = |i: usize, k: usize| -> Option<i64> {
+        let b = &blocks[k];
+        if !b.direct {
+            return None;
+        }
+        let mut s = b.base * b.lead;
+        for (r, run) in b.runs.iter().enumerate() {
+            if run.exponent % 2 == 1 {
+                s *= run.sign * sgn(eigs_before(i, k, r));
+            }
+        }
+        let poles_above = order[i..]
+            .iter()
+            .filter(|(kk, e)| *kk == k && matches!(e, CheckEvent::Pole { .. }))
+            .count();
+        Some(s * sgn(poles_above))
+    };
+    // Whether T_B rises (+1) or falls (-1) just below position i: the
+    // derivative of a collocated term is +-(P^-1 b)^T M (P^-1 b); else
+    // d log|T_B| / dOmega sums 1/(Omega - z) over n_B's zeros z (0 counted
+    // omega_power times) minus the same over d_B's roots (0 once for a
+    // free block), each term of known sign when its root is on a known
+    // side of the interval.
+    let direction = |i: usize, k: usize| -> Option<i64> {
+        let b = &blocks[k];
+        if b.collocated != 0 {
+            return Some(b.collocated);
+        }
+        let s = term_sign(i, k)?;
+        let (mut up, mut down) = (0u32, 0u32);
+        let zero_net = b.omega_power as i64 - i64::from(b.free);
+        if zero_net > 0 {
+            up += 1;
+        } else if zero_net < 0 {
+            down += 1;
+        }
+        for (r, run) in b.runs.iter().enumerate() {
+            let below = eigs_before(i, k, r);
+            up += below as u32;
+            down += (run.len - below) as u32;
+        }
+        for (j, (kk, e)) in order.iter().enumerate() {
+            if *kk == k && matches!(e, CheckEvent::Pole { .. }) {
+                if j < i {
+                    down += 1;
+                } else {
+                    up += 1;
+                }
+            }
+        }
+        match (up > 0, down > 0) {
+            (true, false) => Some(s),
+            (false, true) => Some(-s),
+            _ => None,
+        }
+    };
+    let cap_below = |i: usize| -> Option<u32> {
+        let signs: Vec<Option<i64>> = (0..blocks.len()).map(|k| term_sign(i, k)).collect();
+        if blocks.len() == 2 && signs[0].is_some() && signs[0] == signs[1] {
+            return Some(0);
+        }
+        let dirs: Vec<Option<i64>> = (0..blocks.len()).map(|k| direction(i, k)).collect();
+        if dirs.iter().all(|d| d.is_some() && *d == dirs[0]) {
+            return Some(1);
+        }
+        None
+    };
     let mut samples: Vec<CheckSample> = Vec::new();
+    // The position the next event must have for the interval from the
+    // last sample to it to hold no other event.
+    let mut adjacent: Option<usize> = None;
     if !exact {
         let odd = cancel.iter().filter(|&&(_, k)| k % 2 == 1).count();
         samples.push(CheckSample::Sign(at_zero * sgn(odd)));
+        adjacent = Some(0);
     }
     for (i, (k, e)) in order.iter().enumerate() {
         if partner(i) {
             continue;
         }
+        let before = samples.len();
+        let cap = if !exact && adjacent == Some(i) {
+            cap_below(i)
+        } else {
+            None
+        };
+        let width = if shared.iter().any(|&(j, _)| j == i) {
+            2
+        } else {
+            1
+        };
+        let mut mark = |samples: &mut Vec<CheckSample>| {
+            if samples.len() > before {
+                if let Some(z) = cap {
+                    samples.insert(before, CheckSample::Cap(z));
+                }
+                adjacent = Some(i + width);
+            }
+        };
         if let Some(&(_, double)) = shared.iter().find(|&&(j, _)| j == i) {
             if !double {
                 samples.push(CheckSample::Pole(None));
             }
+            mark(&mut samples);
             continue;
         }
         match e {
@@ -2125,6 +2360,7 @@ fn configuration_fits(
                     }
                     samples.push(CheckSample::Pole(Some(reduced(i, s))));
                 }
+                mark(&mut samples);
             }
             CheckEvent::Eig { run } => {
                 if exact {
@@ -2163,10 +2399,16 @@ fn configuration_fits(
                 }
                 let s = minus_c * blocks[*k].lead * sgn(poles_after(i, *k)) * n_other;
                 samples.push(CheckSample::Sign(reduced(i, s)));
+                mark(&mut samples);
             }
         }
     }
     if !exact {
+        if adjacent == Some(order.len()) {
+            if let Some(z) = cap_below(order.len()) {
+                samples.push(CheckSample::Cap(z));
+            }
+        }
         samples.push(CheckSample::Sign(at_inf));
     }
     if exact {
@@ -2175,7 +2417,7 @@ fn configuration_fits(
             match s {
                 CheckSample::Pole(_) => got.push(0),
                 CheckSample::Zeros(z) => *got.last_mut().expect("one") += z,
-                CheckSample::Sign(_) => {}
+                CheckSample::Sign(_) | CheckSample::Cap(_) => {}
             }
         }
         return got == counts;
@@ -2190,6 +2432,7 @@ fn configuration_fits(
     if n_poles + 1 != counts.len() {
         return false;
     }
+    #[allow(clippy::too_many_arguments)]
     fn spread(
         samples: &[CheckSample],
         counts: &[u32],
@@ -2198,11 +2441,25 @@ fn configuration_fits(
         left: u32,
         zeros_since: u32,
         last: i64,
+        cap: Option<u32>,
     ) -> bool {
         if i == samples.len() {
             return interval + 1 == counts.len() && left == 0;
         }
-        (0..=left).any(|z| {
+        if let CheckSample::Cap(z) = samples[i] {
+            return spread(
+                samples,
+                counts,
+                i + 1,
+                interval,
+                left,
+                zeros_since,
+                last,
+                Some(z),
+            );
+        }
+        let most = cap.map_or(left, |z| z.min(left));
+        (0..=most).any(|z| {
             let left = left - z;
             let since = zeros_since + z;
             let (since, last) = match samples[i] {
@@ -2225,14 +2482,15 @@ fn configuration_fits(
                             counts.get(interval + 1).copied().unwrap_or(0),
                             since,
                             last,
+                            None,
                         )
                 }
-                _ => spread(samples, counts, i + 1, interval, left, since, last),
+                _ => spread(samples, counts, i + 1, interval, left, since, last, None),
             }
         })
     }
     match samples[0] {
-        CheckSample::Sign(first) => spread(&samples, counts, 1, 0, counts[0], 0, first),
+        CheckSample::Sign(first) => spread(&samples, counts, 1, 0, counts[0], 0, first, None),
         _ => false,
     }
 }

@@ -57,6 +57,13 @@ pub(crate) struct BlockEvents {
     /// poles; also elsewhere when `direct`).
     pub base: i32,
     pub minors: Vec<Minor>,
+    /// `+1` when the sensor reads the block as the actuator drives it
+    /// (`c_B = b_B`), `-1` for `c_B = -b_B`, else `0`: a collocated term
+    /// `c_B^T P_B^-1 b_B` has the derivative `(P_B^-1 b_B)^T M_B (P_B^-1
+    /// b_B)` times that sign, so it is monotone between its poles.
+    pub collocated: i32,
+    /// The power of `Omega` dividing `n_B`.
+    pub omega_power: u32,
 }
 
 impl BlockEvents {
@@ -75,6 +82,11 @@ pub(crate) enum Sample {
     Point(i8),
     /// `k` zeros of the numerator at one point (exact mode only).
     Zeros(u32),
+    /// The open gap between the samples before and after holds at most
+    /// this many zeros (`0`: every block's term has one and the same sign
+    /// there; `1`, and simple: every term is strictly monotone there, all
+    /// in one direction).
+    AtMost(u32),
 }
 
 /// All configurations of a model, as sample lists.
@@ -146,6 +158,15 @@ fn minor_cells(b: &BlockEvents, m: &Minor) -> Vec<Vec<usize>> {
         }
     }
     grow(1, n, k, b.first_pole(), at_end, &mut cur, &mut out);
+    // An end run S shares at most n - k - 1 eigenvalues with the block:
+    // split the block between S and its neighbour j, det P = det P_rest
+    // det P_S - c^2 det P_(rest less j) det P_(S less its first mass); at a
+    // common eigenvalue the last factor is nonzero (an end run of S
+    // interlaces S strictly), so the eigenvalue is one of the n - k - 1 of
+    // the block beyond j.
+    if at_end {
+        out.retain(|cells| cells.iter().filter(|c| *c % 2 == 0).count() < n - k);
+    }
     out
 }
 
@@ -159,77 +180,19 @@ fn block_sequences(b: &BlockEvents, budget: &mut usize) -> Option<Vec<Vec<Tok>>>
     if per_minor.iter().any(|c| c.is_empty()) {
         return Some(out);
     }
+    let unions = separated_unions(&b.minors);
     loop {
         // Cells of every eigenvalue: (cell, minor).
         let mut eigs: Vec<(usize, usize)> = Vec::new();
         for (m, cells) in per_minor.iter().enumerate() {
             eigs.extend(cells[choice[m]].iter().map(|&c| (c, m)));
         }
-        let mut seq_variants: Vec<Vec<Tok>> = vec![Vec::new()];
-        for j in b.first_pole()..=b.size {
-            let tied: Vec<usize> = eigs
-                .iter()
-                .filter(|(c, _)| *c == 2 * j)
-                .map(|(_, m)| *m)
-                .collect();
-            let mut sign = b.base;
-            for (m, minor) in b.minors.iter().enumerate() {
-                if minor.exponent % 2 == 1 {
-                    let below = eigs.iter().filter(|(c, mm)| *mm == m && *c < 2 * j).count();
-                    sign *= minor.sign * if below % 2 == 1 { -1 } else { 1 };
-                }
-            }
-            for s in seq_variants.iter_mut() {
-                s.push(Tok::Pole {
-                    tied: tied.clone(),
-                    sign,
-                });
-            }
-            if b.direct && j < b.size {
-                let mut in_gap: Vec<usize> = eigs
-                    .iter()
-                    .filter(|(c, _)| *c == 2 * j + 1)
-                    .map(|(_, m)| *m)
-                    .collect();
-                in_gap.sort_unstable();
-                let orders = permutations(&in_gap);
-                let mut grown = Vec::with_capacity(seq_variants.len() * orders.len());
-                for s in &seq_variants {
-                    for o in &orders {
-                        let mut v = s.clone();
-                        v.extend(o.iter().map(|&m| Tok::Eig { minor: m }));
-                        grown.push(v);
-                    }
-                }
-                seq_variants = grown;
-            }
-        }
-        // A free block's gap above the rigid-body 0 lies below its first
-        // pole: move its eigenvalues to the front.
-        if b.direct && b.free {
-            let below: Vec<usize> = eigs
-                .iter()
-                .filter(|(c, _)| *c == 3)
-                .map(|(_, m)| *m)
-                .collect();
-            if !below.is_empty() {
-                let orders = permutations(&below);
-                let mut grown = Vec::new();
-                for s in &seq_variants {
-                    for o in &orders {
-                        let mut v: Vec<Tok> = o.iter().map(|&m| Tok::Eig { minor: m }).collect();
-                        v.extend(s.iter().cloned());
-                        grown.push(v);
-                    }
-                }
-                seq_variants = grown;
-            }
-        }
-        *budget = budget.checked_sub(seq_variants.len())?;
-        for s in seq_variants {
-            if !out.contains(&s) {
-                out.push(s);
-            }
+        if unions
+            .iter()
+            .all(|u| union_interlaces(b.size, &b.minors, u, &eigs))
+            && end_ties_pair(b, &eigs)
+        {
+            block_variants(b, &eigs, budget, &mut out)?;
         }
         let mut i = 0;
         loop {
@@ -244,6 +207,147 @@ fn block_sequences(b: &BlockEvents, budget: &mut usize) -> Option<Vec<Vec<Tok>>>
             i += 1;
         }
     }
+}
+
+/// A pole an end run's eigenvalue sits on is an eigenvalue of the run
+/// beyond the end run's neighbour (see [`minor_cells`]); when that run is
+/// a minor too (the driven mass of a collocated block between them), its
+/// eigenvalue sits on the same pole.
+fn end_ties_pair(b: &BlockEvents, eigs: &[(usize, usize)]) -> bool {
+    let n = b.size;
+    b.minors.iter().enumerate().all(|(m, s)| {
+        let beyond = if s.start == 0 && s.len + 1 < n {
+            (s.len + 1, n - s.len - 1)
+        } else if s.start > 1 && s.start + s.len == n {
+            (0, s.start - 1)
+        } else {
+            return true;
+        };
+        let Some(o) = b.minors.iter().position(|x| (x.start, x.len) == beyond) else {
+            return true;
+        };
+        eigs.iter()
+            .filter(|&&(c, mm)| mm == m && c % 2 == 0)
+            .all(|&(c, _)| eigs.contains(&(c, o)))
+    })
+}
+
+/// Every set of two or more minors whose runs are pairwise apart (no
+/// spring joins two of them): the block matrix restricted to their union
+/// is block diagonal, a principal submatrix whose eigenvalues are the
+/// runs' together.
+fn separated_unions(minors: &[Minor]) -> Vec<Vec<usize>> {
+    let apart = |a: &Minor, b: &Minor| a.start + a.len < b.start || b.start + b.len < a.start;
+    let mut out = Vec::new();
+    for set in 1u32..1 << minors.len() {
+        let members: Vec<usize> = (0..minors.len()).filter(|&m| set >> m & 1 == 1).collect();
+        let ok = members.len() >= 2
+            && members.iter().enumerate().all(|(i, &a)| {
+                members[i + 1..]
+                    .iter()
+                    .all(|&c| apart(&minors[a], &minors[c]))
+            });
+        if ok {
+            out.push(members);
+        }
+    }
+    out
+}
+
+/// Cauchy interlacing for the union of the runs in `union` (`k` masses of
+/// a block of `n`): its `i`-th smallest eigenvalue lies in `[lambda_i,
+/// lambda_(i+n-k)]`, cells `2i` to `2(i+n-k)`. Stronger than each run's
+/// own interlacing: the end runs of a chain seen off its driven mass can
+/// not both lie below the first pole.
+fn union_interlaces(n: usize, minors: &[Minor], union: &[usize], eigs: &[(usize, usize)]) -> bool {
+    let k: usize = union.iter().map(|&m| minors[m].len).sum();
+    let mut cells: Vec<usize> = eigs
+        .iter()
+        .filter(|(_, m)| union.contains(m))
+        .map(|&(c, _)| c)
+        .collect();
+    cells.sort_unstable();
+    cells
+        .iter()
+        .enumerate()
+        .all(|(i, &c)| 2 * (i + 1) <= c && c <= 2 * (i + 1 + n - k))
+}
+
+/// The token sequences of one choice of the minors' cells, appended to
+/// `out` (without repeats).
+fn block_variants(
+    b: &BlockEvents,
+    eigs: &[(usize, usize)],
+    budget: &mut usize,
+    out: &mut Vec<Vec<Tok>>,
+) -> Option<()> {
+    let mut seq_variants: Vec<Vec<Tok>> = vec![Vec::new()];
+    for j in b.first_pole()..=b.size {
+        let tied: Vec<usize> = eigs
+            .iter()
+            .filter(|(c, _)| *c == 2 * j)
+            .map(|(_, m)| *m)
+            .collect();
+        let mut sign = b.base;
+        for (m, minor) in b.minors.iter().enumerate() {
+            if minor.exponent % 2 == 1 {
+                let below = eigs.iter().filter(|(c, mm)| *mm == m && *c < 2 * j).count();
+                sign *= minor.sign * if below % 2 == 1 { -1 } else { 1 };
+            }
+        }
+        for s in seq_variants.iter_mut() {
+            s.push(Tok::Pole {
+                tied: tied.clone(),
+                sign,
+            });
+        }
+        if b.direct && j < b.size {
+            let mut in_gap: Vec<usize> = eigs
+                .iter()
+                .filter(|(c, _)| *c == 2 * j + 1)
+                .map(|(_, m)| *m)
+                .collect();
+            in_gap.sort_unstable();
+            let orders = permutations(&in_gap);
+            let mut grown = Vec::with_capacity(seq_variants.len() * orders.len());
+            for s in &seq_variants {
+                for o in &orders {
+                    let mut v = s.clone();
+                    v.extend(o.iter().map(|&m| Tok::Eig { minor: m }));
+                    grown.push(v);
+                }
+            }
+            seq_variants = grown;
+        }
+    }
+    // A free block's gap above the rigid-body 0 lies below its first
+    // pole: move its eigenvalues to the front.
+    if b.direct && b.free {
+        let below: Vec<usize> = eigs
+            .iter()
+            .filter(|(c, _)| *c == 3)
+            .map(|(_, m)| *m)
+            .collect();
+        if !below.is_empty() {
+            let orders = permutations(&below);
+            let mut grown = Vec::new();
+            for s in &seq_variants {
+                for o in &orders {
+                    let mut v: Vec<Tok> = o.iter().map(|&m| Tok::Eig { minor: m }).collect();
+                    v.extend(s.iter().cloned());
+                    grown.push(v);
+                }
+            }
+            seq_variants = grown;
+        }
+    }
+    *budget = budget.checked_sub(seq_variants.len())?;
+    for s in seq_variants {
+        if !out.contains(&s) {
+            out.push(s);
+        }
+    }
+    Some(())
 }
 
 /// The distinct orders of a sorted multiset.
@@ -278,8 +382,19 @@ enum Merged {
     },
 }
 
+/// Every merge of two blocks' sequences (`leads`: the signs of their pole
+/// polynomials' leading coefficients).
+///
+/// Where two poles coincide, how often the double root of the
+/// denominator cancels follows from the residues of the terms `T_B`
+/// there: a tied pole (`n_B = 0` on it) has none, an untied one the sign
+/// of `n_B` times that of `p_B'` (its leading sign, flipped once per pole
+/// of the block above). Both tied: the sum has no pole, it cancels twice;
+/// one tied: the other's residue stays, once; none: twice only if the
+/// residues can add up to zero, of opposite signs.
 fn merge(
     seqs: [&[Tok]; 2],
+    leads: [i32; 2],
     pos: [usize; 2],
     cur: &mut Vec<Merged>,
     out: &mut Vec<Vec<Merged>>,
@@ -295,19 +410,31 @@ fn merge(
             cur.push(Merged::One(b, seqs[b][pos[b]].clone()));
             let mut next = pos;
             next[b] += 1;
-            merge(seqs, next, cur, out, budget)?;
+            merge(seqs, leads, next, cur, out, budget)?;
             cur.pop();
         }
     }
-    if let (Some(Tok::Pole { tied: t0, .. }), Some(Tok::Pole { tied: t1, .. })) =
+    if let (Some(Tok::Pole { tied: t0, sign: s0 }), Some(Tok::Pole { tied: t1, sign: s1 })) =
         (seqs[0].get(pos[0]), seqs[1].get(pos[1]))
     {
-        for double in [false, true] {
+        let residue = |b: usize, sign: i32| {
+            let above = seqs[b][pos[b] + 1..]
+                .iter()
+                .filter(|t| matches!(t, Tok::Pole { .. }))
+                .count();
+            sign * leads[b] * if above % 2 == 1 { -1 } else { 1 }
+        };
+        let options: &[bool] = match (t0.is_empty(), t1.is_empty()) {
+            (false, false) => &[true],
+            (true, true) if residue(0, *s0) != residue(1, *s1) => &[false, true],
+            _ => &[false],
+        };
+        for &double in options {
             cur.push(Merged::Shared {
                 tied: [t0.clone(), t1.clone()],
                 double,
             });
-            merge(seqs, [pos[0] + 1, pos[1] + 1], cur, out, budget)?;
+            merge(seqs, leads, [pos[0] + 1, pos[1] + 1], cur, out, budget)?;
             cur.pop();
         }
     }
@@ -351,7 +478,15 @@ pub(crate) fn configurations(
             for a in &seqs[0] {
                 for b in &seqs[1] {
                     let mut out = Vec::new();
-                    merge([a, b], [0, 0], &mut Vec::new(), &mut out, &mut budget)?;
+                    let leads = [blocks[0].lead, blocks[1].lead];
+                    merge(
+                        [a, b],
+                        leads,
+                        [0, 0],
+                        &mut Vec::new(),
+                        &mut out,
+                        &mut budget,
+                    )?;
                     for m in out {
                         patterns.insert(samples(blocks, &m, scale, at_zero, at_inf, false));
                     }
@@ -428,11 +563,72 @@ fn samples(
             .fold(s, |s, _| -s)
     };
     let odd_divisions = divided.iter().filter(|(_, k)| k % 2 == 1).count();
+    // On the open gap below `seq[g]` (above the last token when `g` is
+    // the length) the TF's zeros are those of `S = sum_B T_B`, `T_B = n_B /
+    // d_B` (`d_B = Omega^free p_B`). If every term has one sign there, the
+    // same, `S` has no zero there; if every term is strictly monotone in
+    // one direction, `S` has at most one, simple. A term's sign needs all
+    // of `n_B`'s zeros in the sequence (a direct block); its direction
+    // comes from collocation, or from `d/dOmega log|T_B| = sum over the
+    // zeros z of n_B of 1/(Omega - z) - sum over the roots r of d_B of
+    // 1/(Omega - r)`, of one sign when all of `n_B`'s zeros (and `0` as
+    // often as `Omega` divides it) lie on one side of the gap and all of
+    // `d_B`'s on the other.
+    let cap = |g: usize| -> Option<u32> {
+        let term_sign = |b: usize| -> Option<i32> {
+            let poles_above = seq[g..].iter().filter(|t| is_pole(t, b)).count();
+            Some(n_sign(g, b)? * blocks[b].lead * flip(poles_above))
+        };
+        let direction = |b: usize| -> Option<i32> {
+            let blk = &blocks[b];
+            if blk.collocated != 0 {
+                return Some(blk.collocated);
+            }
+            let sign = term_sign(b)?;
+            let poles_below = seq[..g].iter().filter(|t| is_pole(t, b)).count();
+            let poles = blk.size + 1 - blk.first_pole();
+            let eigs: Vec<(usize, usize)> = (0..blk.minors.len())
+                .map(|m| (eigs_before(g, b, m), blk.minors[m].len))
+                .collect();
+            let free = u32::from(blk.free);
+            // n_B's zeros below, d_B's above (0 as often as in n_B at least).
+            let rising = blk.omega_power >= free
+                && eigs.iter().all(|&(below, all)| below == all)
+                && poles_below == 0;
+            // n_B's zeros above, d_B's below (0 as often as in n_B at most).
+            let falling = blk.omega_power <= free
+                && eigs.iter().all(|&(below, _)| below == 0)
+                && poles_below == poles;
+            match (rising, falling) {
+                (true, false) => Some(sign),
+                (false, true) => Some(-sign),
+                _ => None,
+            }
+        };
+        let signs: Option<Vec<i32>> = (0..blocks.len()).map(term_sign).collect();
+        if blocks.len() >= 2 && signs.is_some_and(|v| v.windows(2).all(|w| w[0] == w[1])) {
+            return Some(0);
+        }
+        let dirs: Option<Vec<i32>> = (0..blocks.len()).map(direction).collect();
+        dirs.is_some_and(|v| v.windows(2).all(|w| w[0] == w[1]))
+            .then_some(1)
+    };
     let mut out = Vec::with_capacity(seq.len() + 2);
+    // The gap index just past the last sample pushed: only a gap between
+    // two samples at consecutive tokens is one open interval of the
+    // sequence (a token without a sample may hide a zero).
+    let mut next_gap: Option<usize> = None;
     if !exact {
         out.push(Sample::Point((at_zero * flip(odd_divisions)) as i8));
+        next_gap = Some(0);
     }
     for (p, t) in seq.iter().enumerate() {
+        let len = out.len();
+        let at_most = if !exact && next_gap == Some(p) {
+            cap(p)
+        } else {
+            None
+        };
         match t {
             Merged::One(b, Tok::Pole { tied, sign }) => {
                 if exact {
@@ -491,8 +687,19 @@ fn samples(
                 out.push(Sample::Point(reduce(p, s) as i8));
             }
         }
+        if out.len() > len {
+            if let Some(k) = at_most {
+                out.insert(len, Sample::AtMost(k));
+            }
+            next_gap = Some(p + 1);
+        }
     }
     if !exact {
+        if next_gap == Some(seq.len()) {
+            if let Some(k) = cap(seq.len()) {
+                out.push(Sample::AtMost(k));
+            }
+        }
         out.push(Sample::Point(at_inf as i8));
     }
     out
@@ -538,7 +745,7 @@ fn exact_fit(samples: &[Sample], counts: &[u32]) -> bool {
         match s {
             Sample::Pole(_) => got.push(0),
             Sample::Zeros(k) => *got.last_mut().expect("one") += k,
-            Sample::Point(_) => {}
+            Sample::Point(_) | Sample::AtMost(_) => {}
         }
     }
     got == counts
@@ -564,11 +771,17 @@ fn parity_fit(samples: &[Sample], counts: &[u32]) -> bool {
     };
     let mut states: BTreeSet<(usize, u32, u32, i8)> = BTreeSet::new();
     states.insert((0, 0, 0, first));
+    let mut cap = None;
     for s in &samples[1..] {
+        if let Sample::AtMost(k) = s {
+            cap = Some(*k);
+            continue;
+        }
         // Zeros in the gap before `s`.
         let mut next = BTreeSet::new();
         for &(i, used, par, last) in &states {
-            for z in 0..=counts[i] - used {
+            let most = cap.map_or(counts[i] - used, |k| k.min(counts[i] - used));
+            for z in 0..=most {
                 let (used, par) = (used + z, (par + z) % 2);
                 let known = match s {
                     Sample::Point(x) | Sample::Pole(Some(x)) => Some(*x),
@@ -596,6 +809,7 @@ fn parity_fit(samples: &[Sample], counts: &[u32]) -> bool {
             }
         }
         states = next;
+        cap = None;
         if states.is_empty() {
             return false;
         }
@@ -652,6 +866,8 @@ mod tests {
             direct: true,
             base: 1,
             minors: vec![],
+            collocated: 0,
+            omega_power: 0,
         };
         let m = Minor {
             start: 1,
@@ -661,9 +877,69 @@ mod tests {
         };
         let cells = minor_cells(&b, &m);
         // Cauchy: cells 2..=4 and 4..=6; strictly inside the extreme
-        // eigenvalues (cells 2 and 6); increasing, not both on pole 2.
-        let mut all = cells.clone();
-        all.sort();
-        assert_eq!(all, vec![vec![3, 4], vec![3, 5], vec![4, 5]]);
+        // eigenvalues (cells 2 and 6); increasing, not both on pole 2;
+        // and never on pole 2 at all: an end run shares n - k - 1 = 0
+        // eigenvalues with its block (the classic strict interlacing of a
+        // Jacobi matrix less an end row).
+        assert_eq!(cells, vec![vec![3, 5]]);
+        // The run of the middle mass alone: anywhere strictly inside.
+        let middle = Minor {
+            start: 1,
+            len: 1,
+            sign: 1,
+            exponent: 1,
+        };
+        assert_eq!(minor_cells(&b, &middle), vec![vec![3], vec![4], vec![5]]);
+        // The first mass of a block of 4: up to n - k - 1 = 2 shared
+        // eigenvalues, so its one eigenvalue may sit on pole 2 or 3 or in
+        // any gap strictly inside.
+        let b4 = BlockEvents { size: 4, ..b };
+        let first = Minor {
+            start: 0,
+            len: 1,
+            sign: 1,
+            exponent: 1,
+        };
+        assert_eq!(
+            minor_cells(&b4, &first),
+            vec![vec![3], vec![4], vec![5], vec![6], vec![7]]
+        );
+    }
+
+    #[test]
+    fn end_run_ties_need_the_run_beyond() {
+        // The free chain of 4 driven and seen at m2: n_B = det(m1) *
+        // det(m3-m4). An eigenvalue of m3-m4 on a pole needs m1's there too.
+        let b = BlockEvents {
+            size: 4,
+            free: true,
+            lead: 1,
+            direct: true,
+            base: 1,
+            minors: vec![
+                Minor {
+                    start: 0,
+                    len: 1,
+                    sign: 1,
+                    exponent: 1,
+                },
+                Minor {
+                    start: 2,
+                    len: 2,
+                    sign: 1,
+                    exponent: 1,
+                },
+            ],
+            collocated: 1,
+            omega_power: 0,
+        };
+        // m3-m4 on pole 3 (cell 6) and m1 on it too: fine; m1 in a gap: not.
+        assert!(end_ties_pair(&b, &[(6, 0), (5, 1), (6, 1)]));
+        assert!(!end_ties_pair(&b, &[(5, 0), (5, 1), (6, 1)]));
+        // m1 on a pole alone is fine as far as m3-m4 go, but m1 is an end
+        // run too, and the run beyond its neighbour is m3-m4: not there.
+        assert!(!end_ties_pair(&b, &[(6, 0), (5, 1), (7, 1)]));
+        // Nobody on a pole.
+        assert!(end_ties_pair(&b, &[(5, 0), (5, 1), (7, 1)]));
     }
 }

@@ -164,7 +164,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 8;
+pub const ENGINE_VERSION: u32 = 9;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
@@ -212,7 +212,9 @@ pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
     let found = prover.targeted_search(&unknown, 0x7A26_E7ED)
         + prover.partial_wall_search(&unknown, limits.partial_wall_depth)
         + prover.root_condition_search(&unknown, 0x2007_C0DE)
-        + prover.cancellation_search(&unknown, 0xCA2C_E11E);
+        + prover.cancellation_search(&unknown, 0xCA2C_E11E)
+        + prover.discriminant_search(&unknown, 0xD15C_0001)
+        + prover.elimination_search(&unknown, 0xE11_4A7E);
     if found > 0 {
         for v in verdicts.iter_mut().filter(|v| v.status == Status::Unknown) {
             if let Some(w) = prover.witnesses.get(&v.frf_type) {

@@ -407,6 +407,16 @@ pub(crate) fn block_pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Opt
             unit: f.unit.clone(),
             factors: listed(&f),
         });
+        // The block seen as driven: c_B = +-b_B (both nonzero, as n_B is).
+        let collocated = [1i64, -1]
+            .into_iter()
+            .find(|&s| blk.iter().all(|&i| c[i] == s * b[i]))
+            .unwrap_or(0) as i32;
+        let omega_power = n_b
+            .coeffs_in(OMEGA)
+            .iter()
+            .position(|q| !q.is_zero())
+            .unwrap_or(0) as u32;
         events.push(BlockEvents {
             size: blk.len(),
             free: *free,
@@ -414,6 +424,8 @@ pub(crate) fn block_pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Opt
             direct: !remainder,
             base,
             minors,
+            collocated,
+            omega_power,
         });
     }
     // The numerator's sign at 0 (a zero there only matters in exact mode,
@@ -486,7 +498,7 @@ mod tests {
             let Some(d) = super::block_pole_sign_data(m, &tf.num, &tf.den) else {
                 continue;
             };
-            for _ in 0..60 {
+            for _ in 0..150 {
                 let point: BTreeMap<String, Rat> = m
                     .undamped_parameters()
                     .into_iter()
