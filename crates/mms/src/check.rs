@@ -1447,6 +1447,22 @@ impl ModelChecker {
             if n.is_zero() {
                 return Err(format!("{bp}.numerator: zero"));
             }
+            // The term itself, not just the sum of the terms: the identity
+            // below holds for n_A + t d_A, n_B - t d_B too, and collocation
+            // and the signs speak of the true c_B^T P_B^-1 b_B.
+            let adj = adjugate(&pencil(lo, hi));
+            let mut own = Poly::zero();
+            for i in lo..hi {
+                for j in lo..hi {
+                    let w = self.output[i] * self.input[j];
+                    if w != 0 {
+                        own = &own + &adj[i - lo][j - lo].scale(&Rat::from(w));
+                    }
+                }
+            }
+            if own != n {
+                return Err(format!("{bp}.numerator: not c_B^T adj(P_B) b_B = {own}"));
+            }
             blocks.push((lo, hi, d, p, free, n, bp, b));
         }
         // The denominator's form.
@@ -1550,9 +1566,10 @@ impl ModelChecker {
                     }
                 ));
             }
+            // (n_B is nonzero, so b_B is.)
             let mut collocated = 0;
             for s in [1, -1] {
-                if (lo..hi).all(|i| self.output[i] == s * self.input[i]) {
+                if collocated == 0 && (lo..hi).all(|i| self.output[i] == s * self.input[i]) {
                     collocated = s;
                 }
             }
@@ -1915,8 +1932,8 @@ fn block_orders(b: &CheckBlock) -> Vec<Vec<CheckEvent>> {
         }
         // A common eigenvalue of the block and a run at its end is one of
         // the block beyond the run's neighbour (expand det P across the
-        // spring between them; the run less its first mass interlaces the
-        // run strictly): n - len - 1 of them at most.
+        // spring between them; the run less its mass at that spring
+        // interlaces the run strictly): n - len - 1 of them at most.
         if at_end {
             seqs.retain(|sq| sq.iter().filter(|&&q| q % 2 == 0).count() + r.len < n);
         }

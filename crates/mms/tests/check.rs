@@ -579,11 +579,49 @@ fn block_pole_sign_certificates_are_checked_and_tampering_rejected() {
         "{e}"
     );
 
-    // A numerator n_B changed: the TF is no longer the sum of the terms.
+    // A numerator n_B changed: it is not the block's term.
     let mut bad = cert.clone();
     bad["open"]["blocks"][0]["numerator"] = json!("2");
     let e = with_cert(certified[0].clone(), &bad);
-    assert!(e.contains("-Omega * den * sum_B"), "{e}");
+    assert!(e.contains("not c_B^T adj(P_B) b_B"), "{e}");
+
+    // Found by review: n_A + t d_A and n_B - t d_B keep the sum of the
+    // terms (the identity) but not the terms, on which collocation and the
+    // signs rest; the checker recomputes each term.
+    let m = Model::from_id("N4-g2-a3.1-s3.2").unwrap();
+    let (mass, stiff) = (m.mass_matrix(), m.stiffness_matrix());
+    let block_det = |idx: &[usize]| -> poly::Poly {
+        let om = poly::Poly::var(mms::OMEGA);
+        let p: Vec<Vec<poly::Poly>> = idx
+            .iter()
+            .map(|&i| {
+                idx.iter()
+                    .map(|&j| &stiff[i][j] - &(&om * &mass[i][j]))
+                    .collect()
+            })
+            .collect();
+        poly::det(&p)
+    };
+    let masses = |k: usize| -> Vec<usize> {
+        blocks[k]["masses"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_u64().unwrap() as usize - 1)
+            .collect()
+    };
+    let n = |k: usize| {
+        blocks[k]["numerator"]
+            .as_str()
+            .unwrap()
+            .parse::<poly::Poly>()
+            .unwrap()
+    };
+    let mut bad = cert.clone();
+    bad["open"]["blocks"][0]["numerator"] = json!((&n(0) + &block_det(&masses(0))).to_string());
+    bad["open"]["blocks"][1]["numerator"] = json!((&n(1) - &block_det(&masses(1))).to_string());
+    let e = with_cert(certified[0].clone(), &bad);
+    assert!(e.contains("not c_B^T adj(P_B) b_B"), "{e}");
 
     // A factor's exponent changed: the product is not what it claims.
     let mut bad = cert.clone();

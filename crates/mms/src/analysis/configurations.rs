@@ -160,7 +160,7 @@ fn minor_cells(b: &BlockEvents, m: &Minor) -> Vec<Vec<usize>> {
     grow(1, n, k, b.first_pole(), at_end, &mut cur, &mut out);
     // An end run S shares at most n - k - 1 eigenvalues with the block:
     // split the block between S and its neighbour j, det P = det P_rest
-    // det P_S - c^2 det P_(rest less j) det P_(S less its first mass); at a
+    // det P_S - c^2 det P_(rest less j) det P_(S less its mass next to j); at a
     // common eigenvalue the last factor is nonzero (an end run of S
     // interlaces S strictly), so the eigenvalue is one of the n - k - 1 of
     // the block beyond j.
