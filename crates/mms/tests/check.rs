@@ -698,15 +698,9 @@ fn block_pole_sign_verdicts_agree_with_random_points() {
 /// in every gap, as a type with no zero at all.
 #[test]
 fn end_runs_take_distinct_gaps() {
-    let m = Model::from_id("N4-g0-a1.0-s2.0").unwrap();
-    let a = serde_json::to_value(analyze(&m, &SearchLimits::default())).unwrap();
+    let (_, a) = analysis_of("N4-g0-a1.0-s2.0");
     for t in ["RAARR", "AARRR", "RRAAR", "RRRAA"] {
-        let v = a["types"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|v| v["type"] == t)
-            .unwrap();
+        let v = verdict(&a, t);
         assert_eq!(v["status"], "impossible", "{t}");
     }
     check_analysis(&a).unwrap();
@@ -719,8 +713,7 @@ fn end_runs_take_distinct_gaps() {
 #[test]
 fn double_antiresonances_get_exact_witnesses() {
     use poly::{gcd, Rat};
-    let m = Model::from_id("N4-g1-a2.1-s3.1").unwrap();
-    let a = serde_json::to_value(analyze(&m, &SearchLimits::default())).unwrap();
+    let (m, a) = analysis_of("N4-g1-a2.1-s3.1");
     check_analysis(&a).unwrap();
     let doubles: Vec<&Value> = a["types"]
         .as_array()
@@ -779,6 +772,23 @@ fn observed_types(
     seen
 }
 
+/// A model and its analysis as JSON.
+fn analysis_of(id: &str) -> (Model, Value) {
+    let m = Model::from_id(id).unwrap();
+    let a = serde_json::to_value(analyze(&m, &SearchLimits::default())).unwrap();
+    (m, a)
+}
+
+/// The verdict on type `t` in an analysis.
+fn verdict<'a>(a: &'a Value, t: &str) -> &'a Value {
+    a["types"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|v| v["type"] == t)
+        .unwrap()
+}
+
 /// The generic types (simple, every resonance) a model's analysis finds
 /// possible.
 fn generic_possible(a: &Value) -> Vec<String> {
@@ -804,15 +814,9 @@ fn generic_possible(a: &Value) -> Vec<String> {
 /// lies somewhere between the rigid-body 0 and the top resonance.
 #[test]
 fn separated_runs_interlace_together() {
-    let m = Model::from_id("N4-g0-a2.0-s3.0").unwrap();
-    let a = serde_json::to_value(analyze(&m, &SearchLimits::default())).unwrap();
+    let (_, a) = analysis_of("N4-g0-a2.0-s3.0");
     for t in ["AARRR", "A^2RRR", "RRAAR", "RRA^2R"] {
-        let v = a["types"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|v| v["type"] == t)
-            .unwrap();
+        let v = verdict(&a, t);
         assert_eq!(v["status"], "impossible", "{t}");
         assert_eq!(v["certificate"]["open"]["kind"], "block_pole_signs", "{t}");
     }
@@ -837,8 +841,7 @@ fn separated_runs_interlace_together() {
 /// finds it.
 #[test]
 fn two_block_generic_types_match_the_hand_derivation() {
-    let m = Model::from_id("N4-g1-a2.1-s4.1").unwrap();
-    let a = serde_json::to_value(analyze(&m, &SearchLimits::default())).unwrap();
+    let (_, a) = analysis_of("N4-g1-a2.1-s4.1");
     assert_eq!(
         generic_possible(&a),
         [
@@ -852,12 +855,7 @@ fn two_block_generic_types_match_the_hand_derivation() {
     );
     // The rest of the generic types with three resonances are certified.
     for t in ["ARAARR", "ARRRAA", "RAARAR", "RRARAA"] {
-        let v = a["types"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|v| v["type"] == t)
-            .unwrap();
+        let v = verdict(&a, t);
         assert_eq!(v["status"], "impossible", "{t}");
     }
     check_analysis(&a).unwrap();
@@ -874,16 +872,10 @@ fn two_block_generic_types_match_the_hand_derivation() {
 /// below the first pole are certified impossible.
 #[test]
 fn monotone_terms_allow_one_zero_per_gap() {
-    let m = Model::from_id("N4-g3-a4.1-s4.3").unwrap();
-    let a = serde_json::to_value(analyze(&m, &SearchLimits::default())).unwrap();
+    let (m, a) = analysis_of("N4-g3-a4.1-s4.3");
     assert_eq!(generic_possible(&a), ["ARRAAR", "ARRR (nm)"]);
     for t in ["AAARRR", "A^3RRR", "AA^2RRR", "A^2ARRR", "ARAARR", "ARRRAA"] {
-        let v = a["types"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|v| v["type"] == t)
-            .unwrap();
+        let v = verdict(&a, t);
         assert_eq!(v["status"], "impossible", "{t}");
     }
     check_analysis(&a).unwrap();
@@ -910,8 +902,7 @@ fn monotone_terms_allow_one_zero_per_gap() {
 #[test]
 fn cancelled_double_and_triple_zeros_get_exact_witnesses() {
     use poly::{gcd, Poly, Rat};
-    let m = Model::from_id("N4-g2-a3.2-s4.2").unwrap();
-    let a = serde_json::to_value(analyze(&m, &SearchLimits::default())).unwrap();
+    let (m, a) = analysis_of("N4-g2-a3.2-s4.2");
     check_analysis(&a).unwrap();
     assert_eq!(
         a["types"]
@@ -929,12 +920,7 @@ fn cancelled_double_and_triple_zeros_get_exact_witnesses() {
         })
     };
     let witness = |t: &str| {
-        let v = a["types"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|v| v["type"] == t)
-            .unwrap();
+        let v = verdict(&a, t);
         assert_eq!(v["status"], "possible", "{t}");
         v["witness"].clone()
     };

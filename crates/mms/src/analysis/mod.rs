@@ -29,6 +29,7 @@ mod lp;
 mod pole_signs;
 mod prover;
 mod targeted;
+mod walls;
 
 pub use explain::{explain, ExplainFormat};
 pub use frf_type::{

@@ -40,7 +40,7 @@ const EVALUATIONS: usize = 800;
 
 /// Sorted positive real roots of numerator and denominator at `x`, and
 /// whether the numerator has zeros off the positive axis.
-fn tf_roots(tf: &UndampedCoefficients, x: &[f64]) -> Option<(Vec<f64>, Vec<f64>, bool)> {
+pub(super) fn tf_roots(tf: &UndampedCoefficients, x: &[f64]) -> Option<(Vec<f64>, Vec<f64>, bool)> {
     let (n, d) = tf.eval(x);
     let zn = positive_roots(&n)?;
     let zd = positive_roots(&d)?;
@@ -113,6 +113,29 @@ fn roots_in(c: &[f64], lo: f64, hi: f64) -> Vec<f64> {
     out
 }
 
+/// The logarithms of the zeros and poles in the order `t` lists its
+/// tokens: the `k`-th antiresonance is the `k`-th of `zeros`, likewise for
+/// the resonances (both sorted, with enough entries).
+fn log_sequence(t: &FrfType, zeros: &[f64], poles: &[f64]) -> Vec<f64> {
+    let (mut ia, mut ir) = (0, 0);
+    t.tokens
+        .iter()
+        .map(|tok| {
+            let v = match tok.feature {
+                Feature::Antiresonance => {
+                    ia += 1;
+                    zeros[ia - 1]
+                }
+                Feature::Resonance => {
+                    ir += 1;
+                    poles[ir - 1]
+                }
+            };
+            v.max(f64::MIN_POSITIVE).ln()
+        })
+        .collect()
+}
+
 /// The log-gap margin of the wanted ordering `t` (positive iff the
 /// ordering is `t`), or `None` when the root counts do not fit.
 fn margin(t: &FrfType, roots: &(Vec<f64>, Vec<f64>, bool)) -> Option<f64> {
@@ -123,21 +146,7 @@ fn margin(t: &FrfType, roots: &(Vec<f64>, Vec<f64>, bool)) -> Option<f64> {
     {
         return None;
     }
-    let (mut ia, mut ir) = (0, 0);
-    let mut seq = Vec::with_capacity(t.tokens.len());
-    for tok in &t.tokens {
-        let v = match tok.feature {
-            Feature::Antiresonance => {
-                ia += 1;
-                zn[ia - 1]
-            }
-            Feature::Resonance => {
-                ir += 1;
-                zd[ir - 1]
-            }
-        };
-        seq.push(v.max(f64::MIN_POSITIVE).ln());
-    }
+    let seq = log_sequence(t, zn, zd);
     Some(
         seq.windows(2)
             .map(|w| w[1] - w[0])
@@ -147,7 +156,7 @@ fn margin(t: &FrfType, roots: &(Vec<f64>, Vec<f64>, bool)) -> Option<f64> {
 
 /// A short positive rational near `x` with `digits` significant decimal
 /// digits.
-fn short_rational(x: f64, digits: i32) -> Option<Rat> {
+pub(super) fn short_rational(x: f64, digits: i32) -> Option<Rat> {
     if !(x.is_finite() && x > 0.0) {
         return None;
     }
@@ -209,21 +218,7 @@ fn violation(t: &FrfType, num: &[f64], den: &[f64]) -> Option<f64> {
     }
     let mut moduli: Vec<f64> = by_angle[..k].iter().map(|z| z.1).collect();
     moduli.sort_by(|a, b| a.total_cmp(b));
-    let (mut ia, mut ir) = (0, 0);
-    let mut seq = Vec::with_capacity(t.tokens.len());
-    for tok in &t.tokens {
-        let v = match tok.feature {
-            Feature::Antiresonance => {
-                ia += 1;
-                moduli[ia - 1]
-            }
-            Feature::Resonance => {
-                ir += 1;
-                poles[ir - 1]
-            }
-        };
-        seq.push(v.max(f64::MIN_POSITIVE).ln());
-    }
+    let seq = log_sequence(t, &moduli, &poles);
     cost += seq
         .windows(2)
         .map(|w| (VIOLATION_GAP - (w[1] - w[0])).max(0.0))
@@ -805,7 +800,7 @@ impl Prover<'_> {
     /// determinant of a run and of its block, with the masses each may be
     /// solved for (the run's; the block's outside the run), or the
     /// determinants of two blocks with their masses.
-    fn cancellation_mechanisms(&self) -> Vec<Mechanism> {
+    pub(super) fn cancellation_mechanisms(&self) -> Vec<Mechanism> {
         let mass = self.model.mass_matrix();
         let stiff = self.model.stiffness_matrix();
         let det_of =
@@ -836,433 +831,6 @@ impl Prover<'_> {
             }
         }
         mechanisms
-    }
-
-    /// Double antiresonances on a one-parameter family (issue 4, item 2).
-    ///
-    /// Where a double zero must come with cancelled poles, the root
-    /// conditions are seldom linear, and where it sits is not free: on the
-    /// wall `c1/m1 = mu1` of N4-g1-a2.1-s4.1 the reduced numerator is
-    /// `Omega (Omega - mu2) + a` and its double root must be `mu2 / 2`.
-    /// So: pose the cancellations as in [`Self::cancellation_search`]
-    /// (each determinant condition at a rational `r` of degree one in its
-    /// mass), keep one other parameter `z` free and the rest at random
-    /// values; the solved masses are rational functions of `z`, the reduced
-    /// numerator a polynomial in `Omega` and `z`, and its discriminant in
-    /// `Omega` a polynomial in `z`. Its rational roots (the linear factors
-    /// of its factorization) give exact points with a double zero, which
-    /// the exact classification then names. Returns how many of `wanted`
-    /// have witnesses afterwards.
-    pub(crate) fn discriminant_search(&mut self, wanted: &[FrfType], seed: u64) -> usize {
-        let degree = self.den.degree(OMEGA);
-        let mut signatures: BTreeSet<u32> = BTreeSet::new();
-        for t in wanted {
-            if self.witnesses.contains_key(t) || t.resonances() > degree {
-                continue;
-            }
-            let simple_poles = t
-                .tokens
-                .iter()
-                .all(|k| k.feature == Feature::Antiresonance || k.multiplicity == 1);
-            if simple_poles && multiple_antiresonances(t) == [2] {
-                signatures.insert(degree - t.resonances());
-            }
-        }
-        if signatures.is_empty() {
-            return 0;
-        }
-        let mechanisms = self.cancellation_mechanisms();
-        for t in wanted {
-            let one_pole = degree == t.resonances() + 1;
-            if one_pole && multiple_antiresonances(t) == [2] && !self.witnesses.contains_key(t) {
-                self.wall_merge(t, &mechanisms);
-            }
-        }
-        let signatures: Vec<u32> = signatures.into_iter().collect();
-        let mut rng = Sampler::new(seed);
-        for trial in 0..DISCRIMINANT_TRIALS {
-            let cancelled = signatures[trial % signatures.len()] as usize;
-            if cancelled > 0 && mechanisms.is_empty() {
-                continue;
-            }
-            // The conditions: (solved parameter, equation), and the roots.
-            let mut conditions: Vec<(String, Poly)> = Vec::new();
-            let mut roots: Vec<Rat> = Vec::new();
-            let mut used: Vec<String> = Vec::new();
-            for _ in 0..cancelled {
-                let (d1, _, d2, _) = &mechanisms[rng.index(mechanisms.len())];
-                // Any parameter (spring or mass) of the first determinant,
-                // then one of the second the first does not contain: each
-                // condition is of degree one in it (multilinear).
-                let in1 = d1.vars();
-                let free1: Vec<&String> = in1
-                    .iter()
-                    .filter(|v| v.as_str() != OMEGA && !used.contains(v))
-                    .collect();
-                let free2: Vec<&String> = d2
-                    .vars()
-                    .iter()
-                    .filter(|v| v.as_str() != OMEGA && !in1.contains(v) && !used.contains(v))
-                    .collect();
-                if free1.is_empty() || free2.is_empty() {
-                    break;
-                }
-                let r = rng.value();
-                let x = free1[rng.index(free1.len())].clone();
-                let y = free2[rng.index(free2.len())].clone();
-                conditions.push((x.clone(), d1.subs(OMEGA, &r)));
-                conditions.push((y.clone(), d2.subs(OMEGA, &r)));
-                used.extend([x, y]);
-                roots.push(r);
-            }
-            if roots.len() != cancelled {
-                continue;
-            }
-            let open: Vec<&String> = self
-                .params
-                .iter()
-                .filter(|p| conditions.iter().all(|(v, _)| v != *p))
-                .collect();
-            let z = open[rng.index(open.len())].clone();
-            let fixed: BTreeMap<String, Rat> = self
-                .params
-                .iter()
-                .filter(|p| **p != z && conditions.iter().all(|(v, _)| v != *p))
-                .map(|p| (p.clone(), rng.value()))
-                .collect();
-            if let Some(points) = double_zero_points(&self.num, &fixed, &conditions, &roots, &z) {
-                for point in points {
-                    self.record(point);
-                }
-            }
-            // The same wall with every other parameter free: the double
-            // root's conditions at a chosen rational root are often linear
-            // in two parameters there even where they are not before the
-            // cancellation (a factor free of Omega, such as m3*m4, dropped).
-            if cancelled > 0 {
-                self.wall_root_conditions(&conditions, &roots, &mut rng);
-            }
-        }
-        wanted
-            .iter()
-            .filter(|t| self.witnesses.contains_key(t))
-            .count()
-    }
-
-    /// Multiple zeros by elimination (issue 4, item 2), where no set of
-    /// parameters makes all the root conditions linear.
-    ///
-    /// A double zero at a chosen rational `sigma` next to a cancelled pole
-    /// at `r`: with `r` symbolic (here written `Omega`), the wall's two
-    /// conditions solved for a parameter each (rational in `r` and one
-    /// more parameter `w`), `num(sigma) = num'(sigma) = 0` are two
-    /// polynomials in `r` and `w`; their resultant in `w` is a polynomial
-    /// in `r` whose rational roots (linear factors) give exact points.
-    /// For N4-g2-a3.2-s4.2 (`S = r1/(l1 - W) + r2/(l2 - W) - b/W` on the
-    /// wall) the condition on `r` is linear. A triple zero at `sigma`
-    /// without cancellation: two of its three conditions solved in a linear
-    /// set `{w1, w2}` (rational in one more parameter `z`), the third is a
-    /// polynomial in `z`, with the same use of its linear factors.
-    /// Returns how many of `wanted` have witnesses afterwards.
-    pub(crate) fn elimination_search(&mut self, wanted: &[FrfType], seed: u64) -> usize {
-        let degree = self.den.degree(OMEGA);
-        let (mut tangent, mut triple) = (false, false);
-        for t in wanted {
-            if self.witnesses.contains_key(t)
-                || t.resonances() > degree
-                || t.tokens
-                    .iter()
-                    .any(|k| k.feature == Feature::Resonance && k.multiplicity > 1)
-            {
-                continue;
-            }
-            match (
-                degree - t.resonances(),
-                multiple_antiresonances(t).as_slice(),
-            ) {
-                (1, [2]) => tangent = true,
-                (0, [3]) => triple = true,
-                _ => {}
-            }
-        }
-        let mut rng = Sampler::new(seed);
-        let dn = self.num.derivative(OMEGA);
-        let ddn = dn.derivative(OMEGA);
-        if tangent {
-            let mechanisms = self.cancellation_mechanisms();
-            for _ in 0..(ELIMINATION_TRIALS * usize::from(!mechanisms.is_empty())) {
-                let (d1, _, d2, _) = &mechanisms[rng.index(mechanisms.len())];
-                let in1: Vec<&String> = d1.vars().iter().filter(|v| v.as_str() != OMEGA).collect();
-                let in2: Vec<&String> = d2
-                    .vars()
-                    .iter()
-                    .filter(|v| v.as_str() != OMEGA && !in1.contains(v))
-                    .collect();
-                if in1.is_empty() || in2.is_empty() {
-                    continue;
-                }
-                let x = in1[rng.index(in1.len())].clone();
-                let y = in2[rng.index(in2.len())].clone();
-                let open: Vec<&String> = self
-                    .params
-                    .iter()
-                    .filter(|p| **p != x && **p != y)
-                    .collect();
-                let w = open[rng.index(open.len())].clone();
-                let fixed: BTreeMap<String, Rat> = open
-                    .iter()
-                    .filter(|p| ***p != w)
-                    .map(|p| ((*p).clone(), rng.value()))
-                    .collect();
-                let sigma = rng.value();
-                let conditions = [(x, d1.clone()), (y, d2.clone())];
-                for point in tangent_points(&self.num, &dn, &fixed, &conditions, &w, &sigma) {
-                    self.record(point);
-                }
-            }
-        }
-        if triple {
-            let sets = linear_sets(&[&self.num], &self.params, 2);
-            for _ in 0..(ELIMINATION_TRIALS * usize::from(!sets.is_empty())) {
-                let vars = &sets[rng.index(sets.len())];
-                let open: Vec<&String> = self.params.iter().filter(|p| !vars.contains(p)).collect();
-                let z = open[rng.index(open.len())].clone();
-                let fixed: BTreeMap<String, Rat> = open
-                    .iter()
-                    .filter(|p| ***p != z)
-                    .map(|p| ((*p).clone(), rng.value()))
-                    .collect();
-                let sigma = rng.value();
-                let eqs: Vec<Poly> = [&self.num, &dn, &ddn]
-                    .iter()
-                    .map(|e| {
-                        fixed
-                            .iter()
-                            .fold(e.subs(OMEGA, &sigma), |e, (p, v)| e.subs(p, v))
-                    })
-                    .collect();
-                for point in triple_points(&eqs, vars, &z, &fixed) {
-                    self.record(point);
-                }
-            }
-        }
-        wanted
-            .iter()
-            .filter(|t| self.witnesses.contains_key(t))
-            .count()
-    }
-
-    /// A double zero next to a cancelled pole, merged from a witness of
-    /// the split type on the same wall: its cancelled root `r` (a rational
-    /// common root of its numerator and denominator), every mechanism whose
-    /// two determinants vanish there, the double root placed between the
-    /// two zeros to merge and solved in a linear set of the wall's reduced
-    /// numerator, every other parameter kept. Where the double zero needs
-    /// a thin region (N4-g2-a3.1-s4.1 `A^2RR`: the spring-mass impedance's
-    /// pole just above the cancelled one), the split witness is already in
-    /// it.
-    fn wall_merge(&mut self, t: &FrfType, mechanisms: &[Mechanism]) {
-        let Some(w) = self.witnesses.get(&split_type(t)).cloned() else {
-            return;
-        };
-        let at_w = |e: &Poly| w.iter().fold(e.clone(), |e, (p, v)| e.subs(p, v));
-        let common = poly::gcd(&at_w(&self.num), &at_w(&self.den));
-        let cancelled = rational_roots(&common, OMEGA);
-        let [r] = cancelled.as_slice() else {
-            return;
-        };
-        // The reduced zeros of the witness, in order, and where t merges.
-        let x: Vec<f64> = self.params.iter().map(|p| w[p].to_f64()).collect();
-        let tf = UndampedCoefficients::new(self.model);
-        let Some((mut zeros, _, _)) = tf_roots(&tf, &x) else {
-            return;
-        };
-        let Some(at_r) = zeros
-            .iter()
-            .enumerate()
-            .min_by(|a, b| {
-                (a.1 - r.to_f64())
-                    .abs()
-                    .total_cmp(&(b.1 - r.to_f64()).abs())
-            })
-            .map(|(i, _)| i)
-        else {
-            return;
-        };
-        zeros.remove(at_r);
-        let mut next = 0;
-        let mut pair = None;
-        for k in t
-            .tokens
-            .iter()
-            .filter(|k| k.feature == Feature::Antiresonance)
-        {
-            let m = k.multiplicity as usize;
-            if m == 2 && next + 1 < zeros.len() {
-                pair = Some((zeros[next].ln(), zeros[next + 1].ln()));
-            }
-            next += m;
-        }
-        let Some((lo, hi)) = pair else { return };
-        for (d1, _, d2, _) in mechanisms {
-            let at_r = |d: &Poly| at_w(&d.subs(OMEGA, r)).is_zero();
-            if !(at_r(d1) && at_r(d2)) {
-                continue;
-            }
-            let in1: Vec<&String> = d1.vars().iter().filter(|v| v.as_str() != OMEGA).collect();
-            for x in &in1 {
-                for y in d2
-                    .vars()
-                    .iter()
-                    .filter(|v| v.as_str() != OMEGA && !in1.contains(v))
-                {
-                    let conditions = [
-                        ((*x).clone(), d1.subs(OMEGA, r)),
-                        (y.clone(), d2.subs(OMEGA, r)),
-                    ];
-                    let Some((solved, n)) = wall_numerator(
-                        &self.num,
-                        &BTreeMap::new(),
-                        &conditions,
-                        std::slice::from_ref(r),
-                    ) else {
-                        continue;
-                    };
-                    let n = poly::primitive_part_in(&n, OMEGA);
-                    let dn = n.derivative(OMEGA);
-                    let open: Vec<String> = self
-                        .params
-                        .iter()
-                        .filter(|p| solved.iter().all(|(v, _, _)| v != *p))
-                        .cloned()
-                        .collect();
-                    for vars in linear_sets(&[&n], &open, 2) {
-                        let fixed: BTreeMap<String, Rat> = open
-                            .iter()
-                            .filter(|p| !vars.contains(p))
-                            .map(|p| (p.clone(), w[p].clone()))
-                            .collect();
-                        for frac in MERGE_FRACTIONS {
-                            let Some(sigma) = short_rational((lo + frac * (hi - lo)).exp(), 4)
-                            else {
-                                continue;
-                            };
-                            let equations: Vec<Poly> = [&n, &dn]
-                                .iter()
-                                .map(|e| {
-                                    fixed
-                                        .iter()
-                                        .fold(e.subs(OMEGA, &sigma), |e, (p, v)| e.subs(p, v))
-                                })
-                                .collect();
-                            let Some(values) = solve_linear(&equations, &vars) else {
-                                continue;
-                            };
-                            if values.iter().any(|v| v.signum() <= 0) {
-                                continue;
-                            }
-                            let mut point = fixed.clone();
-                            point.extend(vars.iter().cloned().zip(values));
-                            if let Some(point) = with_solved(point, &solved) {
-                                self.record(point);
-                                if self.witnesses.contains_key(t) {
-                                    return;
-                                }
-                            }
-                        }
-                    }
-                    // No linear set: the cancelled root itself as the
-                    // unknown (see `tangent_points`), one parameter freed.
-                    let dnum = self.num.derivative(OMEGA);
-                    let conditions = [((*x).clone(), d1.clone()), (y.clone(), d2.clone())];
-                    for free in &open {
-                        let fixed: BTreeMap<String, Rat> = open
-                            .iter()
-                            .filter(|p| *p != free)
-                            .map(|p| (p.clone(), w[p].clone()))
-                            .collect();
-                        for frac in MERGE_FRACTIONS {
-                            let Some(sigma) = short_rational((lo + frac * (hi - lo)).exp(), 4)
-                            else {
-                                continue;
-                            };
-                            for point in
-                                tangent_points(&self.num, &dnum, &fixed, &conditions, free, &sigma)
-                            {
-                                self.record(point);
-                                if self.witnesses.contains_key(t) {
-                                    return;
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
-
-    /// Double zeros at random rational roots on the cancellation wall of
-    /// `conditions`, solved exactly in the sets of two parameters the
-    /// reduced numerator's primitive part is jointly linear in.
-    fn wall_root_conditions(
-        &mut self,
-        conditions: &[(String, Poly)],
-        roots: &[Rat],
-        rng: &mut Sampler,
-    ) {
-        let Some((solved, n)) = wall_numerator(&self.num, &BTreeMap::new(), conditions, roots)
-        else {
-            return;
-        };
-        let n = poly::primitive_part_in(&n, OMEGA);
-        if n.degree(OMEGA) < 2 {
-            return;
-        }
-        let open: Vec<String> = self
-            .params
-            .iter()
-            .filter(|p| solved.iter().all(|(v, _, _)| v != *p))
-            .cloned()
-            .collect();
-        let sets = linear_sets(&[&n], &open, 2);
-        if sets.is_empty() {
-            return;
-        }
-        let dn = n.derivative(OMEGA);
-        for draw in 0..WALL_ROOT_DRAWS {
-            let vars = &sets[rng.index(sets.len())];
-            let fixed: BTreeMap<String, Rat> = open
-                .iter()
-                .filter(|p| !vars.contains(p))
-                .map(|p| (p.clone(), rng.value()))
-                .collect();
-            // Every other root near the cancelled one: a double zero next
-            // to a pole is where the terms' residues leave room for it.
-            let sigma = if draw % 2 == 0 {
-                rng.value()
-            } else {
-                &roots[0] * &Rat::new(Int::from(1 + rng.index(15) as i64), Int::from(8))
-            };
-            let equations: Vec<Poly> = [&n, &dn]
-                .iter()
-                .map(|e| {
-                    fixed
-                        .iter()
-                        .fold(e.subs(OMEGA, &sigma), |e, (p, v)| e.subs(p, v))
-                })
-                .collect();
-            let Some(values) = solve_linear(&equations, vars) else {
-                continue;
-            };
-            if values.iter().any(|v| v.signum() <= 0) {
-                continue;
-            }
-            let mut point = fixed;
-            point.extend(vars.iter().cloned().zip(values));
-            if let Some(point) = with_solved(point, &solved) {
-                self.record(point);
-            }
-        }
     }
 
     /// Solves `num(r) = den(r) = 0` for every `r` of `cancel` and
@@ -1319,266 +887,10 @@ impl Prover<'_> {
 
 /// A cancellation mechanism: (first determinant, the masses it may be
 /// solved for; second determinant, its masses).
-type Mechanism = (Poly, Vec<usize>, Poly, Vec<usize>);
-
-/// Trials of the discriminant search per model; each with a cancellation
-/// also poses root conditions on its wall, `WALL_ROOT_DRAWS` times.
-const DISCRIMINANT_TRIALS: usize = 300;
-const WALL_ROOT_DRAWS: usize = 40;
-
-/// `e`, of degree at most one in `var`, with `var = p/q` substituted and
-/// the denominator cleared: `q e(0) + p de/dvar`.
-fn clear_into(e: &Poly, var: &str, p: &Poly, q: &Poly) -> Option<Poly> {
-    match e.degree(var) {
-        0 => Some(e.clone()),
-        1 => Some(&(q * &e.subs(var, &Rat::ZERO)) + &(p * &e.derivative(var))),
-        _ => None,
-    }
-}
-
-/// A solved parameter: (name, numerator, denominator), a rational
-/// function of the parameters left free.
-type Solved = (String, Poly, Poly);
-
-/// The numerator on a cancellation wall: with `fixed` substituted, each
-/// condition (of degree one in its parameter) solved in turn as a rational
-/// function of the parameters left, the numerator cleared of their
-/// denominators and divided by `Omega - r` for each cancelled root `r`.
-fn wall_numerator(
-    num: &Poly,
-    fixed: &BTreeMap<String, Rat>,
-    conditions: &[(String, Poly)],
-    roots: &[Rat],
-) -> Option<(Vec<Solved>, Poly)> {
-    let at_fixed = |e: &Poly| fixed.iter().fold(e.clone(), |e, (p, v)| e.subs(p, v));
-    let mut solved: Vec<Solved> = Vec::new();
-    for (var, eq) in conditions {
-        let mut e = at_fixed(eq);
-        for (name, p, q) in &solved {
-            e = clear_into(&e, name, p, q)?;
-        }
-        if e.degree(var) != 1 {
-            return None;
-        }
-        let alpha = e.derivative(var);
-        let beta = e.subs(var, &Rat::ZERO);
-        solved.push((var.clone(), -beta, alpha));
-    }
-    let mut n = at_fixed(num);
-    for (name, p, q) in &solved {
-        n = clear_into(&n, name, p, q)?;
-    }
-    let om = Poly::var(OMEGA);
-    for r in roots {
-        n = n.div_exact(&(&om - &Poly::constant(r.clone())))?;
-    }
-    Some((solved, n))
-}
-
-/// Completes `point` with the solved parameters, in order; `None` unless
-/// each is defined and positive.
-fn with_solved(
-    mut point: BTreeMap<String, Rat>,
-    solved: &[Solved],
-) -> Option<BTreeMap<String, Rat>> {
-    for (name, p, q) in solved {
-        let at = |f: &Poly| {
-            point
-                .iter()
-                .fold(f.clone(), |f, (k, v)| f.subs(k, v))
-                .as_constant()
-        };
-        let (a, b) = (at(p)?, at(q)?);
-        if b.signum() == 0 || (a.clone() / b.clone()).signum() <= 0 {
-            return None;
-        }
-        point.insert(name.clone(), a / b);
-    }
-    Some(point)
-}
-
-/// The points of the one-parameter family of [`Prover::discriminant_search`]
-/// where the reduced numerator has a multiple root: `fixed` holds every
-/// parameter but `z` and the solved ones; each condition, of degree one in
-/// its parameter, is solved in turn (a rational function of `z`), and the
-/// numerator, cleared of denominators and divided by `Omega - r` for each
-/// cancelled root, has a discriminant in `Omega` whose linear factors in
-/// `z` give the points (every parameter positive).
-fn double_zero_points(
-    num: &Poly,
-    fixed: &BTreeMap<String, Rat>,
-    conditions: &[(String, Poly)],
-    roots: &[Rat],
-    z: &str,
-) -> Option<Vec<BTreeMap<String, Rat>>> {
-    let (solved, n) = wall_numerator(num, fixed, conditions, roots)?;
-    if n.degree(OMEGA) < 2 {
-        return None;
-    }
-    let d = poly::discriminant(&n, OMEGA);
-    if d.is_zero() || d.vars().iter().any(|v| v != z) {
-        return None;
-    }
-    let mut points = Vec::new();
-    for (g, _) in poly::factor(&d).factors {
-        if g.degree(z) != 1 {
-            continue;
-        }
-        let value = -(g.subs(z, &Rat::ZERO).as_constant()? / g.derivative(z).as_constant()?);
-        if value.signum() <= 0 {
-            continue;
-        }
-        let mut point = fixed.clone();
-        point.insert(z.to_string(), value);
-        points.extend(with_solved(point, &solved));
-    }
-    Some(points)
-}
-
-/// Trials of each elimination (tangent and triple) per model.
-const ELIMINATION_TRIALS: usize = 2000;
-
-/// The positive rational roots of `p`, a polynomial in `var` alone: from
-/// its linear factors.
-fn rational_roots(p: &Poly, var: &str) -> Vec<Rat> {
-    if p.is_zero() || p.vars().iter().any(|v| v != var) {
-        return Vec::new();
-    }
-    poly::factor(p)
-        .factors
-        .iter()
-        .filter(|(g, _)| g.degree(var) == 1)
-        .filter_map(|(g, _)| {
-            let v = -(g.subs(var, &Rat::ZERO).as_constant()? / g.derivative(var).as_constant()?);
-            (v.signum() > 0).then_some(v)
-        })
-        .collect()
-}
-
-/// Points of [`Prover::elimination_search`] with a double zero at `sigma`
-/// and a pole cancelled at a rational `r`: `conditions` are the wall's
-/// determinants (in `Omega`, which stands for `r`), each solved for its
-/// parameter; `w` is the one other free parameter.
-fn tangent_points(
-    num: &Poly,
-    dnum: &Poly,
-    fixed: &BTreeMap<String, Rat>,
-    conditions: &[(String, Poly)],
-    w: &str,
-    sigma: &Rat,
-) -> Vec<BTreeMap<String, Rat>> {
-    let at_fixed = |e: &Poly| fixed.iter().fold(e.clone(), |e, (p, v)| e.subs(p, v));
-    let mut solved: Vec<Solved> = Vec::new();
-    for (var, eq) in conditions {
-        let mut e = at_fixed(eq);
-        for (name, p, q) in &solved {
-            let Some(c) = clear_into(&e, name, p, q) else {
-                return Vec::new();
-            };
-            e = c;
-        }
-        if e.degree(var) != 1 {
-            return Vec::new();
-        }
-        solved.push((var.clone(), -e.subs(var, &Rat::ZERO), e.derivative(var)));
-    }
-    // num(sigma) and num'(sigma), in r (as Omega) and w.
-    let mut eqs = Vec::new();
-    for f in [num, dnum] {
-        let mut e = at_fixed(&f.subs(OMEGA, sigma));
-        for (name, p, q) in &solved {
-            let Some(c) = clear_into(&e, name, p, q) else {
-                return Vec::new();
-            };
-            e = c;
-        }
-        eqs.push(e);
-    }
-    let res = poly::resultant(&eqs[0], &eqs[1], w);
-    let mut points = Vec::new();
-    for r in rational_roots(&res, OMEGA) {
-        if &r == sigma {
-            continue;
-        }
-        let e = eqs[0].subs(OMEGA, &r);
-        for wv in rational_roots(&e, w) {
-            if !eqs[1].subs(OMEGA, &r).subs(w, &wv).is_zero() {
-                continue;
-            }
-            let mut point = fixed.clone();
-            point.insert(w.to_string(), wv);
-            // The solved parameters are rational in r too: evaluate there.
-            let solved_at: Vec<Solved> = solved
-                .iter()
-                .map(|(n, p, q)| (n.clone(), p.subs(OMEGA, &r), q.subs(OMEGA, &r)))
-                .collect();
-            points.extend(with_solved(point, &solved_at));
-        }
-    }
-    points
-}
-
-/// Points of [`Prover::elimination_search`] with a triple zero: `eqs` are
-/// the numerator and its first two derivatives at the root, linear in the
-/// two `vars` (solved from the first two by Cramer's rule, rational in
-/// `z`), the third's linear factors in `z` give `z`.
-fn triple_points(
-    eqs: &[Poly],
-    vars: &[String],
-    z: &str,
-    fixed: &BTreeMap<String, Rat>,
-) -> Vec<BTreeMap<String, Rat>> {
-    let (a, b) = (&vars[0], &vars[1]);
-    // e = c0 + ca a + cb b, the coefficients polynomials in z.
-    let split = |e: &Poly| -> Option<(Poly, Poly, Poly)> {
-        if e.degree(a) > 1 || e.degree(b) > 1 {
-            return None;
-        }
-        let ca = e.derivative(a);
-        let cb = e.derivative(b);
-        if ca.degree(b) > 0 || cb.degree(a) > 0 {
-            return None;
-        }
-        Some((e.subs(a, &Rat::ZERO).subs(b, &Rat::ZERO), ca, cb))
-    };
-    let parts: Option<Vec<(Poly, Poly, Poly)>> = eqs.iter().map(split).collect();
-    let Some(parts) = parts else {
-        return Vec::new();
-    };
-    let (e1, e2, e3) = (&parts[0], &parts[1], &parts[2]);
-    let det = &(&e1.1 * &e2.2) - &(&e1.2 * &e2.1);
-    // a = (-c0_1 cb_2 + c0_2 cb_1) / det, b = (-ca_1 c0_2 + ca_2 c0_1) / det.
-    let na = &(&e2.0 * &e1.2) - &(&e1.0 * &e2.2);
-    let nb = &(&e2.1 * &e1.0) - &(&e1.1 * &e2.0);
-    let third = &(&(&e3.0 * &det) + &(&e3.1 * &na)) + &(&e3.2 * &nb);
-    let mut points = Vec::new();
-    for zv in rational_roots(&third, z) {
-        let d = det.subs(z, &zv).as_constant();
-        let (Some(d), Some(va), Some(vb)) = (
-            d,
-            na.subs(z, &zv).as_constant(),
-            nb.subs(z, &zv).as_constant(),
-        ) else {
-            continue;
-        };
-        if d.signum() == 0 {
-            continue;
-        }
-        let (va, vb) = (va / d.clone(), vb / d);
-        if va.signum() <= 0 || vb.signum() <= 0 {
-            continue;
-        }
-        let mut point = fixed.clone();
-        point.insert(z.to_string(), zv);
-        point.insert(a.clone(), va);
-        point.insert(b.clone(), vb);
-        points.push(point);
-    }
-    points
-}
+pub(super) type Mechanism = (Poly, Vec<usize>, Poly, Vec<usize>);
 
 /// `t` with every multiple token split into simple ones (`AA` for `A^2`).
-fn split_type(t: &FrfType) -> FrfType {
+pub(super) fn split_type(t: &FrfType) -> FrfType {
     FrfType {
         tokens: t
             .tokens
@@ -1598,7 +910,7 @@ fn split_type(t: &FrfType) -> FrfType {
 }
 
 /// The multiplicities of `t`'s multiple antiresonances, in order.
-fn multiple_antiresonances(t: &FrfType) -> Vec<u32> {
+pub(super) fn multiple_antiresonances(t: &FrfType) -> Vec<u32> {
     t.tokens
         .iter()
         .filter(|k| k.feature == Feature::Antiresonance && k.multiplicity > 1)
@@ -1610,7 +922,7 @@ fn multiple_antiresonances(t: &FrfType) -> Vec<u32> {
 const CANCEL_TRIALS: usize = 10_000;
 /// Where between the zeros of a split witness the merged root goes (as a
 /// fraction of their log-distance), in the order tried.
-const MERGE_FRACTIONS: [f64; 5] = [0.5, 0.25, 0.75, 0.1, 0.9];
+pub(super) const MERGE_FRACTIONS: [f64; 5] = [0.5, 0.25, 0.75, 0.1, 0.9];
 /// Parameter sets tried per merged root, at most.
 const MERGE_SETS: usize = 24;
 /// Trials per root-coincidence signature in the root-condition search.
@@ -1621,7 +933,7 @@ const MAX_LINEAR_SETS: usize = 64;
 /// Sets of `size` parameters each of degree at most one in every `polys`
 /// and no two of them in one monomial: the polys are jointly linear in
 /// them (the first `MAX_LINEAR_SETS` in lexicographic order).
-fn linear_sets(polys: &[&Poly], params: &[String], size: usize) -> Vec<Vec<String>> {
+pub(super) fn linear_sets(polys: &[&Poly], params: &[String], size: usize) -> Vec<Vec<String>> {
     let single: Vec<&String> = params
         .iter()
         .filter(|x| polys.iter().all(|p| p.degree(x) <= 1))
@@ -1665,7 +977,7 @@ fn linear_sets(polys: &[&Poly], params: &[String], size: usize) -> Vec<Vec<Strin
 
 /// The exact solution of the square linear system `equations = 0` in
 /// `vars` (each equation of degree one in them), if it is unique.
-fn solve_linear(equations: &[Poly], vars: &[String]) -> Option<Vec<Rat>> {
+pub(super) fn solve_linear(equations: &[Poly], vars: &[String]) -> Option<Vec<Rat>> {
     let n = vars.len();
     if equations.len() != n {
         return None;
@@ -1790,66 +1102,6 @@ mod tests {
         // Three resonances wanted, two present.
         let r: FrfType = "ARRR".parse().unwrap();
         assert_eq!(violation(&r, &[-1.0, 1.0], &den), None);
-    }
-
-    #[test]
-    fn rational_roots_come_from_linear_factors() {
-        let p = |s: &str| s.parse::<Poly>().unwrap();
-        // (2z - 3)(z^2 + 1)(z + 5): only 3/2 is rational and positive.
-        let f = p("(2*z - 3)*(z^2 + 1)*(z + 5)");
-        assert_eq!(rational_roots(&f, "z"), vec![Rat::new(3.into(), 2.into())]);
-        // Another variable left: none.
-        assert!(rational_roots(&p("z - y"), "z").is_empty());
-    }
-
-    #[test]
-    fn triple_roots_by_elimination() {
-        let p = |s: &str| s.parse::<Poly>().unwrap();
-        // Omega^3 - a Omega^2 + b Omega - z has the triple root 2 exactly
-        // for (Omega - 2)^3: a = 6, b = 12, z = 8.
-        let num = p("Omega^3 - a*Omega^2 + b*Omega - z");
-        let two = Rat::from(2);
-        let d1 = num.derivative(OMEGA);
-        let d2 = d1.derivative(OMEGA);
-        let eqs: Vec<Poly> = [&num, &d1, &d2]
-            .iter()
-            .map(|e| e.subs(OMEGA, &two))
-            .collect();
-        let vars = ["a".to_string(), "b".to_string()];
-        let points = triple_points(&eqs, &vars, "z", &BTreeMap::new());
-        assert_eq!(points.len(), 1);
-        let want: BTreeMap<String, Rat> = [("a", 6), ("b", 12), ("z", 8)]
-            .iter()
-            .map(|(k, v)| (k.to_string(), Rat::from(*v)))
-            .collect();
-        assert_eq!(points[0], want);
-    }
-
-    #[test]
-    fn tangent_points_solve_for_the_cancelled_root() {
-        let p = |s: &str| s.parse::<Poly>().unwrap();
-        // num = (Omega - x)(Omega^2 - 2 w Omega + y) on the wall x = r,
-        // y = 2r: the quadratic has the double root sigma = w exactly when
-        // w^2 = 2r, so for sigma = 3: r = 9/2, x = 9/2, y = 9, w = 3.
-        let num = p("(Omega - x)*(Omega^2 - 2*w*Omega + y)");
-        let dnum = num.derivative(OMEGA);
-        let conditions = [
-            ("x".to_string(), p("x - Omega")),
-            ("y".to_string(), p("y - 2*Omega")),
-        ];
-        let points = tangent_points(
-            &num,
-            &dnum,
-            &BTreeMap::new(),
-            &conditions,
-            "w",
-            &Rat::from(3),
-        );
-        let want: BTreeMap<String, Rat> = [("w", "3"), ("x", "9/2"), ("y", "9")]
-            .iter()
-            .map(|(k, v)| (k.to_string(), v.parse().unwrap()))
-            .collect();
-        assert_eq!(points, vec![want]);
     }
 
     #[test]
