@@ -142,12 +142,7 @@ impl Prover<'_> {
                 .iter()
                 .filter(|p| conditions.iter().all(|(v, _)| v != *p))
                 .collect();
-            let z = open[rng.index(open.len())].clone();
-            let fixed: BTreeMap<String, Rat> = open
-                .iter()
-                .filter(|p| ***p != z)
-                .map(|p| ((*p).clone(), rng.value()))
-                .collect();
+            let (z, fixed) = one_free(&open, &mut rng);
             let wall = wall_numerator(&self.num, &fixed, &conditions, &roots);
             if let Some(points) = wall.and_then(|w| double_zero_points(w, &fixed, &z)) {
                 for point in points {
@@ -216,12 +211,7 @@ impl Prover<'_> {
                     .iter()
                     .filter(|p| **p != x && **p != y)
                     .collect();
-                let w = open[rng.index(open.len())].clone();
-                let fixed: BTreeMap<String, Rat> = open
-                    .iter()
-                    .filter(|p| ***p != w)
-                    .map(|p| ((*p).clone(), rng.value()))
-                    .collect();
+                let (w, fixed) = one_free(&open, &mut rng);
                 let sigma = rng.value();
                 let conditions = [(x, d1.clone()), (y, d2.clone())];
                 for point in tangent_points(&self.num, &dn, &fixed, &conditions, &w, &sigma) {
@@ -234,12 +224,7 @@ impl Prover<'_> {
             for _ in 0..(ELIMINATION_TRIALS * usize::from(!sets.is_empty())) {
                 let vars = &sets[rng.index(sets.len())];
                 let open: Vec<&String> = self.params.iter().filter(|p| !vars.contains(p)).collect();
-                let z = open[rng.index(open.len())].clone();
-                let fixed: BTreeMap<String, Rat> = open
-                    .iter()
-                    .filter(|p| ***p != z)
-                    .map(|p| ((*p).clone(), rng.value()))
-                    .collect();
+                let (z, fixed) = one_free(&open, &mut rng);
                 let sigma = rng.value();
                 let eqs: Vec<Poly> = [&self.num, &dn, &ddn]
                     .iter()
@@ -453,6 +438,18 @@ impl Prover<'_> {
             None => false,
         }
     }
+}
+
+/// One of `open` left free (drawn first), random values for the others,
+/// in order.
+fn one_free(open: &[&String], rng: &mut Sampler) -> (String, BTreeMap<String, Rat>) {
+    let free = open[rng.index(open.len())].clone();
+    let fixed = open
+        .iter()
+        .filter(|p| ***p != free)
+        .map(|p| ((*p).clone(), rng.value()))
+        .collect();
+    (free, fixed)
 }
 
 /// `e` with the values of `point` substituted.
