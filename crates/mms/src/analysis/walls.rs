@@ -65,6 +65,15 @@ fn wall_parameters(d1: &Poly, d2: &Poly, used: &[String]) -> (Vec<String>, Vec<S
 }
 
 impl Prover<'_> {
+    /// The parameters not among `solved`, in order.
+    fn unsolved(&self, solved: &[Solved]) -> Vec<String> {
+        self.params
+            .iter()
+            .filter(|p| solved.iter().all(|(v, _, _)| v != *p))
+            .cloned()
+            .collect()
+    }
+
     /// How many of `wanted` have witnesses.
     fn witnessed(&self, wanted: &[FrfType]) -> usize {
         wanted
@@ -316,12 +325,7 @@ impl Prover<'_> {
                     };
                     let n = poly::primitive_part_in(&n, OMEGA);
                     let dn = n.derivative(OMEGA);
-                    let open: Vec<String> = self
-                        .params
-                        .iter()
-                        .filter(|p| solved.iter().all(|(v, _, _)| v != *p))
-                        .cloned()
-                        .collect();
+                    let open = self.unsolved(&solved);
                     let kept = |skip: &dyn Fn(&String) -> bool| -> BTreeMap<String, Rat> {
                         open.iter()
                             .filter(|p| !skip(p))
@@ -378,12 +382,7 @@ impl Prover<'_> {
         if n.degree(OMEGA) < 2 {
             return;
         }
-        let open: Vec<String> = self
-            .params
-            .iter()
-            .filter(|p| solved.iter().all(|(v, _, _)| v != *p))
-            .cloned()
-            .collect();
+        let open = self.unsolved(&solved);
         let sets = linear_sets(&[&n], &open, 2);
         if sets.is_empty() {
             return;
