@@ -5,20 +5,24 @@
 //!
 //! Every block contributes its poles and the eigenvalues of the minors that
 //! divide its term `n_B` (or the pseudo-remainder of `n_B` by the block's
-//! pole polynomial). A minor's eigenvalues interlace the block's (Cauchy);
-//! one may sit *on* a pole, which cancels it. The blocks share no
-//! parameter, so their sequences merge in every order, two poles of
-//! different blocks possibly coinciding (a shared eigenvalue: the double
-//! root of the denominator cancels once or twice).
+//! pole polynomial). A minor's eigenvalues interlace the block's (Cauchy,
+//! also for unions of minors no spring joins); one may sit *on* a pole,
+//! which cancels it (a minor at an end of the block on at most `n - k - 1`
+//! poles). The blocks share no parameter, so their sequences merge in
+//! every order, two poles of different blocks possibly coinciding (a
+//! shared eigenvalue: the double root of the denominator cancels once or,
+//! where the terms' residues allow it, twice).
 //!
 //! Each configuration gives a list of *samples* in increasing order: the
 //! reduced numerator's sign at `0`, at every pole that stays (unknown at a
 //! shared one), at the eigenvalues of the minors of `n_B` (where `n_B`
 //! vanishes, so only the other block's term is left) and at infinity. A
 //! type fits a configuration if its antiresonances can be spread over the
-//! gaps between samples with the parity every sign change demands; when
-//! the TF is one block's term and `n_B` a product of minors, its zeros
-//! *are* the minors' eigenvalues and the counts must match exactly.
+//! gaps between samples with the parity every sign change demands, no
+//! zero in a gap where all terms have one sign and at most one where all
+//! are monotone one way; when the TF is one block's term and `n_B` a
+//! product of minors, its zeros *are* the minors' eigenvalues and the
+//! counts must match exactly.
 
 use super::frf_type::{Feature, FrfType};
 use std::collections::BTreeSet;
