@@ -265,15 +265,16 @@ pub enum OpenProof {
     /// The numerator's sign at the poles, from its remainder by the one
     /// chain block the denominator is, leaves the type's antiresonance
     /// counts between poles the wrong parity for every placement of the
-    /// block's diagonal entries among its eigenvalues (see
-    /// [`super::pole_signs`]). Holds on every stratum.
+    /// block's diagonal entries among its eigenvalues (docs/analysis.md,
+    /// "Pole signs"). Holds on every stratum.
     PoleSigns(PoleSigns),
     /// The numerator's sign at the poles when the denominator is the
     /// product of several blocks' pole polynomials: at a pole of one
     /// block it is fixed by how the other blocks' spectra interleave with
-    /// it and where the eigenvalues of the block's principal minors lie
-    /// (see [`super::pole_signs`]); no configuration gives the type's
-    /// antiresonance parities. Holds on every stratum.
+    /// it and where the eigenvalues of the block's principal minors lie;
+    /// no configuration admits the type's antiresonances (their parities,
+    /// and the gaps with none or one; docs/analysis.md, "Block pole
+    /// signs"). Holds on every stratum.
     BlockPoleSigns(BlockPoleSigns),
     /// Descartes' rule of signs for the numerator part `part`, whose
     /// coefficients in `Omega` have definite signs.
