@@ -25,6 +25,10 @@ fn temp_dir(name: &str) -> PathBuf {
 const F16_PERIOD: usize = 8192;
 const F16_FS: f64 = 400.0;
 
+/// The F-16 channels and period on the command line: force in, the
+/// driving-point acceleration out, 8192 samples per period.
+const F16_CHANNELS: [&str; 6] = ["--u", "Force", "--y", "Acceleration:1", "--period", "8192"];
+
 fn f16(level: u32) -> String {
     real_data(&format!("f16_gvt/F16Data_FullMSine_Level{level}.mat"))
 }
@@ -93,19 +97,11 @@ fn num(v: &Value) -> f64 {
 fn f16_level_1_against_level_7() {
     let (l1, l7) = (f16(1), f16(7));
     let levels = [
-        "diagnose",
-        &l1,
-        "--level",
-        &l7,
-        "--u",
-        "Force",
-        "--y",
-        "Acceleration:1",
-        "--period",
-        "8192",
-        "--band",
-        "2:15",
-    ];
+        &["diagnose", &l1, "--level", &l7][..],
+        &F16_CHANNELS,
+        &["--band", "2:15"],
+    ]
+    .concat();
     let v = json(&[&levels[..], &["--format", "json"]].concat());
     let a = &v["amplitude_dependence"];
     // The Markdown report with its plot of the levels.
@@ -353,18 +349,7 @@ fn level_errors_name_the_file() {
     std::fs::write(&csv, format!("freq_hz,re,im\n{}\n", rows.join("\n"))).unwrap();
     let csv = csv.to_str().unwrap();
     let l1 = f16(1);
-    let (code, out, err) = mms(&[
-        "diagnose",
-        &l1,
-        "--level",
-        csv,
-        "--u",
-        "Force",
-        "--y",
-        "Acceleration:1",
-        "--period",
-        "8192",
-    ]);
+    let (code, out, err) = mms(&[&["diagnose", &l1, "--level", csv][..], &F16_CHANNELS].concat());
     assert_eq!(code, 2, "{err}");
     assert!(out.is_empty());
     assert!(

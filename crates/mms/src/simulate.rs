@@ -377,26 +377,33 @@ impl Simulator {
         let mut a = vec![0.0; self.n];
         let mut scratch = vec![0.0; self.n];
         let dot = |w: &[f64], v: &[f64]| w.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+        self.open_loop(u, |s, f_in| {
+            y.push(match self.output {
+                Output::Position => dot(&self.sensor, &s.x),
+                Output::Velocity => dot(&self.sensor, &s.v),
+                Output::Acceleration => {
+                    self.deriv(s, f_in, &mut a, &mut scratch);
+                    dot(&self.sensor, &a)
+                }
+            });
+            y.last().is_some_and(|v| v.is_finite())
+        })?;
+        Ok(y)
+    }
+
+    /// Integrates the open-loop response to the input samples `u` from
+    /// rest, handing every sample's state to `record` (which says whether
+    /// it stayed finite); a non-finite input is refused first.
+    fn open_loop(
+        &self,
+        u: &[f64],
+        record: impl FnMut(&State, f64) -> bool,
+    ) -> Result<(), SimulateError> {
         if let Some(k) = u.iter().position(|x| !x.is_finite()) {
             return Err(SimulateError::Input(k));
         }
-        self.integrate(
-            u.len(),
-            Start::Rest,
-            |k, _| u[k],
-            |s, f_in| {
-                y.push(match self.output {
-                    Output::Position => dot(&self.sensor, &s.x),
-                    Output::Velocity => dot(&self.sensor, &s.v),
-                    Output::Acceleration => {
-                        self.deriv(s, f_in, &mut a, &mut scratch);
-                        dot(&self.sensor, &a)
-                    }
-                });
-                y.last().is_some_and(|v| v.is_finite())
-            },
-        )?;
-        Ok(y)
+        self.integrate(u.len(), Start::Rest, |k, _| u[k], record)
+            .map(|_| ())
     }
 
     /// The position of every mass at every sample (`[k][i]`: sample `k`,
@@ -417,18 +424,10 @@ impl Simulator {
     /// ```
     pub fn positions(&self, u: &[f64]) -> Result<Vec<Vec<f64>>, SimulateError> {
         let mut out = Vec::with_capacity(u.len());
-        if let Some(k) = u.iter().position(|x| !x.is_finite()) {
-            return Err(SimulateError::Input(k));
-        }
-        self.integrate(
-            u.len(),
-            Start::Rest,
-            |k, _| u[k],
-            |s, _| {
-                out.push(s.x.clone());
-                s.x.iter().all(|x| x.is_finite())
-            },
-        )?;
+        self.open_loop(u, |s, _| {
+            out.push(s.x.clone());
+            s.x.iter().all(|x| x.is_finite())
+        })?;
         Ok(out)
     }
 

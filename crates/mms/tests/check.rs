@@ -699,10 +699,7 @@ fn block_pole_sign_verdicts_agree_with_random_points() {
 #[test]
 fn end_runs_take_distinct_gaps() {
     let (_, a) = analysis_of("N4-g0-a1.0-s2.0");
-    for t in ["RAARR", "AARRR", "RRAAR", "RRRAA"] {
-        let v = verdict(&a, t);
-        assert_eq!(v["status"], "impossible", "{t}");
-    }
+    assert_impossible(&a, &["RAARR", "AARRR", "RRAAR", "RRRAA"]);
     check_analysis(&a).unwrap();
 }
 
@@ -789,6 +786,13 @@ fn verdict<'a>(a: &'a Value, t: &str) -> &'a Value {
         .unwrap()
 }
 
+/// Every type of `types` is certified impossible in the analysis `a`.
+fn assert_impossible(a: &Value, types: &[&str]) {
+    for t in types {
+        assert_eq!(verdict(a, t)["status"], "impossible", "{t}");
+    }
+}
+
 /// The generic types (simple, every resonance) a model's analysis finds
 /// possible.
 fn generic_possible(a: &Value) -> Vec<String> {
@@ -854,10 +858,7 @@ fn two_block_generic_types_match_the_hand_derivation() {
         ]
     );
     // The rest of the generic types with three resonances are certified.
-    for t in ["ARAARR", "ARRRAA", "RAARAR", "RRARAA"] {
-        let v = verdict(&a, t);
-        assert_eq!(v["status"], "impossible", "{t}");
-    }
+    assert_impossible(&a, &["ARAARR", "ARRRAA", "RAARAR", "RRARAA"]);
     check_analysis(&a).unwrap();
 }
 
@@ -874,10 +875,10 @@ fn two_block_generic_types_match_the_hand_derivation() {
 fn monotone_terms_allow_one_zero_per_gap() {
     let (m, a) = analysis_of("N4-g3-a4.1-s4.3");
     assert_eq!(generic_possible(&a), ["ARRAAR", "ARRR (nm)"]);
-    for t in ["AAARRR", "A^3RRR", "AA^2RRR", "A^2ARRR", "ARAARR", "ARRRAA"] {
-        let v = verdict(&a, t);
-        assert_eq!(v["status"], "impossible", "{t}");
-    }
+    assert_impossible(
+        &a,
+        &["AAARRR", "A^3RRR", "AA^2RRR", "A^2ARRR", "ARAARR", "ARRRAA"],
+    );
     check_analysis(&a).unwrap();
     // The checker's own gap rules: the certificate moved onto the types
     // random points show is rejected.
