@@ -363,3 +363,95 @@ fn level_errors_name_the_file() {
     assert!(err.contains("--model"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `mms identify` on a SPERTE recording (4 kHz, `result` = [input,
+/// position]) with default settings, as JSON.
+fn identify_sperte(rel: &str, extra: &[&str]) -> Value {
+    let path = real_data(&format!("sperte/{rel}"));
+    let mut args = vec![
+        "identify", &path, "--u", "result:1", "--y", "result:2", "--fs", "4000", "--format", "json",
+    ];
+    args.extend_from_slice(extra);
+    let (code, out, err) = mms(&args);
+    assert_eq!(code, 0, "{rel}: {err}");
+    serde_json::from_str(&out).unwrap()
+}
+
+/// The best group's structures of an identification.
+fn best_group(v: &Value) -> Vec<String> {
+    v["indistinguishable"][0]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s.as_str().unwrap().to_string())
+        .collect()
+}
+
+#[test]
+fn sperte_recordings_read_as_a_control_engineer_reads_their_bode_plots() {
+    // A two-mass drive with a flexible coupling (the README): the motor
+    // encoder sees an antiresonance below the resonance and a collocated
+    // structure; the load encoder sees the resonance only and a
+    // non-collocated one. The same rig at two speeds must read alike, and
+    // so must other segment lengths (1 Hz to 0.25 Hz resolution).
+    for (rel, nfft) in [
+        ("setup18_motor_side_v0.3.mat", None),
+        ("setup18_motor_side_v0.3.mat", Some("8192")),
+        ("setup18_motor_side_v0.5.mat", None),
+        ("setup18_motor_side_v0.5.mat", Some("4096")),
+    ] {
+        let extra: Vec<&str> = nfft.map(|n| vec!["--nfft", n]).unwrap_or_default();
+        let v = identify_sperte(rel, &extra);
+        let c = &v["classification"];
+        assert_eq!(c["type"], "AR", "{rel} {nfft:?}");
+        assert_eq!(c["uncertainty"], "given");
+        let feats: Vec<(String, f64)> = c["features"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|f| f["in_type"].as_bool().unwrap())
+            .map(|f| {
+                (
+                    f["kind"].as_str().unwrap().into(),
+                    f["freq_hz"].as_f64().unwrap(),
+                )
+            })
+            .collect();
+        // Antiresonance near 41 Hz, resonance near 55 Hz (both runs of the
+        // motor side show them in the raw H1 at 0.5 Hz resolution).
+        assert!((feats[0].1 - 41.0).abs() < 2.0, "{rel}: {feats:?}");
+        assert!((feats[1].1 - 55.3).abs() < 2.0, "{rel}: {feats:?}");
+        // Collocated: the actuator and the sensor on the same mass.
+        for id in best_group(&v) {
+            let cand = v["candidates"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|c| c["id"] == id.as_str())
+                .unwrap();
+            assert_eq!(cand["actuator"], cand["sensor"], "{rel}: {id}");
+        }
+        assert_eq!(v["sensor_reversed"], false, "{rel}");
+    }
+    for (rel, reversed) in [
+        ("setup18_load_side_v0.5_m2.mat", true),
+        ("setup29_load_side_v0.5.mat", true),
+        ("session02nov_frf_measurement_0.mat", false),
+    ] {
+        let v = identify_sperte(rel, &[]);
+        assert_eq!(v["classification"]["type"], "R", "{rel}");
+        assert_eq!(best_group(&v), ["N2-g0-a1.0-s2.0"], "{rel}");
+        // The load-side encoders of setups 18 and 29 count the other way:
+        // their inertance is negative below the resonance (phase 180 deg in
+        // the raw H1), where every chain's is positive. With the sign
+        // taken from the data the fit is within 1.5 dB RMS (it was 12-14
+        // dB with the sign forced positive).
+        assert_eq!(v["sensor_reversed"], reversed, "{rel}");
+        let best = &v["candidates"][0];
+        assert!(
+            best["fit"]["rms_db"].as_f64().unwrap() < 1.5,
+            "{rel}: {best}"
+        );
+        assert_eq!(best["gain"].as_f64().unwrap() < 0.0, reversed, "{rel}");
+    }
+}

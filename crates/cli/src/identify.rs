@@ -141,6 +141,7 @@ fn to_json(id: &Identification) -> Value {
             "type": c.frf_type.to_string(),
             "confidence": c.confidence,
             "band_hz": [c.band_hz.0, c.band_hz.1],
+            "uncertainty": c.uncertainty_name(),
             "noise_db": c.noise_db,
             "features": c.features.iter().map(|f| json!({
                 "kind": match f.kind {
@@ -160,6 +161,7 @@ fn to_json(id: &Identification) -> Value {
         "indistinguishable": id.indistinguishable,
         "sensor_advice": id.sensor_advice,
         "equivalents": id.equivalents,
+        "sensor_reversed": id.sensor_reversed,
         "notes": id.notes,
     })
 }
@@ -212,8 +214,8 @@ fn bode(frf: &Frf, output: Output, id: &Identification) -> Bode {
         );
     }
     if lo > f[0] || hi < f[f.len() - 1] {
-        b = b.band(f[0], lo, "outside trusted band");
-        b = b.band(hi, f[f.len() - 1], "outside trusted band");
+        b = b.band(f[0], lo, "outside the band");
+        b = b.band(hi, f[f.len() - 1], "outside the band");
     }
     b.residual()
 }
@@ -239,7 +241,7 @@ fn markdown(name: &str, id: &Identification, plot: Option<&str>) -> String {
     let group = id.indistinguishable.first().cloned().unwrap_or_default();
     let _ = writeln!(
         s,
-        "**FRF type {}** (confidence {:.2}) in the trusted band {}-{} Hz; {} candidate \
+        "**FRF type {}** (confidence {:.2}) in the band {}-{} Hz; {} candidate \
          structures of {} masses. {}\n",
         c.frf_type,
         c.confidence,

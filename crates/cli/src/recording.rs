@@ -33,7 +33,7 @@ pub struct RecordingArgs {
     #[arg(long, value_enum, default_value_t = OutputArg::Position)]
     pub output: OutputArg,
     /// Segment length of the H1 estimate (default: the largest power of two
-    /// giving at least 8 averages).
+    /// giving at least 16 averages).
     #[arg(long, value_name = "SAMPLES")]
     pub nfft: Option<usize>,
     /// Samples per period of a periodic excitation (multisine): rectangular

@@ -6,8 +6,10 @@
 //! holds one number per column. NaN and infinities are errors.
 //!
 //! * FRF CSV: columns exactly `freq_hz,re,im` or `freq_hz,mag_db,phase_deg`,
-//!   each optionally with `coherence`, in any order. See [`parse_frf_csv`]
-//!   and the writer [`write_csv`].
+//!   each optionally with `coherence` and `std_dev` (the standard deviation
+//!   of each line, see [`Frf::with_std_dev`]; `inf` allowed there for a
+//!   line without information), in any order. See [`parse_frf_csv`] and the
+//!   writer [`write_csv`].
 //! * Time-domain CSV: named columns, by default `t,u,y`; the sample rate
 //!   comes from the `t` column (checked for uniform spacing) unless given.
 //!   See [`time_series_from_table`].
@@ -109,11 +111,20 @@ fn content_lines<'a>(
     })
 }
 
-/// Parses one numeric field; NaN and infinities are errors.
-fn number(field: &str, line: usize, what: &dyn Fn() -> String) -> Result<f64, CsvError> {
+/// The one column in which `inf` is a value: a line without information.
+const STD_DEV: &str = "std_dev";
+
+/// Parses one numeric field; NaN and infinities are errors, except `+inf`
+/// where `allow_inf`.
+fn number(
+    field: &str,
+    line: usize,
+    allow_inf: bool,
+    what: &dyn Fn() -> String,
+) -> Result<f64, CsvError> {
     let f = field.trim();
     match f.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
+        Ok(v) if v.is_finite() || (allow_inf && v == f64::INFINITY) => Ok(v),
         Ok(_) => Err(CsvError::at(
             line,
             format!("{}: '{f}' is not a finite number", what()),
@@ -179,7 +190,8 @@ pub fn parse_table(text: &str) -> Result<Table, CsvError> {
             ));
         }
         for (j, f) in fields.iter().enumerate() {
-            columns[j].push(number(f, line, &|| format!("column '{}'", names[j]))?);
+            let inf = names[j].eq_ignore_ascii_case(STD_DEV);
+            columns[j].push(number(f, line, inf, &|| format!("column '{}'", names[j]))?);
         }
         row_lines.push(line);
     }
@@ -218,14 +230,22 @@ pub fn parse_frf_csv(text: &str) -> Result<Frf, CsvError> {
 /// strictly increasing frequencies, coherence in `[0, 1]`, at least
 /// [`MIN_LINES`] lines), each error naming its file line.
 pub fn frf_from_table(table: &Table) -> Result<Frf, CsvError> {
-    const KNOWN: [&str; 6] = ["freq_hz", "re", "im", "mag_db", "phase_deg", "coherence"];
+    const KNOWN: [&str; 7] = [
+        "freq_hz",
+        "re",
+        "im",
+        "mag_db",
+        "phase_deg",
+        "coherence",
+        STD_DEV,
+    ];
     let h = table.header_line;
     for n in &table.names {
         if !KNOWN.contains(&n.to_ascii_lowercase().as_str()) {
             return Err(CsvError::at(
                 h,
                 format!(
-                    "unknown column '{n}' (expected freq_hz,re,im or freq_hz,mag_db,phase_deg, optionally coherence)"
+                    "unknown column '{n}' (expected freq_hz,re,im or freq_hz,mag_db,phase_deg, optionally coherence and std_dev)"
                 ),
             ));
         }
@@ -278,12 +298,16 @@ pub fn frf_from_table(table: &Table) -> Result<Frf, CsvError> {
         }
     };
     let coherence = col("coherence").map(|c| table.columns[c].clone());
-    let frf = Frf::new(table.columns[freq].clone(), response, coherence).map_err(|e| {
-        match e.index() {
-            Some(i) => CsvError::at(table.lines[i], e.message_without_index()),
-            None => CsvError::file(e.to_string()),
-        }
-    })?;
+    let at_line = |e: crate::FrfError| match e.index() {
+        Some(i) => CsvError::at(table.lines[i], e.message_without_index()),
+        None => CsvError::file(e.to_string()),
+    };
+    let mut frf = Frf::new(table.columns[freq].clone(), response, coherence).map_err(at_line)?;
+    if let Some(c) = col(STD_DEV) {
+        frf = frf
+            .with_std_dev(table.columns[c].clone())
+            .map_err(at_line)?;
+    }
     if frf.len() < MIN_LINES {
         return Err(CsvError::file(format!(
             "only {} frequency lines; at least {MIN_LINES} are needed",
@@ -294,7 +318,8 @@ pub fn frf_from_table(table: &Table) -> Result<Frf, CsvError> {
 }
 
 /// Writes an FRF as CSV with a header (`freq_hz,re,im` or
-/// `freq_hz,mag_db,phase_deg`, plus `coherence` when present).
+/// `freq_hz,mag_db,phase_deg`, plus `coherence` and `std_dev` when
+/// present).
 ///
 /// Numbers use Rust's shortest round-trip exponent format (`{:e}`), so the
 /// output is deterministic and [`parse_frf_csv`] reads back exactly the
@@ -310,6 +335,10 @@ pub fn write_csv(frf: &Frf, layout: CsvLayout) -> String {
     if coh.is_some() {
         out.push_str(",coherence");
     }
+    let sd = frf.std_dev();
+    if sd.is_some() {
+        out.push_str(",std_dev");
+    }
     out.push('\n');
     for (i, (&f, &h)) in frf.freq_hz().iter().zip(frf.response()).enumerate() {
         let (a, b) = match layout {
@@ -322,6 +351,9 @@ pub fn write_csv(frf: &Frf, layout: CsvLayout) -> String {
         let _ = write!(out, "{f:e},{a:e},{b:e}");
         if let Some(c) = coh {
             let _ = write!(out, ",{:e}", c[i]);
+        }
+        if let Some(s) = sd {
+            let _ = write!(out, ",{:e}", s[i]);
         }
         out.push('\n');
     }
@@ -452,7 +484,7 @@ pub fn parse_matrix(text: &str) -> Result<Matrix, CsvError> {
             ));
         }
         for (j, f) in fields.iter().enumerate() {
-            columns[j].push(number(f, line, &|| format!("column {}", j + 1))?);
+            columns[j].push(number(f, line, false, &|| format!("column {}", j + 1))?);
         }
         lines.push(line);
     }

@@ -15,7 +15,9 @@
 //! * [`mat`]: MATLAB level-5 MAT-file reader (numeric variables,
 //!   uncompressed or zlib-compressed);
 //! * [`welch`]: H1 estimation with Welch averaging, for random or periodic
-//!   excitation;
+//!   excitation, with a standard deviation per line;
+//! * [`uncertainty`]: the relative uncertainty of every line, from the
+//!   FRF's standard deviation, its coherence or the scatter of the data;
 //! * [`fft`]: the discrete Fourier transform of any length (radix-2 and
 //!   Bluestein).
 //!
@@ -40,6 +42,7 @@ pub mod fft;
 pub mod mat;
 pub mod recording;
 pub mod uff;
+pub mod uncertainty;
 pub mod welch;
 
 pub use csv::{parse_frf_csv, write_csv, CsvLayout};
@@ -48,6 +51,7 @@ pub use recording::{
     read_recording, Recording, RecordingError, RecordingOptions, Samples, SignalRef, Source,
 };
 pub use uff::{parse_uff, write_frf_uff, Spacing};
+pub use uncertainty::{line_uncertainty, LineUncertainty};
 pub use welch::{h1, H1Estimate, WelchOptions, Window};
 
 /// Fewest frequency lines the file readers accept: fewer cannot show a
@@ -56,14 +60,18 @@ pub const MIN_LINES: usize = 10;
 
 /// A frequency response function on a grid of frequency lines.
 ///
-/// Invariants (checked by [`Frf::new`]): at least one line; all vectors of
-/// equal length; frequencies finite, non-negative and strictly increasing;
-/// response values finite; coherence, where given, finite and in `[0, 1]`.
+/// Invariants (checked by [`Frf::new`] and [`Frf::with_std_dev`]): at least
+/// one line; all vectors of equal length; frequencies finite, non-negative
+/// and strictly increasing; response values finite; coherence, where
+/// given, finite and in `[0, 1]`; standard deviation, where given,
+/// non-negative and not NaN (`+inf` marks a line that carries no
+/// information, e.g. one the excitation did not reach).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Frf {
     freq_hz: Vec<f64>,
     response: Vec<Complex64>,
     coherence: Option<Vec<f64>>,
+    std_dev: Option<Vec<f64>>,
 }
 
 /// Why a set of vectors is not a valid [`Frf`]. Line numbers are 0-based
@@ -116,6 +124,14 @@ pub enum FrfError {
         /// The coherence.
         value: f64,
     },
+    /// A standard deviation that is negative or NaN.
+    #[error("standard deviation at index {index} is {value}, not >= 0")]
+    StdDevRange {
+        /// Index of the value.
+        index: usize,
+        /// The standard deviation.
+        value: f64,
+    },
 }
 
 impl FrfError {
@@ -132,7 +148,8 @@ impl FrfError {
             FrfError::NotFinite { index, .. }
             | FrfError::NegativeFrequency { index, .. }
             | FrfError::NotIncreasing { index, .. }
-            | FrfError::CoherenceRange { index, .. } => Some(*index),
+            | FrfError::CoherenceRange { index, .. }
+            | FrfError::StdDevRange { index, .. } => Some(*index),
         }
     }
 
@@ -155,6 +172,9 @@ impl FrfError {
             }
             FrfError::CoherenceRange { value, .. } => {
                 format!("coherence {value} is outside [0, 1]")
+            }
+            FrfError::StdDevRange { value, .. } => {
+                format!("standard deviation {value} is not >= 0")
             }
             FrfError::Empty | FrfError::Length { .. } => self.to_string(),
         }
@@ -226,6 +246,65 @@ impl Frf {
             freq_hz,
             response,
             coherence,
+            std_dev: None,
+        })
+    }
+
+    /// The same FRF with a standard deviation per line: the standard
+    /// deviation of the estimate's error `H_est - H` in each of its real and
+    /// imaginary parts (a circular error), in the units of the response.
+    /// Divided by `|H|` it is the standard deviation of `ln|H|` in nepers
+    /// and of the phase in radians. `+inf` marks a line without
+    /// information.
+    ///
+    /// ```
+    /// use frf::{Complex64, Frf};
+    /// let frf = Frf::new(vec![1.0, 2.0], vec![Complex64::new(2.0, 0.0); 2], None)?
+    ///     .with_std_dev(vec![0.2, f64::INFINITY])?;
+    /// assert_eq!(frf.relative_std_dev().unwrap(), vec![0.1, f64::INFINITY]);
+    /// assert!(frf.clone().with_std_dev(vec![0.1, -1.0]).is_err());
+    /// # Ok::<(), frf::FrfError>(())
+    /// ```
+    pub fn with_std_dev(mut self, std_dev: Vec<f64>) -> Result<Frf, FrfError> {
+        if std_dev.len() != self.len() {
+            return Err(FrfError::Length {
+                what: "standard deviation",
+                got: std_dev.len(),
+                expected: self.len(),
+            });
+        }
+        if let Some(index) = std_dev.iter().position(|s| s.is_nan() || *s < 0.0) {
+            return Err(FrfError::StdDevRange {
+                index,
+                value: std_dev[index],
+            });
+        }
+        self.std_dev = Some(std_dev);
+        Ok(self)
+    }
+
+    /// The standard deviation of each line, if the FRF was estimated or
+    /// read with one (see [`Frf::with_std_dev`]).
+    pub fn std_dev(&self) -> Option<&[f64]> {
+        self.std_dev.as_deref()
+    }
+
+    /// The standard deviation of each line relative to its magnitude:
+    /// that of `ln|H|` in nepers and of the phase in radians (`+inf` where
+    /// the response is 0). `None` without a standard deviation.
+    pub fn relative_std_dev(&self) -> Option<Vec<f64>> {
+        self.std_dev.as_ref().map(|s| {
+            s.iter()
+                .zip(&self.response)
+                .map(|(s, h)| {
+                    let a = h.norm();
+                    if a > 0.0 {
+                        s / a
+                    } else {
+                        f64::INFINITY
+                    }
+                })
+                .collect()
         })
     }
 
@@ -261,16 +340,36 @@ impl Frf {
         let keep: Vec<usize> = (0..self.len())
             .filter(|&i| self.freq_hz[i] >= lo_hz && self.freq_hz[i] <= hi_hz)
             .collect();
-        if keep.is_empty() {
+        self.lines(&keep)
+    }
+
+    /// The lines at the given indices (strictly increasing, in range), with
+    /// their coherence and standard deviation; `None` if `keep` is empty,
+    /// not increasing or out of range.
+    ///
+    /// ```
+    /// use frf::{Complex64, Frf};
+    /// let frf = Frf::new(vec![1.0, 2.0, 3.0], vec![Complex64::new(1.0, 0.0); 3], None)?
+    ///     .with_std_dev(vec![0.1, 0.2, 0.3])?;
+    /// let odd = frf.lines(&[0, 2]).unwrap();
+    /// assert_eq!(odd.freq_hz(), &[1.0, 3.0]);
+    /// assert_eq!(odd.std_dev().unwrap(), &[0.1, 0.3]);
+    /// assert!(frf.lines(&[2, 0]).is_none());
+    /// # Ok::<(), frf::FrfError>(())
+    /// ```
+    pub fn lines(&self, keep: &[usize]) -> Option<Frf> {
+        let valid = !keep.is_empty()
+            && keep.windows(2).all(|w| w[0] < w[1])
+            && keep.last().is_some_and(|&i| i < self.len());
+        if !valid {
             return None;
         }
+        let pick = |v: &Vec<f64>| keep.iter().map(|&i| v[i]).collect();
         Some(Frf {
-            freq_hz: keep.iter().map(|&i| self.freq_hz[i]).collect(),
+            freq_hz: pick(&self.freq_hz),
             response: keep.iter().map(|&i| self.response[i]).collect(),
-            coherence: self
-                .coherence
-                .as_ref()
-                .map(|c| keep.iter().map(|&i| c[i]).collect()),
+            coherence: self.coherence.as_ref().map(pick),
+            std_dev: self.std_dev.as_ref().map(pick),
         })
     }
 }

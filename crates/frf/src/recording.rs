@@ -382,7 +382,7 @@ impl Ctx<'_> {
 ///
 /// let rec = read_recording(&path, &RecordingOptions::default())?;
 /// let Source::TimeDomain { fs, nfft, averages, .. } = rec.source else { unreachable!() };
-/// assert_eq!((fs, nfft, averages), (100.0, 256, 15));
+/// assert_eq!((fs, nfft, averages), (100.0, 128, 31));
 /// assert!((rec.frf.response()[0].norm() - 2.0).abs() < 0.05);
 /// # std::fs::remove_file(&path).unwrap();
 /// # Ok::<(), frf::recording::RecordingError>(())
@@ -961,9 +961,9 @@ mod tests {
             panic!("{:?}", rec.source)
         };
         assert!((fs - 500.0).abs() < 1e-9);
-        // Default nfft for 4096 samples (Hann, 50 %): 512 gives 15 segments,
-        // 1024 only 7.
-        assert_eq!((n_samples, nfft, averages), (4096, 512, 15));
+        // Default nfft for 4096 samples (Hann, 50 %): 256 gives 31 segments,
+        // 512 only 15.
+        assert_eq!((n_samples, nfft, averages), (4096, 256, 31));
         check_fir(&rec.frf, 500.0);
         // Named columns: F = -u, so the response flips sign.
         let rec = read_recording(&p, &opts("F", "y")).unwrap();
@@ -1061,7 +1061,7 @@ mod tests {
         // A stray carriage return inside a column name stays on one line.
         let p = dir.write("cr.csv", format!("freq_hz,re,i\rm\n{}", frf_rows(12)));
         let e = read_recording(&p, &RecordingOptions::default()).unwrap_err();
-        assert_eq!(e.to_string(), format!("{}:1: unknown column 'i?m' (expected freq_hz,re,im or freq_hz,mag_db,phase_deg, optionally coherence)", p.display()));
+        assert_eq!(e.to_string(), format!("{}:1: unknown column 'i?m' (expected freq_hz,re,im or freq_hz,mag_db,phase_deg, optionally coherence and std_dev)", p.display()));
         // A file that does not exist.
         let e = read_recording(dir.0.join("none.csv"), &RecordingOptions::default()).unwrap_err();
         assert!(matches!(e, RecordingError::Io { .. }));
@@ -1200,7 +1200,7 @@ mod tests {
             ..opts("Force", "Acceleration:1")
         };
         let rec = read_recording(&p, &o).unwrap();
-        assert!((rec.frf.freq_hz()[0] - 1000.0 / 512.0).abs() < 1e-12);
+        assert!((rec.frf.freq_hz()[0] - 1000.0 / 256.0).abs() < 1e-12);
         // A negative Fs in the file.
         let mut bad = mat_vars(512).2;
         bad[2] = Var::double("Fs", 1, 1, vec![-4.0]);

@@ -14,6 +14,20 @@
 //! by noise on the output; the coherence tells how much of the output is
 //! explained linearly by the input at each line.
 //!
+//! Every line also gets a standard deviation ([`Frf::std_dev`]):
+//! * random excitation: the classic `var|H1| = (1 - g^2) / (2 n g^2) |H|^2`
+//!   (Bendat and Piersol) with `g^2` the coherence and `n` the *effective*
+//!   number of averages, which counts overlapping segments for less by the
+//!   window's own overlap correlation (Welch): Hann at 50 % gives about
+//!   `n / 1.06` for long records;
+//! * periodic excitation: the scatter of the per-period responses
+//!   `Y_p / U_p` about their mean, divided by the number of periods (at
+//!   least two periods after the transient; with one, the standard
+//!   deviation is left out and users estimate it from the data);
+//! * a line without input power (below `1e-12` of the strongest line, such
+//!   as the unexcited lines of a multisine) gets `+inf`: it carries no
+//!   information and is no part of any band.
+//!
 //! Two modes:
 //! * random excitation (default): Hann window, 50 % overlap, linear
 //!   detrending of each segment (recordings drift, e.g. a position under
@@ -56,8 +70,13 @@ use std::f64::consts::PI;
 pub const MIN_DEFAULT_NFFT: usize = 64;
 /// Largest `nfft` that [`default_nfft`] picks.
 pub const MAX_DEFAULT_NFFT: usize = 65536;
-/// Number of averages [`default_nfft`] aims for.
-pub const DEFAULT_AVERAGES: usize = 8;
+/// Number of averages [`default_nfft`] aims for. It balances the variance
+/// of a line against the resolution: with 16 averages a line of coherence
+/// 0.5 is known to 1.6 dB (`sqrt(0.5 / 32)` nepers), enough to measure a
+/// lightly damped antiresonance where a collocated sensor sees little
+/// motion, while a 10 s record still resolves 1 Hz. A record too short for
+/// it gets fewer.
+pub const DEFAULT_AVERAGES: usize = 16;
 
 /// Segment window.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -140,6 +159,50 @@ pub struct H1Estimate {
     pub overlap: f64,
     /// Detrending used.
     pub detrend: Detrend,
+    /// The effective number of independent averages behind the standard
+    /// deviation (fewer than `averages` when segments overlap).
+    pub effective_averages: f64,
+}
+
+/// Input power below this fraction of the strongest line is no excitation.
+const NO_EXCITATION: f64 = 1e-12;
+
+/// The effective number of independent averages of `count` segments of
+/// window `w` advancing by `step` (Welch 1967): the variance of an averaged
+/// spectrum is `(1 + 2 sum_j (1 - j/K) rho(j step)^2) / K` of a single
+/// segment's, with `rho` the window's normalised overlap correlation.
+///
+/// ```
+/// use frf::welch::{effective_averages, Window};
+/// // No overlap: every segment counts.
+/// assert_eq!(effective_averages(&vec![1.0; 64], 64, 10), 10.0);
+/// // Hann at 50 %: rho = 1/6, so 100 segments count as about 94.7.
+/// let hann: Vec<f64> = (0..256).map(|i| (std::f64::consts::PI * i as f64 / 256.0).sin().powi(2)).collect();
+/// let k = effective_averages(&hann, 128, 100);
+/// assert!((k - 100.0 / (1.0 + 2.0 * 0.99 / 36.0)).abs() < 0.05, "{k}");
+/// ```
+pub fn effective_averages(w: &[f64], step: usize, count: usize) -> f64 {
+    if count == 0 {
+        return 0.0;
+    }
+    let norm: f64 = w.iter().map(|x| x * x).sum();
+    if norm == 0.0 {
+        return count as f64;
+    }
+    let k = count as f64;
+    let mut sum = 0.0;
+    for j in 1..count {
+        let shift = j * step;
+        if shift >= w.len() {
+            break;
+        }
+        let rho: f64 = (0..w.len() - shift)
+            .map(|i| w[i] * w[i + shift])
+            .sum::<f64>()
+            / norm;
+        sum += (1.0 - j as f64 / k) * rho * rho;
+    }
+    k / (1.0 + 2.0 * sum)
 }
 
 /// Why [`h1`] could not estimate.
@@ -205,8 +268,8 @@ fn step_of(nfft: usize, overlap: f64) -> usize {
 ///
 /// ```
 /// use frf::welch::default_nfft;
-/// // 40000 samples, Hann 50 %: 8192 gives (40000 - 8192) / 4096 + 1 = 8.
-/// assert_eq!(default_nfft(40_000, 0.5), 8192);
+/// // 40000 samples, Hann 50 %: 4096 gives (40000 - 4096) / 2048 + 1 = 18.
+/// assert_eq!(default_nfft(40_000, 0.5), 4096);
 /// assert_eq!(default_nfft(40, 0.5), 32);
 /// ```
 pub fn default_nfft(n: usize, overlap: f64) -> usize {
@@ -429,6 +492,9 @@ pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estima
     let mut us = vec![0.0; nfft];
     let mut ys = vec![0.0; nfft];
     let mut z = vec![Complex64::new(0.0, 0.0); nfft];
+    // Periodic mode: per-period responses, for their scatter.
+    let periodic = opts.period.is_some();
+    let mut per_period: Vec<Vec<Complex64>> = Vec::new();
     for &s in &starts {
         us.copy_from_slice(&u[s..s + nfft]);
         ys.copy_from_slice(&y[s..s + nfft]);
@@ -448,6 +514,23 @@ pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estima
             s_uu[k - 1] += uk.norm_sqr();
             s_yy[k - 1] += yk.norm_sqr();
             s_uy[k - 1] += uk.conj() * yk;
+        }
+        if periodic {
+            per_period.push(
+                (1..=lines)
+                    .map(|k| {
+                        let zk = z[k];
+                        let zm = z[nfft - k].conj();
+                        let uk = (zk + zm) * 0.5;
+                        let yk = (zk - zm) * Complex64::new(0.0, -0.5);
+                        if uk.norm_sqr() > 0.0 {
+                            yk / uk
+                        } else {
+                            Complex64::new(0.0, 0.0)
+                        }
+                    })
+                    .collect(),
+            );
         }
     }
 
@@ -470,14 +553,55 @@ pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estima
             0.0
         });
     }
-    let frf = Frf::new(freq, response, Some(coherence))?;
+    let count = starts.len();
+    let effective = if periodic {
+        count as f64
+    } else {
+        effective_averages(&w, step_of(nfft, overlap), count)
+    };
+    let strongest = s_uu.iter().copied().fold(0.0, f64::max);
+    let std_dev: Option<Vec<f64>> = if periodic && count >= 2 {
+        let p = count as f64;
+        Some(
+            (0..lines)
+                .map(|k| {
+                    if s_uu[k] <= NO_EXCITATION * strongest {
+                        return f64::INFINITY;
+                    }
+                    let mean = per_period.iter().map(|h| h[k]).sum::<Complex64>() / p;
+                    let ss: f64 = per_period.iter().map(|h| (h[k] - mean).norm_sqr()).sum();
+                    // var of the mean, split over the real and imaginary part
+                    (ss / (p - 1.0) / p / 2.0).sqrt()
+                })
+                .collect(),
+        )
+    } else if !periodic && effective >= 2.0 {
+        Some(
+            (0..lines)
+                .map(|k| {
+                    let g = coherence[k];
+                    if s_uu[k] <= NO_EXCITATION * strongest || g == 0.0 {
+                        return f64::INFINITY;
+                    }
+                    ((1.0 - g) / (2.0 * effective * g)).sqrt() * response[k].norm()
+                })
+                .collect(),
+        )
+    } else {
+        None
+    };
+    let mut frf = Frf::new(freq, response, Some(coherence))?;
+    if let Some(sd) = std_dev {
+        frf = frf.with_std_dev(sd)?;
+    }
     Ok(H1Estimate {
         frf,
-        averages: starts.len(),
+        averages: count,
         nfft,
         window,
         overlap,
         detrend: how,
+        effective_averages: effective,
     })
 }
 
@@ -712,16 +836,16 @@ mod tests {
 
     #[test]
     fn default_nfft_rule() {
-        // Hann 50 %: the largest power of two with >= 8 segments.
+        // Hann 50 %: the largest power of two with >= 16 segments.
         for &n in &[1000usize, 40_000, 73_728, 1_000_000] {
             let p = default_nfft(n, 0.5);
             assert!(p.is_power_of_two());
-            assert!(segment_count(n, p, p / 2) >= 8 || p == MIN_DEFAULT_NFFT);
-            assert!(p == MAX_DEFAULT_NFFT || segment_count(n, 2 * p, p) < 8);
+            assert!(segment_count(n, p, p / 2) >= 16 || p == MIN_DEFAULT_NFFT);
+            assert!(p == MAX_DEFAULT_NFFT || segment_count(n, 2 * p, p) < 16);
         }
-        assert_eq!(default_nfft(10_000_000, 0.5), MAX_DEFAULT_NFFT);
-        // Rectangular, no overlap: 8 * 4096 <= 40000 < 8 * 8192.
-        assert_eq!(default_nfft(40_000, 0.0), 4096);
+        assert_eq!(default_nfft(100_000_000, 0.5), MAX_DEFAULT_NFFT);
+        // Rectangular, no overlap: 16 * 2048 <= 40000 < 16 * 4096.
+        assert_eq!(default_nfft(40_000, 0.0), 2048);
         assert_eq!(default_nfft(100, 0.5), 64);
     }
 

@@ -65,9 +65,15 @@ fn sperte_motor_side_defaults_match_scipy() {
     // `result` is the only variable (40000 x 2): u = column 1 (noise
     // voltage), y = column 2 (motor position). No Fs in the file: 4 kHz
     // from the measurement script.
+    // The scipy reference was computed with 8192-sample segments (the
+    // default is shorter: see `default_nfft_gives_16_averages` below).
     let path = data("sperte/setup18_motor_side_v0.3.mat");
     let opts = RecordingOptions {
         fs: Some(4000.0),
+        welch: WelchOptions {
+            nfft: Some(8192),
+            ..Default::default()
+        },
         ..Default::default()
     };
     let rec = read_recording(&path, &opts).unwrap();
@@ -124,6 +130,51 @@ fn sperte_motor_side_defaults_match_scipy() {
     assert!((mean - 0.7728685378202884).abs() < 1e-9, "{mean}");
     assert!(mean > 0.7);
     assert!(frf.response()[19].norm() > 100.0 * frf.response()[409].norm());
+}
+
+#[test]
+fn default_nfft_gives_16_averages() {
+    // The default segment length balances resolution against averages:
+    // the largest power of two with at least 16 Hann segments at 50 %.
+    for (rel, u, y, fs, want) in [
+        // 40000 samples: 4096 gives 18 segments, 8192 only 8.
+        (
+            "sperte/setup18_motor_side_v0.3.mat",
+            "result:1",
+            "result:2",
+            Some(4000.0),
+            (18, 4096),
+        ),
+        // 160000 samples: 16384 gives 18.
+        (
+            "sperte/setup18_motor_side_v0.5.mat",
+            "result:1",
+            "result:2",
+            Some(4000.0),
+            (18, 16384),
+        ),
+        // 24841 samples: 2048 gives 23, 4096 only 11.
+        ("emps/DATA_EMPS.mat", "vir", "qm", None, (23, 2048)),
+    ] {
+        let opts = RecordingOptions {
+            u: Some(u.parse().unwrap()),
+            y: Some(y.parse().unwrap()),
+            fs,
+            ..Default::default()
+        };
+        let rec = read_recording(data(rel), &opts).unwrap();
+        let (_, _, averages, nfft) = time_domain(&rec.source);
+        assert_eq!((averages, nfft), want, "{rel}");
+        // Every line has a standard deviation, and where the coherence is
+        // high it is small against the response.
+        let sd = rec.frf.std_dev().unwrap();
+        let coh = rec.frf.coherence().unwrap();
+        for i in 0..rec.frf.len() {
+            if coh[i] > 0.9 {
+                assert!(sd[i] < 0.1 * rec.frf.response()[i].norm(), "{rel} line {i}");
+            }
+        }
+    }
 }
 
 #[test]
@@ -226,6 +277,10 @@ fn emps_sample_rate_from_t() {
     let opts = RecordingOptions {
         u: Some("vir".parse().unwrap()),
         y: Some("qm".parse().unwrap()),
+        welch: WelchOptions {
+            nfft: Some(4096),
+            ..Default::default()
+        },
         ..Default::default()
     };
     let rec = read_recording(&path, &opts).unwrap();
@@ -282,6 +337,10 @@ fn robot_arm_headerless_matrix() {
     let path = data("robot_arm/robot_arm.dat");
     let opts = RecordingOptions {
         fs: Some(1.0),
+        welch: WelchOptions {
+            nfft: Some(128),
+            ..Default::default()
+        },
         ..Default::default()
     };
     let rec = read_recording(&path, &opts).unwrap();

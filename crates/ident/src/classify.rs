@@ -8,30 +8,35 @@
 //!
 //! # Algorithm
 //!
-//! 1. **Trusted band.** Lines at 0 Hz and outside
-//!    [`ClassifyOptions::band_hz`] are dropped. With a coherence, it is
-//!    smoothed by a running median over
-//!    [`ClassifyOptions::coherence_window`] lines; a line is well excited
-//!    when the smoothed value is at least
-//!    [`ClassifyOptions::coherence_threshold`]. Well-excited lines form
-//!    runs; two runs are joined when the gap between them is at most
-//!    [`ClassifyOptions::max_gap_decades`] wide (coherence drops at
-//!    antiresonances, where the response is small, and must not cut the
-//!    band in two). The band is the run with the most well-excited lines.
-//!    Without a coherence, the band is the whole range; in both cases
-//!    isolated outlier lines (a line far off a curve on which its two
-//!    neighbours on each side agree) are left out.
+//! 1. **Band.** Lines at 0 Hz and outside [`ClassifyOptions::band_hz`]
+//!    are dropped, and so are lines the excitation did not reach (an
+//!    infinite standard deviation). Every line has a relative standard
+//!    deviation ([`frf::uncertainty::line_uncertainty`]: the FRF's own, or
+//!    from its coherence and [`ClassifyOptions::averages`], or from the
+//!    scatter of the data). With a user's band, that is the band: every
+//!    line in it is used, weighted by its uncertainty. Without one, a line
+//!    is informative when its uncertainty, smoothed by a running median
+//!    over [`ClassifyOptions::smoothing_lines`], is at most
+//!    [`ClassifyOptions::informative_std_dev`]; runs of informative lines
+//!    are joined across gaps up to [`ClassifyOptions::max_gap_decades`]
+//!    (at an antiresonance a collocated sensor sees little motion, so the
+//!    uncertainty rises there by nature: those lines stay in the band with
+//!    their low weight), and the band is the run with the most informative
+//!    lines, counted by the share of a decade each covers (a band measured
+//!    on a linear grid has most of its lines at the top). Isolated
+//!    outlier lines (a line far off a curve on which its
+//!    two neighbours on each side agree) are left out.
 //! 2. **Inertance.** The response is multiplied by `(j w)^(2-k)` (`k` the
 //!    output's power of `s`), which removes the rigid-body slope: every
 //!    model has a rigid-body mode, so the inertance is flat apart from its
 //!    features. The analysis works on `ln|G|` and the unwrapped phase over
 //!    `x = ln w`.
-//! 3. **Noise.** The local scatter of a line is the robust scale (lower
-//!    quartile of the absolute values, rescaled to a standard deviation) of
-//!    the second-difference residuals of `ln G = ln|G| + j arg G` over 41
-//!    lines; with a coherence `C` and a known number of averages `n` it is
-//!    at least `sqrt((1 - C) / (2 n C))`, the standard deviation of `ln|H|`
-//!    of an averaged H1 estimate.
+//! 3. **Noise.** The noise of a line is the larger of its own
+//!    uncertainty (step 1) and the local scatter of the data
+//!    ([`frf::uncertainty::scatter`]: the robust scale of the
+//!    second-difference residuals of `ln G` over 41 lines), so that an
+//!    optimistic estimate (few averages, leakage) cannot make noise
+//!    significant.
 //! 4. **Candidates.** Every local maximum (resonance candidate) and minimum
 //!    (antiresonance candidate) of `ln|G|` whose prominence (looking up to
 //!    a factor 2 in frequency to either side) exceeds
@@ -100,6 +105,8 @@
 //! bandwidths with damping ratios of 8 % or more can vanish together (the
 //! damped FRF then shows neither) or be found only without noise.
 
+pub use frf::uncertainty::Source as UncertaintySource;
+use frf::uncertainty::{line_uncertainty, scatter, second_differences};
 use frf::Frf;
 use mms::analysis::{Feature, FrfType, Token};
 use mms::Output;
@@ -115,11 +122,9 @@ const Q25_ABS_NORMAL: f64 = 0.318_639_363_964_375_5;
 /// Smallest noise standard deviation in nepers (0.009 dB): rounding-level
 /// scatter of noise-free data must not make every ripple significant.
 const SIGMA_FLOOR: f64 = 1e-3;
-/// Largest noise standard deviation (nepers) a line can get from its
-/// coherence (coherence near 0 would give infinity).
+/// Largest noise standard deviation (nepers) a line can get from its own
+/// uncertainty (coherence near 0 would give infinity).
 const SIGMA_CEILING: f64 = 10.0;
-/// Half-width in lines of the window of the local noise estimate.
-const NOISE_HALF_WINDOW: usize = 20;
 /// Largest half-width in `ln w` of the local fit (about +-35 % in frequency).
 const FIT_HALF_WIDTH: f64 = 0.3;
 /// Median line spacing in `ln w` (16 % in frequency) above which all
@@ -175,9 +180,8 @@ const BUDGET_REGION: f64 = 0.15;
 ///
 /// ```
 /// use ident::ClassifyOptions;
-/// // trust only lines with coherence >= 0.9 within the excitation band
+/// // analyse the excitation band only, every line weighted by its uncertainty
 /// let o = ClassifyOptions {
-///     coherence_threshold: 0.9,
 ///     band_hz: Some((5.0, 500.0)),
 ///     ..Default::default()
 /// };
@@ -185,19 +189,24 @@ const BUDGET_REGION: f64 = 0.15;
 /// ```
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ClassifyOptions {
-    /// A line is well excited when its smoothed coherence is at least this
-    /// (default 0.8).
-    pub coherence_threshold: f64,
+    /// Without a user's band, a line is informative when its smoothed
+    /// relative standard deviation is at most this, in nepers (default
+    /// 0.2: 1.7 dB and 11 deg, what a resonance or antiresonance needs to
+    /// stand out of a few lines; with `n` averages that is a coherence
+    /// above `1 / (1 + 0.08 n)`, 0.24 for 40 averages).
+    pub informative_std_dev: f64,
     /// Odd number of lines of the running median that smooths the
-    /// coherence (default 5).
-    pub coherence_window: usize,
-    /// Gaps of poorly excited lines up to this width in decades are bridged
-    /// (default 0.15, a factor 1.41 in frequency: the coherence drop at a
-    /// lightly damped antiresonance measured with a noisy sensor).
+    /// uncertainty before that test (default 5).
+    pub smoothing_lines: usize,
+    /// Gaps of uninformative lines up to this width in decades are bridged
+    /// (default 0.15, a factor 1.41 in frequency: the drop of the
+    /// coherence at a lightly damped antiresonance measured with a noisy
+    /// sensor).
     pub max_gap_decades: f64,
-    /// Number of averages of the FRF estimate, if known: then the coherence
-    /// also bounds the noise of each line from below (default `None`: the
-    /// noise comes from the scatter of the data alone).
+    /// Effective number of averages behind the FRF's coherence, if known
+    /// and the FRF has no standard deviation of its own: then the
+    /// uncertainty of each line comes from its coherence (default `None`:
+    /// from the FRF's standard deviation, else the scatter of the data).
     pub averages: Option<u32>,
     /// Restrict the analysis to this band in Hz, e.g. the excitation band
     /// (default `None`: all lines).
@@ -220,8 +229,8 @@ pub struct ClassifyOptions {
 impl Default for ClassifyOptions {
     fn default() -> Self {
         ClassifyOptions {
-            coherence_threshold: 0.8,
-            coherence_window: 5,
+            informative_std_dev: 0.2,
+            smoothing_lines: 5,
             max_gap_decades: 0.15,
             averages: None,
             band_hz: None,
@@ -243,14 +252,14 @@ impl ClassifyOptions {
                 expected,
             })
         };
-        let t = self.coherence_threshold;
-        if !(t.is_finite() && (0.0..=1.0).contains(&t)) {
-            return bad("coherence_threshold", t, "in [0, 1]");
+        let t = self.informative_std_dev;
+        if !(t.is_finite() && t > 0.0) {
+            return bad("informative_std_dev", t, "> 0");
         }
-        if self.coherence_window % 2 != 1 {
+        if self.smoothing_lines % 2 != 1 {
             return bad(
-                "coherence_window",
-                self.coherence_window as f64,
+                "smoothing_lines",
+                self.smoothing_lines as f64,
                 "an odd number of lines",
             );
         }
@@ -316,16 +325,16 @@ pub enum ClassifyError {
         /// The required number ([`ClassifyOptions::min_lines`]).
         min: usize,
     },
-    /// The coherence is nowhere high enough for long enough.
+    /// The lines are nowhere informative for long enough.
     #[error(
-        "no trusted band: the smoothed coherence reaches at most {best:.3} and stays at or \
-         above {threshold} for at most {longest_run} lines ({min_lines} needed); \
-         the measurement is too poorly excited to classify"
+        "no informative band: the smoothed line uncertainty is at best {best:.3} nepers and \
+         at most {threshold} for at most {longest_run} lines ({min_lines} needed); \
+         the measurement is too poorly excited to classify (give --band to use every line)"
     )]
     NoTrustedBand {
-        /// [`ClassifyOptions::coherence_threshold`].
+        /// [`ClassifyOptions::informative_std_dev`].
         threshold: f64,
-        /// Highest smoothed coherence.
+        /// Lowest smoothed relative standard deviation (nepers).
         best: f64,
         /// Well-excited lines of the best band.
         longest_run: usize,
@@ -451,8 +460,11 @@ pub struct Classification {
     /// most the grid's scale factor, and at most 0.5 when the bottom of
     /// the band is not flat (a feature just below it; see the notes).
     pub confidence: f64,
-    /// The trusted band in Hz (first and last line used).
+    /// The band in Hz (first and last line used).
     pub band_hz: (f64, f64),
+    /// Where the uncertainty of the lines came from.
+    #[serde(serialize_with = "ser_source")]
+    pub uncertainty: UncertaintySource,
     /// Lines analysed.
     pub lines_used: usize,
     /// Lines of the FRF not analysed (outside the band, 0 Hz, outliers).
@@ -467,6 +479,29 @@ pub struct Classification {
     /// What a reader should know: band decisions, rejected features,
     /// cancellations, budgets.
     pub notes: Vec<String>,
+}
+
+fn ser_source<S: Serializer>(t: &UncertaintySource, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(source_name(*t))
+}
+
+/// The stable JSON name of an uncertainty source.
+fn source_name(t: UncertaintySource) -> &'static str {
+    match t {
+        UncertaintySource::Given => "given",
+        UncertaintySource::Coherence => "coherence",
+        UncertaintySource::CoherenceAssumedAverages => "coherence_assumed_averages",
+        UncertaintySource::Scatter => "scatter",
+    }
+}
+
+impl Classification {
+    /// Where the lines' uncertainty came from, as its stable JSON name:
+    /// `given` (the FRF's standard deviation), `coherence`,
+    /// `coherence_assumed_averages` or `scatter`.
+    pub fn uncertainty_name(&self) -> &'static str {
+        source_name(self.uncertainty)
+    }
 }
 
 fn ser_type<S: Serializer>(t: &FrfType, s: S) -> Result<S::Ok, S::Error> {
@@ -520,8 +555,22 @@ pub fn classify(
 ) -> Result<Classification, ClassifyError> {
     options.validate()?;
     let mut notes = Vec::new();
-    let band = select_band(frf, options, &mut notes)?;
-    let mut data = Data::inertance(frf, output, &band, &mut notes);
+    let uncertainty = line_uncertainty(frf, options.averages.map(f64::from));
+    if uncertainty.source == UncertaintySource::CoherenceAssumedAverages {
+        notes.push(format!(
+            "the line uncertainty comes from the coherence with {} averages assumed (the \
+             count is not known)",
+            frf::uncertainty::ASSUMED_AVERAGES
+        ));
+    }
+    let band = select_band(
+        frf,
+        &uncertainty.relative,
+        uncertainty.source,
+        options,
+        &mut notes,
+    )?;
+    let mut data = Data::inertance(frf, output, &band, &uncertainty.relative, &mut notes);
     remove_outliers(&mut data, &mut notes);
     if data.len() < options.min_lines {
         return Err(ClassifyError::TooFewLines {
@@ -530,7 +579,7 @@ pub fn classify(
         });
     }
     data.unwrap_phase();
-    data.estimate_noise(frf.coherence(), options.averages);
+    data.estimate_noise();
     let noise = median(&data.sigma);
     if noise * DB_PER_NEPER > options.max_noise_db {
         return Err(ClassifyError::TooNoisy {
@@ -644,6 +693,7 @@ pub fn classify(
         frf_type,
         confidence,
         band_hz: (data.f[0], data.f[data.len() - 1]),
+        uncertainty: uncertainty.source,
         lines_used: data.len(),
         lines_ignored: frf.len() - data.len(),
         noise_db: noise * DB_PER_NEPER,
@@ -703,19 +753,32 @@ fn running_median(v: &[f64], half: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Step 1: the indices of the lines in the trusted band.
+/// Step 1: the indices of the lines in the band; `sigma` is the relative
+/// uncertainty of every line of `frf`.
 fn select_band(
     frf: &Frf,
+    sigma: &[f64],
+    source: UncertaintySource,
     o: &ClassifyOptions,
     notes: &mut Vec<String>,
 ) -> Result<Vec<usize>, ClassifyError> {
     let f = frf.freq_hz();
     let (lo, hi) = o.band_hz.unwrap_or((0.0, f64::INFINITY));
+    let in_range = |i: usize| f[i] > 0.0 && f[i] >= lo && f[i] <= hi;
     let eligible: Vec<usize> = (0..frf.len())
-        .filter(|&i| f[i] > 0.0 && f[i] >= lo && f[i] <= hi)
+        .filter(|&i| in_range(i) && sigma[i].is_finite())
         .collect();
     if f[0] == 0.0 {
         notes.push("the 0 Hz line is left out (the inertance is undefined there)".into());
+    }
+    let unexcited = (0..frf.len())
+        .filter(|&i| in_range(i) && !sigma[i].is_finite())
+        .count();
+    if unexcited > 0 {
+        notes.push(format!(
+            "{unexcited} lines without excitation (or a zero response) carry no information and \
+             are left out"
+        ));
     }
     if eligible.len() < o.min_lines {
         return Err(ClassifyError::TooFewLines {
@@ -723,67 +786,83 @@ fn select_band(
             min: o.min_lines,
         });
     }
-    let Some(coh) = frf.coherence() else {
-        notes.push(
-            "no coherence: the band is the whole range; the noise comes from the scatter of \
-             the data"
-                .into(),
-        );
+    if o.band_hz.is_some() || source == UncertaintySource::Scatter {
+        notes.push(format!(
+            "band {:.4} .. {:.4} Hz {}: all {} lines are used, each weighted by its uncertainty",
+            f[eligible[0]],
+            f[eligible[eligible.len() - 1]],
+            if o.band_hz.is_some() {
+                "as given"
+            } else {
+                "(no coherence or standard deviation: the whole range)"
+            },
+            eligible.len()
+        ));
         return Ok(eligible);
-    };
-    let c: Vec<f64> = eligible.iter().map(|&i| coh[i]).collect();
-    let cs = running_median(&c, o.coherence_window / 2);
-    let good: Vec<bool> = cs.iter().map(|&g| g >= o.coherence_threshold).collect();
+    }
+    let c: Vec<f64> = eligible.iter().map(|&i| sigma[i]).collect();
+    let cs = running_median(&c, o.smoothing_lines / 2);
+    let good: Vec<bool> = cs.iter().map(|&g| g <= o.informative_std_dev).collect();
     let max_gap = o.max_gap_decades * LN_10;
-    // (first, last, well-excited count) as positions in `eligible`
-    let mut runs: Vec<(usize, usize, usize)> = Vec::new();
-    let mut cur: Option<(usize, usize, usize)> = None;
-    for p in (0..eligible.len()).filter(|&p| good[p]) {
+    // The share of ln f each line covers: half-way to its neighbours.
+    let n = eligible.len();
+    let lnf = |p: usize| f[eligible[p]].ln();
+    let cover: Vec<f64> = (0..n)
+        .map(|p| 0.5 * (lnf((p + 1).min(n - 1)) - lnf(p.saturating_sub(1))))
+        .collect();
+    // (first, last, informative count, informative ln-width) as positions
+    // in `eligible`
+    let mut runs: Vec<(usize, usize, usize, f64)> = Vec::new();
+    let mut cur: Option<(usize, usize, usize, f64)> = None;
+    for p in (0..n).filter(|&p| good[p]) {
         cur = match cur {
-            Some((s, e, k)) if p == e + 1 || (f[eligible[p]] / f[eligible[e]]).ln() <= max_gap => {
-                Some((s, p, k + 1))
+            Some((s, e, k, w)) if p == e + 1 || lnf(p) - lnf(e) <= max_gap => {
+                Some((s, p, k + 1, w + cover[p]))
             }
             Some(r) => {
                 runs.push(r);
-                Some((p, p, 1))
+                Some((p, p, 1, cover[p]))
             }
-            None => Some((p, p, 1)),
+            None => Some((p, p, 1, cover[p])),
         };
     }
     runs.extend(cur);
-    let best_coh = cs.iter().copied().fold(0.0, f64::max);
-    let width = |r: &(usize, usize, usize)| f[eligible[r.1]] / f[eligible[r.0]];
+    let best_sigma = cs.iter().copied().fold(f64::INFINITY, f64::min);
     let best = runs
         .iter()
-        .max_by(|a, b| a.2.cmp(&b.2).then(width(a).total_cmp(&width(b))));
-    let Some(&(s, e, k)) = best.filter(|r| r.2 >= o.min_lines) else {
+        .filter(|r| r.2 >= o.min_lines)
+        .max_by(|a, b| a.3.total_cmp(&b.3).then(b.0.cmp(&a.0)));
+    let Some(&(s, e, k, _)) = best else {
+        let longest = runs.iter().map(|r| r.2).max().unwrap_or(0);
         return Err(ClassifyError::NoTrustedBand {
-            threshold: o.coherence_threshold,
-            best: best_coh,
-            longest_run: best.map_or(0, |r| r.2),
+            threshold: o.informative_std_dev,
+            best: best_sigma,
+            longest_run: longest,
             min_lines: o.min_lines,
         });
     };
     let total_good = good.iter().filter(|&&g| g).count();
     notes.push(format!(
-        "trusted band {:.4} .. {:.4} Hz: {} of {} lines with smoothed coherence >= {}",
+        "band {:.4} .. {:.4} Hz: {} of {} excited lines informative (smoothed uncertainty <= \
+         {} nepers, {:.1} dB)",
         f[eligible[s]],
         f[eligible[e]],
         k,
         eligible.len(),
-        o.coherence_threshold
+        o.informative_std_dev,
+        o.informative_std_dev * DB_PER_NEPER
     ));
     if e + 1 - s > k {
         notes.push(format!(
-            "{} poorly excited lines inside the band are bridged (gaps up to {} decades, \
-             typically at antiresonances)",
+            "{} less certain lines inside the band are kept with their low weight (gaps up to \
+             {} decades, typically at antiresonances)",
             e + 1 - s - k,
             o.max_gap_decades
         ));
     }
     if total_good > k {
         notes.push(format!(
-            "{} well-excited lines outside the band are not used",
+            "{} informative lines outside the band are not used",
             total_good - k
         ));
     }
@@ -804,11 +883,19 @@ struct Data {
     phi: Vec<f64>,
     /// Noise standard deviation of `y` (and of `phi` in radians).
     sigma: Vec<f64>,
+    /// The line's own relative uncertainty (step 1).
+    given: Vec<f64>,
 }
 
 impl Data {
     /// Step 2: `G = H (j w)^(2-k)`.
-    fn inertance(frf: &Frf, output: Output, band: &[usize], notes: &mut Vec<String>) -> Data {
+    fn inertance(
+        frf: &Frf,
+        output: Output,
+        band: &[usize],
+        uncertainty: &[f64],
+        notes: &mut Vec<String>,
+    ) -> Data {
         let mut d = Data {
             orig: Vec::new(),
             f: Vec::new(),
@@ -816,6 +903,7 @@ impl Data {
             y: Vec::new(),
             phi: Vec::new(),
             sigma: Vec::new(),
+            given: Vec::new(),
         };
         let mut zero = 0;
         for &i in band {
@@ -834,6 +922,7 @@ impl Data {
                 continue;
             }
             d.orig.push(i);
+            d.given.push(uncertainty[i]);
             d.f.push(f);
             d.x.push(w.ln());
             d.y.push(a.ln());
@@ -858,6 +947,7 @@ impl Data {
         pick(&mut self.x);
         pick(&mut self.y);
         pick(&mut self.phi);
+        pick(&mut self.given);
         let mut it = keep.iter();
         self.orig.retain(|_| *it.next().unwrap_or(&true));
     }
@@ -868,49 +958,21 @@ impl Data {
         }
     }
 
-    /// Second-difference residuals `(ln|G|, phase)` of every interior line,
-    /// scaled to the noise standard deviation of a single line. Phase
-    /// differences are wrapped, so this works before and after unwrapping.
+    /// Second-difference residuals `(ln|G|, phase)` of every interior line
+    /// ([`second_differences`]).
     fn residuals(&self) -> Vec<(f64, f64)> {
-        let n = self.len();
-        (1..n.saturating_sub(1))
-            .map(|i| {
-                let l = (self.x[i + 1] - self.x[i]) / (self.x[i + 1] - self.x[i - 1]);
-                let scale = (1.0 + l * l + (1.0 - l) * (1.0 - l)).sqrt();
-                let ey = self.y[i] - (l * self.y[i - 1] + (1.0 - l) * self.y[i + 1]);
-                let ep = -(l * wrap(self.phi[i - 1] - self.phi[i])
-                    + (1.0 - l) * wrap(self.phi[i + 1] - self.phi[i]));
-                (ey / scale, ep / scale)
-            })
-            .collect()
+        second_differences(&self.x, &self.y, &self.phi)
     }
 
     /// Step 3: the noise standard deviation of every line.
-    fn estimate_noise(&mut self, coherence: Option<&[f64]>, averages: Option<u32>) {
-        let n = self.len();
-        let r = self.residuals();
-        let abs: Vec<[f64; 2]> = r.iter().map(|&(a, b)| [a.abs(), b.abs()]).collect();
-        self.sigma = (0..n)
-            .map(|i| {
-                // residual k belongs to line k + 1
-                let lo = i.saturating_sub(NOISE_HALF_WINDOW + 1).min(abs.len());
-                let hi = (i + NOISE_HALF_WINDOW).min(abs.len());
-                let w: Vec<f64> = abs[lo..hi].iter().flatten().copied().collect();
-                let scatter = if w.is_empty() {
-                    SIGMA_FLOOR
-                } else {
-                    quantile(&w, 0.25) / Q25_ABS_NORMAL
-                };
-                let from_coh = match (coherence, averages) {
-                    (Some(c), Some(na)) => {
-                        let g = c[self.orig[i]];
-                        ((1.0 - g) / (2.0 * na as f64 * g))
-                            .sqrt()
-                            .min(SIGMA_CEILING)
-                    }
-                    _ => 0.0,
-                };
-                scatter.max(from_coh).max(SIGMA_FLOOR)
+    fn estimate_noise(&mut self) {
+        let local = scatter(&self.x, &self.y, &self.phi);
+        self.sigma = local
+            .iter()
+            .zip(&self.given)
+            .map(|(&sc, &g)| {
+                let sc = if sc.is_finite() { sc } else { SIGMA_FLOOR };
+                sc.max(g.min(SIGMA_CEILING)).max(SIGMA_FLOOR)
             })
             .collect();
     }
@@ -1985,9 +2047,10 @@ mod tests {
         let h: Vec<Complex64> = f.iter().map(|&f| g(2.0 * PI * f)).collect();
         let frf = Frf::new(f, h, None).unwrap();
         let band: Vec<usize> = (0..n).collect();
-        let mut d = Data::inertance(&frf, Output::Acceleration, &band, &mut Vec::new());
+        let given = vec![0.0; n];
+        let mut d = Data::inertance(&frf, Output::Acceleration, &band, &given, &mut Vec::new());
         d.unwrap_phase();
-        d.estimate_noise(None, None);
+        d.estimate_noise();
         d
     }
 
@@ -2042,34 +2105,78 @@ mod tests {
     }
 
     #[test]
-    fn coherence_band_bridges_a_short_gap_and_picks_the_longest_run() {
+    fn band_keeps_an_uncertain_antiresonance_and_picks_the_widest_run() {
         let n = 200;
         let f: Vec<f64> = (0..n).map(|i| 1.0 + i as f64).collect();
+        // 16 averages: coherence 0.95 gives 0.04 nepers, 0.3 gives 0.27,
+        // 0.1 gives 0.53.
         let mut coh = vec![0.95; n];
         for c in coh.iter_mut().take(20) {
-            *c = 0.2; // poorly excited bottom
+            *c = 0.1; // poorly excited bottom
         }
         for c in coh.iter_mut().skip(100).take(6) {
             *c = 0.3; // a dip at an antiresonance: 6 lines near 100 Hz (< 0.15 decades)
         }
         let frf = Frf::new(f, vec![Complex64::new(1.0, 0.0); n], Some(coh)).unwrap();
+        let o = ClassifyOptions {
+            averages: Some(16),
+            ..Default::default()
+        };
+        let u = line_uncertainty(&frf, Some(16.0));
+        assert_eq!(u.source, UncertaintySource::Coherence);
         let mut notes = Vec::new();
-        let band = select_band(&frf, &ClassifyOptions::default(), &mut notes).unwrap();
+        let band = select_band(&frf, &u.relative, u.source, &o, &mut notes).unwrap();
         assert_eq!(band.first(), Some(&20));
         assert_eq!(band.last(), Some(&(n - 1)));
-        assert!(notes.iter().any(|s| s.contains("bridged")), "{notes:?}");
+        assert!(notes.iter().any(|s| s.contains("low weight")), "{notes:?}");
+        // With a user's band every excited line in it is used.
+        let o = ClassifyOptions {
+            band_hz: Some((5.0, 50.0)),
+            ..o
+        };
+        let band = select_band(&frf, &u.relative, u.source, &o, &mut Vec::new()).unwrap();
+        assert_eq!((band[0], band.len()), (4, 46));
+    }
+
+    #[test]
+    fn the_widest_run_is_measured_in_decades_not_lines() {
+        // Lines 1..=1000 Hz on a linear grid: 1-30 Hz informative (30
+        // lines, 1.5 decades), 31-99 Hz not, 100-1000 Hz informative (901
+        // lines but 1 decade). The band is the low run.
+        let n = 1000;
+        let f: Vec<f64> = (0..n).map(|i| 1.0 + i as f64).collect();
+        let sigma: Vec<f64> = f
+            .iter()
+            .map(|&x| {
+                if (31.0..100.0).contains(&x) {
+                    1.0
+                } else {
+                    0.05
+                }
+            })
+            .collect();
+        let frf = Frf::new(f, vec![Complex64::new(1.0, 0.0); n], None).unwrap();
+        let band = select_band(
+            &frf,
+            &sigma,
+            UncertaintySource::Given,
+            &ClassifyOptions::default(),
+            &mut Vec::new(),
+        )
+        .unwrap();
+        assert_eq!((band[0], *band.last().unwrap()), (0, 29));
     }
 
     #[test]
     fn options_are_validated() {
         let o = ClassifyOptions {
-            coherence_window: 4,
+            smoothing_lines: 4,
             ..Default::default()
         };
         assert!(matches!(
             o.validate(),
             Err(ClassifyError::InvalidOption {
-                name: "coherence_window",
+                name: "smoothing_lines",
                 ..
             })
         ));

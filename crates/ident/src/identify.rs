@@ -147,6 +147,10 @@ pub struct Identification {
     /// transfer function, every positive parameter set of each other
     /// candidate that reproduces it exactly (damping aside).
     pub equivalents: Vec<Equivalent>,
+    /// The data's inertance is negative below its features, where every
+    /// chain's is `1 / (sum of masses) > 0`: the sensor (or actuator)
+    /// counts the other way, and the gain was taken negative.
+    pub sensor_reversed: bool,
     /// How the scale was fixed, how candidates were chosen, and the like.
     pub notes: Vec<String>,
 }
@@ -193,11 +197,14 @@ pub fn identify(
     output: Output,
     options: &IdentifyOptions,
 ) -> Result<Identification, IdentifyError> {
-    let classification = classify(frf, output, &options.classify)?;
-    let (lo, hi) = classification.band_hz;
-    let data = frf.band(lo, hi).unwrap_or_else(|| frf.clone());
-    // Lines at 0 Hz carry no rigid-body information a chain can match.
-    let data = data.band(f64::MIN_POSITIVE, f64::INFINITY).unwrap_or(data);
+    let Measured {
+        classification,
+        data,
+        target,
+        options,
+        sensor_reversed,
+    } = measured(frf, output, options)?;
+    let options = &options;
     let mut notes = Vec::new();
     let resonances = classification.frf_type.resonances() as usize;
     let masses = options.masses.unwrap_or(resonances + 1);
@@ -250,7 +257,14 @@ pub fn identify(
         ),
     }
 
-    let target = undamped_target(&data, output, &classification);
+    if sensor_reversed {
+        notes.push(
+            "polarity: below its features the inertance is negative, where every chain's is \
+             1 / (sum of masses) > 0: the sensor (or actuator) counts the other way, so the \
+             gain is taken negative"
+                .into(),
+        );
+    }
     let zeta = mean_damping(&classification);
     let mut fits = Vec::new();
     for model in candidates {
@@ -326,6 +340,7 @@ pub fn identify(
         indistinguishable,
         sensor_advice,
         equivalents,
+        sensor_reversed,
         notes,
     })
 }
@@ -387,6 +402,69 @@ fn equivalents(best: &CandidateFit, all: &[CandidateFit]) -> Vec<Equivalent> {
     out
 }
 
+/// What [`identify`] and [`fit_structure`] take from the measurement
+/// before any fit.
+struct Measured {
+    classification: Classification,
+    /// The informative lines of the band.
+    data: Frf,
+    /// The undamped target from the features and level, made positive
+    /// below the features.
+    target: Option<(Vec<f64>, Vec<f64>)>,
+    /// The caller's options, with the gain's sign turned for a reversed
+    /// sensor.
+    options: IdentifyOptions,
+    sensor_reversed: bool,
+}
+
+fn measured(
+    frf: &Frf,
+    output: Output,
+    options: &IdentifyOptions,
+) -> Result<Measured, IdentifyError> {
+    let classification = classify(frf, output, &options.classify)?;
+    let (lo, hi) = classification.band_hz;
+    // Lines at 0 Hz carry no rigid-body information a chain can match, and
+    // lines without information (no excitation, a zero response) none at
+    // all.
+    let sd = frf.std_dev();
+    let keep: Vec<usize> = (0..frf.len())
+        .filter(|&i| {
+            let f = frf.freq_hz()[i];
+            f > 0.0
+                && f >= lo
+                && f <= hi
+                && frf.response()[i].norm() > 0.0
+                && sd.is_none_or(|s| s[i].is_finite())
+        })
+        .collect();
+    let data = frf.lines(&keep).unwrap_or_else(|| frf.clone());
+    let mut target = undamped_target(&data, output, &classification);
+    // Every chain's inertance tends to 1 / (sum of masses) > 0 below its
+    // features; data that tend to a negative value come from a sensor (or
+    // actuator) that counts the other way.
+    let sensor_reversed = target
+        .as_ref()
+        .is_some_and(|(num, den)| num[0] / den[0] < 0.0);
+    let mut options = options.clone();
+    if sensor_reversed {
+        if let Some((num, _)) = target.as_mut() {
+            num.iter_mut().for_each(|a| *a = -*a);
+        }
+        options.gain = match options.gain {
+            Gain::Known(g) => Gain::Known(-g),
+            Gain::Fit(g) => Gain::Fit(-g),
+        };
+    }
+    Ok(Measured {
+        classification,
+        data,
+        target,
+        options,
+        sensor_reversed,
+    })
+}
+
 /// Fits one given structure to `frf` from the automatic start (classify,
 /// back-solve, fit; multi-start when that fails): the fit of one candidate
 /// of [`identify`], for a user who already knows the structure.
@@ -412,10 +490,14 @@ pub fn fit_structure(
     model: &Model,
     options: &IdentifyOptions,
 ) -> Result<Fit, IdentifyError> {
-    let classification = classify(frf, output, &options.classify)?;
-    let (lo, hi) = classification.band_hz;
-    let data = frf.band(lo, hi).unwrap_or_else(|| frf.clone());
-    let target = undamped_target(&data, output, &classification);
+    let Measured {
+        classification,
+        data,
+        target,
+        options,
+        ..
+    } = measured(frf, output, options)?;
+    let options = &options;
     let zeta = mean_damping(&classification);
     Ok(fit_candidate(model, output, &data, target.as_ref(), zeta, options)?.0)
 }
@@ -698,12 +780,7 @@ fn fit_candidate(
     let step = data.len().div_ceil(300).max(1);
     let coarse = if step > 1 {
         let keep: Vec<usize> = (0..data.len()).step_by(step).collect();
-        Frf::new(
-            keep.iter().map(|&i| data.freq_hz()[i]).collect(),
-            keep.iter().map(|&i| data.response()[i]).collect(),
-            None,
-        )
-        .unwrap_or_else(|_| data.clone())
+        data.lines(&keep).unwrap_or_else(|| data.clone())
     } else {
         data.clone()
     };
