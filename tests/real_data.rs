@@ -432,6 +432,13 @@ fn sperte_recordings_read_as_a_control_engineer_reads_their_bode_plots() {
             assert_eq!(cand["actuator"], cand["sensor"], "{rel}: {id}");
         }
         assert_eq!(v["sensor_reversed"], false, "{rel}");
+        // Every rerun on another cut says what it read.
+        for run in v["stability"]["runs"].as_array().unwrap() {
+            assert!(
+                run["frf_type"].is_string() || run["error"].is_string(),
+                "{run}"
+            );
+        }
     }
     for (rel, reversed) in [
         ("setup18_load_side_v0.5_m2.mat", true),
@@ -447,6 +454,11 @@ fn sperte_recordings_read_as_a_control_engineer_reads_their_bode_plots() {
         // taken from the data the fit is within 1.5 dB RMS (it was 12-14
         // dB with the sign forced positive).
         assert_eq!(v["sensor_reversed"], reversed, "{rel}");
+        // Long records (125 s): both halves and half the segment length
+        // read the same type and structure.
+        let st = &v["stability"];
+        assert_eq!(st["runs"].as_array().unwrap().len(), 3, "{rel}");
+        assert_eq!(st["stable"], true, "{rel}: {st}");
         let best = &v["candidates"][0];
         assert!(
             best["fit"]["rms_db"].as_f64().unwrap() < 1.5,

@@ -6,6 +6,7 @@ use crate::output::write_atomic_bytes;
 use crate::recording::RecordingArgs;
 use frf::Frf;
 use ident::identify::{identify, CandidateFit, Identification, IdentifyOptions};
+use ident::stability::{verdict_stability, Cut, Stability};
 use mms::model_file::{ModelFile, Motion};
 use mms::response::{ChainResponse, Effects};
 use mms::Output;
@@ -55,16 +56,32 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
     };
     let name = args.recording.path()?.display().to_string();
     let id = identify(&rec.frf, output, &options).map_err(|e| format!("{name}: {e}"))?;
+    // A time-domain recording is identified again on other cuts of it.
+    let stability = match (&rec.samples, &rec.source) {
+        (Some(s), frf::Source::TimeDomain { nfft, .. }) => Some(verdict_stability(
+            &s.u,
+            &s.y,
+            s.fs,
+            &args.recording.welch(),
+            *nfft,
+            output,
+            &options,
+            &id,
+        )),
+        _ => None,
+    };
     let plots = bode(&rec.frf, output, &id);
     let report = match args.format {
         IdentifyFormat::Json => {
-            let mut s =
-                serde_json::to_string_pretty(&to_json(&id)).map_err(|e| format!("JSON: {e}"))?;
+            let mut s = serde_json::to_string_pretty(&to_json(&id, stability.as_ref()))
+                .map_err(|e| format!("JSON: {e}"))?;
             s.push('\n');
             s
         }
-        IdentifyFormat::Md => markdown(&name, &id, args.out.map(|_| "bode.svg")),
-        IdentifyFormat::Html => html(&name, &id, &plots.to_svg()),
+        IdentifyFormat::Md => {
+            markdown(&name, &id, stability.as_ref(), args.out.map(|_| "bode.svg"))
+        }
+        IdentifyFormat::Html => html(&name, &id, stability.as_ref(), &plots.to_svg()),
     };
     let Some(dir) = args.out else {
         return Ok(Some(report));
@@ -134,7 +151,7 @@ pub fn write_report_dir(
 }
 
 /// The JSON of the issue's schema.
-fn to_json(id: &Identification) -> Value {
+fn to_json(id: &Identification, stability: Option<&Stability>) -> Value {
     let c = &id.classification;
     json!({
         "classification": {
@@ -162,6 +179,7 @@ fn to_json(id: &Identification) -> Value {
         "sensor_advice": id.sensor_advice,
         "equivalents": id.equivalents,
         "sensor_reversed": id.sensor_reversed,
+        "stability": stability.map(|s| json!({"stable": s.stable(), "runs": s.runs})),
         "notes": id.notes,
     })
 }
@@ -233,7 +251,12 @@ fn fmt_sig(x: f64) -> String {
     }
 }
 
-fn markdown(name: &str, id: &Identification, plot: Option<&str>) -> String {
+fn markdown(
+    name: &str,
+    id: &Identification,
+    stability: Option<&Stability>,
+    plot: Option<&str>,
+) -> String {
     let c = &id.classification;
     let mut s = String::new();
     let _ = writeln!(s, "# Identification of `{name}`\n");
@@ -258,8 +281,24 @@ fn markdown(name: &str, id: &Identification, plot: Option<&str>) -> String {
             (None, _) => "No candidate.".into(),
         }
     );
+    if let Some(st) = stability.filter(|st| !st.stable()) {
+        let flipped: Vec<String> = st
+            .runs
+            .iter()
+            .filter(|r| !(r.same_type && r.same_structure))
+            .map(|r| cut_name(r.cut))
+            .collect();
+        let _ = writeln!(
+            s,
+            "**Uncertain:** the verdict flips on {} of the record (see Stability).\n",
+            flipped.join(", ")
+        );
+    }
     if let Some(p) = plot {
         let _ = writeln!(s, "![Bode plot: measured and fitted]({p})\n");
+    }
+    if let Some(st) = stability {
+        s.push_str(&stability_section(st));
     }
     s.push_str("## Features\n\n| kind | f (Hz) | damping ratio | confidence | in type |\n|---|---:|---:|---:|---|\n");
     for f in &c.features {
@@ -381,8 +420,42 @@ fn markdown(name: &str, id: &Identification, plot: Option<&str>) -> String {
     s
 }
 
-fn html(name: &str, id: &Identification, svg: &str) -> String {
-    html_page("mms identify", &markdown(name, id, None), svg)
+fn html(name: &str, id: &Identification, stability: Option<&Stability>, svg: &str) -> String {
+    html_page("mms identify", &markdown(name, id, stability, None), svg)
+}
+
+fn cut_name(cut: Cut) -> String {
+    match cut {
+        Cut::FirstHalf => "the first half".into(),
+        Cut::SecondHalf => "the second half".into(),
+        Cut::SegmentLength(n) => format!("segments of {n} samples"),
+    }
+}
+
+/// The reruns of the verdict on other cuts of the record.
+fn stability_section(st: &Stability) -> String {
+    let mut s = String::from(
+        "## Stability\n\nThe same identification on other cuts of the record: a verdict \
+         that flips is uncertain.\n\n| cut | FRF type | best structures | same type | same best |\n\
+         |---|---|---|---|---|\n",
+    );
+    let yes = |b: bool| if b { "yes" } else { "**no**" };
+    for r in &st.runs {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} |",
+            cut_name(r.cut),
+            r.frf_type.as_deref().unwrap_or("-"),
+            match &r.error {
+                Some(e) => format!("not identified: {e}"),
+                None => r.best_group.join(", "),
+            },
+            yes(r.same_type),
+            yes(r.same_structure)
+        );
+    }
+    s.push('\n');
+    s
 }
 
 /// One self-contained HTML page: the report's Markdown as HTML, then the

@@ -14,6 +14,7 @@ pub mod fit;
 pub mod identify;
 pub mod idim;
 pub mod nonlinear;
+pub mod stability;
 pub mod start;
 pub mod synth;
 
