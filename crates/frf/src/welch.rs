@@ -506,6 +506,7 @@ pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estima
             z[i] = Complex64::new(us[i] * w[i], ys[i] * w[i]);
         }
         plan.forward(&mut z);
+        let mut this_period = Vec::with_capacity(if periodic { lines } else { 0 });
         for k in 1..=lines {
             let zk = z[k];
             let zm = z[nfft - k].conj();
@@ -514,23 +515,16 @@ pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estima
             s_uu[k - 1] += uk.norm_sqr();
             s_yy[k - 1] += yk.norm_sqr();
             s_uy[k - 1] += uk.conj() * yk;
+            if periodic {
+                this_period.push(if uk.norm_sqr() > 0.0 {
+                    yk / uk
+                } else {
+                    Complex64::new(0.0, 0.0)
+                });
+            }
         }
         if periodic {
-            per_period.push(
-                (1..=lines)
-                    .map(|k| {
-                        let zk = z[k];
-                        let zm = z[nfft - k].conj();
-                        let uk = (zk + zm) * 0.5;
-                        let yk = (zk - zm) * Complex64::new(0.0, -0.5);
-                        if uk.norm_sqr() > 0.0 {
-                            yk / uk
-                        } else {
-                            Complex64::new(0.0, 0.0)
-                        }
-                    })
-                    .collect(),
-            );
+            per_period.push(this_period);
         }
     }
 

@@ -203,10 +203,10 @@ pub struct ClassifyOptions {
     /// coherence at a lightly damped antiresonance measured with a noisy
     /// sensor).
     pub max_gap_decades: f64,
-    /// Effective number of averages behind the FRF's coherence, if known
-    /// and the FRF has no standard deviation of its own: then the
-    /// uncertainty of each line comes from its coherence (default `None`:
-    /// from the FRF's standard deviation, else the scatter of the data).
+    /// Effective number of averages behind the FRF's coherence, used when
+    /// the FRF has a coherence but no standard deviation of its own: the
+    /// uncertainty of each line then comes from its coherence (default
+    /// `None`: 16 averages are assumed, and the notes say so).
     pub averages: Option<u32>,
     /// Restrict the analysis to this band in Hz, e.g. the excitation band
     /// (default `None`: all lines).
@@ -331,7 +331,7 @@ pub enum ClassifyError {
          at most {threshold} for at most {longest_run} lines ({min_lines} needed); \
          the measurement is too poorly excited to classify (give --band to use every line)"
     )]
-    NoTrustedBand {
+    NoInformativeBand {
         /// [`ClassifyOptions::informative_std_dev`].
         threshold: f64,
         /// Lowest smoothed relative standard deviation (nepers).
@@ -516,7 +516,7 @@ fn ser_feature<S: Serializer>(f: &Feature, s: S) -> Result<S::Ok, S::Error> {
 }
 
 /// Classify a measured FRF: its type in the paper's vocabulary, every
-/// feature with a confidence, the nm evidence and the trusted band. See the
+/// feature with a confidence, the nm evidence and the band. See the
 /// module documentation for the rules.
 ///
 /// `output` says what `frf` measures (position, velocity or acceleration
@@ -834,7 +834,7 @@ fn select_band(
         .max_by(|a, b| a.3.total_cmp(&b.3).then(b.0.cmp(&a.0)));
     let Some(&(s, e, k, _)) = best else {
         let longest = runs.iter().map(|r| r.2).max().unwrap_or(0);
-        return Err(ClassifyError::NoTrustedBand {
+        return Err(ClassifyError::NoInformativeBand {
             threshold: o.informative_std_dev,
             best: best_sigma,
             longest_run: longest,

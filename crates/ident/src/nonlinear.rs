@@ -1019,7 +1019,7 @@ pub fn percent(x: f64) -> String {
     format!("{p:.digits$}")
 }
 
-/// The frequency-domain diagnosis on the trusted band of the H1 estimate.
+/// The frequency-domain diagnosis on the band of the H1 estimate.
 fn linear_diagnosis(frf: &Frf, model: &ModelFile) -> Option<Diagnosis> {
     let (lo, hi) = crate::classify(frf, model.output, &crate::ClassifyOptions::default())
         .map(|c| c.band_hz)

@@ -590,7 +590,7 @@ fn h1_measurement(synth: &Synth, output: Output, seed: u64) -> Frf {
 /// (within the smoothing of the coherence), the coherence drops at the
 /// antiresonances are bridged, and the type is right. For the double
 /// antiresonance the response stays below the noise from 3 Hz to 66 Hz, so
-/// the trusted band starts above it: the type lacks the `A^2`, and the
+/// the band starts above it: the type lacks the `A^2`, and the
 /// classifier says so (a slope at the bottom of the band, confidence at
 /// most 0.5).
 #[test]
@@ -663,7 +663,7 @@ fn low_coherence_everywhere_is_an_error() {
     .unwrap();
     let err = classify(&frf, Output::Acceleration, &ClassifyOptions::default()).unwrap_err();
     assert!(
-        matches!(err, ClassifyError::NoTrustedBand { longest_run: 0, .. }),
+        matches!(err, ClassifyError::NoInformativeBand { longest_run: 0, .. }),
         "{err:?}"
     );
     assert!(err.to_string().contains("no informative band"), "{err}");
