@@ -484,7 +484,11 @@ fn diagnose_time_domain_finds_concealed_coulomb_friction() {
     let (code, text, err) = mms(&args);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    assert_eq!(v["effects"][0]["kind"], "friction", "{}", v["effects"]);
+    assert_eq!(
+        v["effects"][0]["kind"], "coulomb_friction",
+        "{}",
+        v["effects"]
+    );
     let got = v["effects"][0]["parameters"]["coulomb_n"].as_f64().unwrap();
     assert!((got / 0.3 - 1.0).abs() < 0.05, "{got}");
     let (before, after) = (&v["fit"]["before"], &v["fit"]["after"]);
@@ -501,7 +505,7 @@ fn diagnose_time_domain_finds_concealed_coulomb_friction() {
         ModelFile::parse(&std::fs::read_to_string(out.join("model_after.toml")).unwrap()).unwrap();
     assert_eq!(after.effects.coulomb_friction, Some(got));
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(report.contains("(time domain)") && report.contains("amplitude dependence"));
+    assert!(report.contains("Time domain") && report.contains("amplitude dependence"));
 }
 
 /// `--recording FILE` does what the positional recording does;
@@ -601,13 +605,19 @@ fn diagnose_emps_closed_loop() {
     let (code, out, err) = mms(&args);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert_eq!(v["closed_loop"], true);
-    assert_eq!(v["effects"][0]["kind"], "friction", "{}", v["effects"]);
+    assert_eq!(v["version"], 2);
+    assert_eq!(v["time_domain"]["closed_loop"], true);
+    assert_eq!(v["verdict"]["decided_by"], "time", "{}", v["verdict"]);
+    assert_eq!(
+        v["effects"][0]["kind"], "coulomb_friction",
+        "{}",
+        v["effects"]
+    );
     let fc = v["effects"][0]["parameters"]["coulomb_n"].as_f64().unwrap();
     assert!((fc / 20.39 - 1.0).abs() < 0.05, "{fc}");
     assert_eq!(v["effects"][1]["kind"], "offset", "{}", v["effects"]);
     assert!(v["model_after"]["effects"]["offset"]["force_n"].is_number());
-    let id = &v["inverse_dynamics"]["estimates"];
+    let id = &v["time_domain"]["inverse_dynamics"]["estimates"];
     assert_eq!(id[2]["name"], "coulomb_n");
     let fc_id = id[2]["value"].as_f64().unwrap();
     assert!((fc_id / 20.39 - 1.0).abs() < 0.02, "{fc_id}");

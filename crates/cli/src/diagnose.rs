@@ -1,7 +1,6 @@
-//! `mms diagnose`: where a model and a recording differ, which physics the
-//! model left out, and how much adding it improves the fit. A time-domain
-//! recording also gets the time-domain diagnosis (Coulomb friction,
-//! backlash) from its samples.
+//! `mms diagnose`: parses the arguments, calls
+//! [`ident::diagnosis::diagnose_recording`] (or the amplitude comparison of
+//! the levels) and formats its result.
 
 use crate::identify::IdentifyFormat;
 use crate::recording::RecordingArgs;
@@ -9,15 +8,11 @@ use ident::amplitude::{
     amplitude_dependence, AmplitudeDependence, AmplitudeOptions, DampingTrend, Level,
     StiffnessTrend,
 };
-use ident::diagnose::{
-    diagnose, model_from_simulation, DiagnoseOptions, Diagnosis, EffectKind, Selection,
-};
-use ident::nonlinear::{
-    diagnose_closed_loop, diagnose_time, LoopRecord, TimeDiagnosis, TimeOptions,
-};
+use ident::diagnose::{model_from_simulation, Diagnosis, EffectVerdict, Selection};
+use ident::diagnosis::{diagnose_recording, DiagnosisOptions, Domain, Reason, RecordingDiagnosis};
+use ident::nonlinear::{percent, LoopRecord, TimeDiagnosis};
 use mms::model_file::ModelFile;
-use mms::response::ChainResponse;
-use mms::simulate::{ClosedLoop, Controller, SimOptions, Simulator};
+use mms::simulate::Controller;
 use plot::{Bode, Style};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -27,7 +22,8 @@ use std::path::{Path, PathBuf};
 pub enum SelectArg {
     /// Bayesian information criterion on all lines.
     Bic,
-    /// Validation on held-out lines (every 4th).
+    /// Validation on held-out lines (every 4th), as the time domain
+    /// validates on held-out blocks.
     Holdout,
 }
 
@@ -122,103 +118,32 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
             args.tolerance
         ));
     }
-    let options = DiagnoseOptions {
+    let options = DiagnosisOptions {
         tolerance: args.tolerance,
+        band_hz: args.band,
         selection: match args.select {
             SelectArg::Bic => Selection::Bic,
             SelectArg::Holdout => Selection::Holdout,
         },
-        ..DiagnoseOptions::default()
+        welch: args.recording.welch(),
     };
     let name = args.recording.path()?.display().to_string();
-    // The lines the data can be trusted on: --band, else the band the
-    // classification trusts (coherence, outliers), as `mms identify` uses.
-    let (lo, hi) = match args.band {
-        Some(b) => b,
-        None => ident::classify(&rec.frf, model.output, &ident::ClassifyOptions::default())
-            .map(|c| c.band_hz)
-            .unwrap_or((0.0, f64::INFINITY)),
-    };
-    let data = rec
-        .frf
-        .band(lo.max(f64::MIN_POSITIVE), hi)
-        .ok_or_else(|| format!("{name}: no frequency lines in the band {lo}..{hi} Hz"))?;
-    let mut linear = model.clone();
-    // The FRF knows nothing of the nonlinear effects.
-    linear.effects.coulomb_friction = None;
-    linear.effects.backlash_gap = None;
-    let d = diagnose(&data, &linear, &options).map_err(|e| format!("{name}: {e}"))?;
-    // A time-domain recording is also checked for the nonlinear effects. If
-    // one is found it leads the report (with the frequency-domain diagnosis
-    // inside); if not, the frequency-domain report stands, with the check
-    // noted, so that a linear effect (a dead time) is not hidden behind a
-    // time-domain "none".
-    let mut time_check = None;
     let looped = match &args.closed_loop {
         Some(l) => Some(read_loop(args.recording, l, rec.samples.as_ref())?),
         None => None,
     };
-    if let Some(samples) = &rec.samples {
-        let options = TimeOptions {
-            tolerance: args.tolerance,
-            welch: args.recording.welch(),
-            ..TimeOptions::default()
-        };
-        let td = match &looped {
-            None => diagnose_time(&samples.u, &samples.y, samples.fs, &model, &options),
-            Some(l) => diagnose_closed_loop(
-                &samples.u,
-                &samples.y,
-                samples.fs,
-                &model,
-                &l.record(),
-                &options,
-            ),
-        }
-        .map_err(|e| format!("{name}: time-domain diagnosis: {e}"))?;
-        if td
-            .effects
-            .first()
-            .is_some_and(|e| e.kind != EffectKind::None)
-        {
-            let record = looped.as_ref().map(|l| l.record());
-            return run_time(
-                args,
-                &name,
-                &source,
-                &rec.frf,
-                samples,
-                &model,
-                record,
-                td,
-                d,
-                amplitude.as_ref(),
-            );
-        }
-        time_check = Some(td);
-    }
-    let plot = bode(&data, &model, &d);
+    let record = looped.as_ref().map(|l| l.record());
+    let d = diagnose_recording(
+        &rec.frf,
+        rec.samples.as_ref(),
+        &model,
+        record.as_ref(),
+        &options,
+    )
+    .map_err(|e| format!("{name}: {e}"))?;
+    let plot = bode(&d);
     let report = match args.format {
-        IdentifyFormat::Json => {
-            let mut v = serde_json::to_value(&d).map_err(|e| format!("JSON: {e}"))?;
-            if let Some(td) = &time_check {
-                v["time_domain"] = serde_json::json!({
-                    "effects": td.effects,
-                    "rejected": td.rejected,
-                    "evidence": td.evidence,
-                    "rms_time_rel": td.fit.before.rms_time_rel,
-                    "closed_loop": td.closed_loop,
-                    "inverse_dynamics": td.inverse_dynamics,
-                });
-            }
-            if let Some(a) = &amplitude {
-                v["amplitude_dependence"] =
-                    serde_json::to_value(a).map_err(|e| format!("JSON: {e}"))?;
-            }
-            let mut s = serde_json::to_string_pretty(&v).map_err(|e| format!("JSON: {e}"))?;
-            s.push('\n');
-            s
-        }
+        IdentifyFormat::Json => json(&d, amplitude.as_ref())?,
         IdentifyFormat::Md | IdentifyFormat::Html => {
             let mut m = markdown(
                 &name,
@@ -226,9 +151,6 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
                 &d,
                 (args.format == IdentifyFormat::Md && args.out.is_some()).then_some("bode.svg"),
             );
-            if let Some(td) = &time_check {
-                m.push_str(&time_check_note(td));
-            }
             if let Some(a) = &amplitude {
                 m.push_str(&amplitude_markdown(a));
             }
@@ -242,93 +164,272 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     finish(args, &plot, &d.model_after, report)
 }
 
-/// The recording, the calibrated model and the improved model, with the
-/// mismatch bands shaded, and the residual panel.
-fn bode(frf: &frf::Frf, before: &ModelFile, d: &Diagnosis) -> Bode {
-    let f = frf.freq_hz();
-    let eval = |m: &ModelFile| {
-        let g = ChainResponse::with_effects(&m.model, m.output, &m.effects);
-        crate::identify::model_curve(&g, m.parameters.values(), m.gain, f)
+/// The JSON report: the verdict, the deciding domain's effects, fit and
+/// model at the top, each domain's diagnosis inside.
+fn json(d: &RecordingDiagnosis, amplitude: Option<&AmplitudeDependence>) -> Result<String, String> {
+    let err = |e: serde_json::Error| format!("JSON: {e}");
+    let mut v = serde_json::to_value(d).map_err(err)?;
+    // Kinds split viscous from Coulomb friction from version 2 on.
+    v["version"] = serde_json::json!(JSON_VERSION);
+    v["effects"] = serde_json::to_value(&d.verdict.effects).map_err(err)?;
+    v["fit"] = match (d.verdict.decided_by, &d.frequency_domain, &d.time_domain) {
+        (Some(Domain::Time), _, Some(t)) => serde_json::to_value(t.fit).map_err(err)?,
+        (_, Some(f), _) => serde_json::to_value(f.fit).map_err(err)?,
+        _ => serde_json::Value::Null,
     };
-    let mut b = Bode::new("Recording, model, and model with the missing physics")
-        .trace("recording", f, frf.response(), Style::points())
-        .trace("model (nominal)", f, &eval(before), Style::dashed())
-        .trace(
-            "model after diagnosis",
-            f,
-            &eval(&d.model_after),
-            Style::line(),
-        );
-    for band in &d.mismatch {
-        b = b.band(band.f_lo_hz, band.f_hi_hz, "mismatch");
+    v["mismatch"] = match &d.frequency_domain {
+        Some(f) => serde_json::to_value(&f.mismatch).map_err(err)?,
+        None => serde_json::json!([]),
+    };
+    if let Some(a) = amplitude {
+        v["amplitude_dependence"] = serde_json::to_value(a).map_err(err)?;
+    }
+    let mut s = serde_json::to_string_pretty(&v).map_err(err)?;
+    s.push('\n');
+    Ok(s)
+}
+
+/// The version of the JSON report of `mms diagnose`.
+pub const JSON_VERSION: u32 = 2;
+
+/// The recording, the nominal model and the model after the diagnosis,
+/// with the mismatch bands shaded, and the residual panel.
+fn bode(d: &RecordingDiagnosis) -> Bode {
+    let c = &d.curves;
+    let title = if c.simulated {
+        "Recording and simulated models (H1 from the recorded input)"
+    } else {
+        "Recording, model, and model with the missing physics"
+    };
+    let mut b = Bode::new(title)
+        .trace("recording", &c.freq_hz, &c.recording, Style::points())
+        .trace("model (nominal)", &c.freq_hz, &c.nominal, Style::dashed())
+        .trace("model after diagnosis", &c.freq_hz, &c.after, Style::line());
+    if let Some(f) = &d.frequency_domain {
+        for band in &f.mismatch {
+            b = b.band(band.f_lo_hz, band.f_hi_hz, "mismatch");
+        }
     }
     b.residual()
 }
 
-fn markdown(name: &str, source: &str, d: &Diagnosis, plot: Option<&str>) -> String {
+/// `**kind** (parameter = value, ...)` for each effect, best first.
+fn effect_names(effects: &[EffectVerdict]) -> Vec<String> {
+    effects
+        .iter()
+        .map(|e| {
+            let params: Vec<String> = e
+                .parameters
+                .iter()
+                .map(|(k, v)| format!("{k} = {v:.4e}"))
+                .collect();
+            format!("**{}** ({})", e.kind.as_str(), params.join(", "))
+        })
+        .collect()
+}
+
+/// The share of a held-out misfit, in words.
+fn share(x: Option<f64>) -> String {
+    x.map_or("-".into(), |x| format!("{:.0} %", 100.0 * x))
+}
+
+/// The verdict in words: what is missing, which domain decided and why.
+fn verdict_text(d: &RecordingDiagnosis) -> String {
+    let v = &d.verdict;
+    let mut s = match (v.decided_by, &d.frequency_domain, &d.time_domain) {
+        (None, None, _) => "Nothing can be compared: no line of the recording carries \
+                            information (no excitation energy or no coherence), so no \
+                            effect is named."
+            .to_string(),
+        (None, Some(f), _) => format!(
+            "Nothing is missing: no effect lowers the prediction error on held-out data; the \
+             calibrated model explains the recording to {:.3} dB / {:.2} deg RMS.",
+            f.fit.before.rms_db, f.fit.before.rms_deg
+        ),
+        (Some(domain), fd, td) => {
+            let causes = effect_names(&v.effects);
+            let figures = match (domain, fd, td) {
+                (Domain::Time, _, Some(t)) => format!(
+                    "the time-domain error falls from {} % to {} % of the output RMS, the FRF \
+                     error from {:.3} dB / {:.2} deg to {:.3} dB / {:.2} deg",
+                    percent(t.fit.before.rms_time_rel),
+                    percent(t.fit.after.rms_time_rel),
+                    t.fit.before.rms_db,
+                    t.fit.before.rms_deg,
+                    t.fit.after.rms_db,
+                    t.fit.after.rms_deg
+                ),
+                (_, Some(f), _) => format!(
+                    "the FRF error falls from {:.3} dB / {:.2} deg to {:.3} dB / {:.2} deg RMS",
+                    f.fit.before.rms_db,
+                    f.fit.before.rms_deg,
+                    f.fit.after.rms_db,
+                    f.fit.after.rms_deg
+                ),
+                _ => String::new(),
+            };
+            format!(
+                "Most likely missing: {}; with {} {figures}. Decided in the {} domain.",
+                causes.join(" together with "),
+                if causes.len() > 1 { "them" } else { "it" },
+                match domain {
+                    Domain::Frequency => "frequency",
+                    Domain::Time => "time",
+                }
+            )
+        }
+    };
+    let why = match v.reason {
+        Reason::NothingInformative | Reason::NothingMissing => String::new(),
+        Reason::FrequencyDomainOnly => {
+            "The recording is an FRF: the frequency domain is the only one.".into()
+        }
+        Reason::TimeDomainNotInformative { unexplained } => format!(
+            "The time-domain comparison is not informative: simulated from the recorded input, \
+             the model leaves {} % of the output RMS even with the effects it earned (more than \
+             {:.0} %), so it cannot decide.",
+            percent(unexplained),
+            100.0 * ident::nonlinear::TimeOptions::default().informative
+        ),
+        Reason::OnlyOneDomainNames => format!(
+            "Only this domain names an effect that lowers the error on held-out data (share of \
+             the held-out misfit removed: frequency domain {}, time domain {}).",
+            share(v.frequency_share),
+            share(v.time_share)
+        ),
+        Reason::LargerHeldOutShare { frequency, time } => format!(
+            "Both domains name effects; this one removes the larger share of the misfit on \
+             held-out data (frequency domain {}, time domain {}).",
+            share(Some(frequency)),
+            share(Some(time))
+        ),
+    };
+    if !why.is_empty() {
+        s.push(' ');
+        s.push_str(&why);
+    }
+    s
+}
+
+fn markdown(name: &str, source: &str, d: &RecordingDiagnosis, plot: Option<&str>) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Diagnosis of `{name}`\n");
     let _ = writeln!(s, "{source}\n");
-    let best = d.effects.first();
-    let verdict = match best {
-        Some(e) if e.kind != EffectKind::None => {
-            let causes = effect_names(&d.effects);
-            let bands: Vec<String> = d
-                .mismatch
-                .iter()
-                .map(|b| format!("{:.4} and {:.4} Hz", b.f_lo_hz, b.f_hi_hz))
-                .collect();
-            format!(
-                "The recording differs from the model{}; most likely cause: {}; after adding {} \
-                 the error drops from {:.3} dB / {:.2} deg to {:.3} dB / {:.2} deg RMS.",
-                if bands.is_empty() {
-                    String::new()
-                } else {
-                    format!(" between {}", bands.join(", "))
-                },
-                causes.join(" together with "),
-                if causes.len() > 1 { "them" } else { "it" },
-                d.fit.before.rms_db,
-                d.fit.before.rms_deg,
-                d.fit.after.rms_db,
-                d.fit.after.rms_deg
-            )
-        }
-        _ => format!(
-            "Nothing is missing: after calibration the model explains the recording within the noise \
-             ({:.3} dB / {:.2} deg RMS).",
-            d.fit.before.rms_db, d.fit.before.rms_deg
-        ),
-    };
-    let _ = writeln!(s, "{verdict}\n");
+    let _ = writeln!(s, "{}\n", verdict_text(d));
     if let Some(p) = plot {
         let _ = writeln!(s, "![Bode plot: recording, model, improved model]({p})\n");
     }
-    s.push_str(
-        "## Mismatch bands\n\n| from (Hz) | to (Hz) | RMS dB | RMS deg |\n|---:|---:|---:|---:|\n",
+    if let Some(f) = &d.frequency_domain {
+        frequency_markdown(&mut s, d.band_hz, f);
+    }
+    if let Some(t) = &d.time_domain {
+        time_markdown(&mut s, t);
+    }
+    let _ = writeln!(
+        s,
+        "\n## Model after diagnosis\n\n```toml\n{}```",
+        d.model_after.to_toml()
     );
-    for b in &d.mismatch {
+    s
+}
+
+/// The frequency-domain section: band, mismatch, effects, held-out lines.
+fn frequency_markdown(s: &mut String, band: Option<(f64, f64)>, f: &Diagnosis) {
+    s.push_str("## Frequency domain (FRF, linear effects)\n\n");
+    if let Some((lo, hi)) = band {
+        let _ = write!(
+            s,
+            "Lines {lo:.4} to {hi:.4} Hz, each weighted by its uncertainty (median {:.4} \
+             nepers). ",
+            f.noise
+        );
+    }
+    if let Some(h) = &f.held_out {
+        let _ = write!(
+            s,
+            "Held-out lines ({}, every {}th): cost {:.1} -> {:.1} noise units (noise alone: \
+             about {}).",
+            h.lines,
+            ident::diagnose::HOLDOUT_EVERY,
+            h.before,
+            h.after,
+            2 * h.lines
+        );
+    }
+    s.push_str(
+        "\n\n### Mismatch bands\n\n| from (Hz) | to (Hz) | RMS dB | RMS deg |\n|---:|---:|---:|---:|\n",
+    );
+    for b in &f.mismatch {
         let _ = writeln!(
             s,
             "| {:.4} | {:.4} | {:.3} | {:.2} |",
             b.f_lo_hz, b.f_hi_hz, b.rms_db, b.rms_deg
         );
     }
-    effects_and_calibration(&mut s, "Effects", &d.effects, &d.rejected, &d.calibration);
-    s
+    effects_and_calibration(s, "Effects", &f.effects, &f.rejected, &f.calibration);
+}
+
+/// The time-domain section: how it was simulated, whether it is
+/// informative, the evidence and the effects.
+fn time_markdown(s: &mut String, d: &TimeDiagnosis) {
+    s.push_str("\n## Time domain (samples, nonlinear effects)\n\n");
+    let _ = writeln!(
+        s,
+        "{} samples at {} Hz, simulated {}; the calibrated linear model leaves {} % of the \
+         output RMS, {} % with the effects it earned{}.",
+        d.samples,
+        d.fs,
+        if d.closed_loop {
+            "inside the recorded position loop (controller and reference)"
+        } else {
+            "from the recorded input, with the initial rigid-body state fitted and the motion \
+             slower than the band's lowest line left out"
+        },
+        percent(d.fit.before.rms_time_rel),
+        percent(d.fit.after.rms_time_rel),
+        if d.informative {
+            String::new()
+        } else {
+            " (not informative: it cannot decide the verdict)".into()
+        }
+    );
+    if let Some(h) = &d.held_out {
+        let _ = writeln!(
+            s,
+            "Held-out samples ({}, every 4th of {} blocks): error {:.4e} -> {:.4e} RMS.",
+            h.samples,
+            ident::nonlinear::HOLDOUT_BLOCKS,
+            (h.before / h.samples as f64).sqrt(),
+            (h.after / h.samples as f64).sqrt()
+        );
+    }
+    s.push_str("\n### Evidence\n\n");
+    for e in &d.evidence {
+        let _ = writeln!(s, "- {e}");
+    }
+    effects_and_calibration(
+        s,
+        "Effects (time domain)",
+        &d.effects,
+        &d.rejected,
+        &d.calibration,
+    );
+    if let Some(id) = &d.inverse_dynamics {
+        s.push_str(&inverse_dynamics_section(id));
+    }
 }
 
 /// The effects table (kept, then rejected) and the calibration notes.
 fn effects_and_calibration(
     s: &mut String,
     title: &str,
-    effects: &[ident::diagnose::EffectVerdict],
-    rejected: &[ident::diagnose::EffectVerdict],
+    effects: &[EffectVerdict],
+    rejected: &[EffectVerdict],
     calibration: &[String],
 ) {
     let _ = write!(
         s,
-        "\n## {title}\n\n| kind | parameters | step | score | evidence |\n|---|---|---:|---:|---|\n"
+        "\n### {title}\n\n| kind | parameters | step | score | evidence |\n|---|---|---:|---:|---|\n"
     );
     for e in effects.iter().chain(rejected) {
         let params: Vec<String> = e
@@ -347,236 +448,11 @@ fn effects_and_calibration(
         );
     }
     if !calibration.is_empty() {
-        s.push_str("\n## Calibration\n\n");
+        s.push_str("\n#### Calibration\n\n");
         for c in calibration {
             let _ = writeln!(s, "- {c}");
         }
     }
-}
-
-/// The time-domain diagnosis of a time-domain recording, with the
-/// frequency-domain diagnosis `fd` of its H1 estimate attached.
-#[allow(clippy::too_many_arguments)]
-fn run_time(
-    args: &DiagnoseArgs,
-    name: &str,
-    source: &str,
-    recorded: &frf::Frf,
-    samples: &frf::Samples,
-    model: &ModelFile,
-    record: Option<LoopRecord>,
-    mut d: TimeDiagnosis,
-    fd: Diagnosis,
-    amplitude: Option<&AmplitudeDependence>,
-) -> Result<Option<String>, String> {
-    d.mismatch = fd.mismatch.clone();
-    d.frequency_domain = Some(fd);
-    let plot = time_bode(
-        recorded,
-        &args.recording.welch(),
-        samples,
-        model,
-        record.as_ref(),
-        &d,
-    )?;
-    let markdown = |plot: Option<&str>| {
-        let mut m = time_markdown(name, source, &d, plot);
-        if let Some(a) = amplitude {
-            m.push_str(&amplitude_markdown(a));
-        }
-        m
-    };
-    let report = match args.format {
-        IdentifyFormat::Json => {
-            let mut v = serde_json::to_value(&d).map_err(|e| format!("JSON: {e}"))?;
-            if let Some(a) = amplitude {
-                v["amplitude_dependence"] =
-                    serde_json::to_value(a).map_err(|e| format!("JSON: {e}"))?;
-            }
-            let mut s = serde_json::to_string_pretty(&v).map_err(|e| format!("JSON: {e}"))?;
-            s.push('\n');
-            s
-        }
-        IdentifyFormat::Md => markdown(args.out.map(|_| "bode.svg")),
-        IdentifyFormat::Html => {
-            crate::identify::html_page("mms diagnose", &markdown(None), &plot.to_svg())
-        }
-    };
-    finish(args, &plot, &d.model_after, report)
-}
-
-/// The recording's H1 estimate and those of the nominal and diagnosed
-/// models simulated from the recorded input (in a closed loop: inside the
-/// loop, with the simulated input), with the same options (`--nfft`,
-/// `--period`), so the curves share their lines.
-fn time_bode(
-    recorded: &frf::Frf,
-    welch: &frf::WelchOptions,
-    samples: &frf::Samples,
-    model: &ModelFile,
-    record: Option<&LoopRecord>,
-    d: &TimeDiagnosis,
-) -> Result<Bode, String> {
-    let sim = |m: &ModelFile| -> Result<frf::Frf, String> {
-        let (u, y) = match record {
-            None => {
-                let y = mms::simulate::simulate(m, &samples.u, samples.fs)
-                    .map_err(|e| e.to_string())?;
-                (samples.u.clone(), y)
-            }
-            Some(r) => {
-                let q = &samples.y;
-                let run = Simulator::new(m, samples.fs, &SimOptions::default())
-                    .and_then(|s| {
-                        s.run_closed_loop(&ClosedLoop {
-                            controller: r.controller,
-                            reference: r.reference,
-                            disturbance: r.disturbance,
-                            initial_position: q[0],
-                            initial_velocity: (q[2] - q[0]) * samples.fs / 2.0,
-                        })
-                    })
-                    .map_err(|e| e.to_string())?;
-                (run.u, run.y)
-            }
-        };
-        frf::h1(&u, &y, samples.fs, welch)
-            .map(|e| e.frf)
-            .map_err(|e| format!("H1 estimate: {e}"))
-    };
-    let (nominal, after) = (sim(model)?, sim(&d.model_after)?);
-    let f = recorded.freq_hz();
-    let mut b = Bode::new("Recording and simulated models (H1 from the recorded input)")
-        .trace("recording", f, recorded.response(), Style::points())
-        .trace("model (nominal)", f, nominal.response(), Style::dashed())
-        .trace("model after diagnosis", f, after.response(), Style::line());
-    for band in &d.mismatch {
-        b = b.band(band.f_lo_hz, band.f_hi_hz, "mismatch");
-    }
-    Ok(b.residual())
-}
-
-/// `**kind** (parameter = value, ...)` for each effect, best first.
-fn effect_names(effects: &[ident::diagnose::EffectVerdict]) -> Vec<String> {
-    effects
-        .iter()
-        .map(|e| {
-            let params: Vec<String> = e
-                .parameters
-                .iter()
-                .map(|(k, v)| format!("{k} = {v:.4e}"))
-                .collect();
-            format!("**{}** ({})", e.kind.as_str(), params.join(", "))
-        })
-        .collect()
-}
-
-fn time_markdown(name: &str, source: &str, d: &TimeDiagnosis, plot: Option<&str>) -> String {
-    let mut s = String::new();
-    let _ = writeln!(s, "# Diagnosis of `{name}` (time domain)\n");
-    let _ = writeln!(
-        s,
-        "{} samples at {} Hz, simulated with the model {}.\n",
-        d.samples,
-        d.fs,
-        if d.closed_loop {
-            "inside the recorded position loop (controller and reference)"
-        } else {
-            "from the recorded input"
-        }
-    );
-    let (b, a) = (&d.fit.before, &d.fit.after);
-    let verdict = match d.effects.first() {
-        Some(e) if e.kind != EffectKind::None => {
-            let causes = effect_names(&d.effects);
-            format!(
-                "Most likely missing: {}; adding {} brings the time-domain error from {:.4e} to \
-                 {:.4e} ({} % to {} % of the output RMS), and the FRF error from {:.3} dB / \
-                 {:.2} deg to {:.3} dB / {:.2} deg.",
-                causes.join(" together with "),
-                if causes.len() > 1 { "them" } else { "it" },
-                b.rms_time,
-                a.rms_time,
-                ident::nonlinear::percent(b.rms_time_rel),
-                ident::nonlinear::percent(a.rms_time_rel),
-                b.rms_db,
-                b.rms_deg,
-                a.rms_db,
-                a.rms_deg
-            )
-        }
-        _ => format!(
-            "No nonlinear effect is missing: the calibrated linear model leaves {} % of the \
-             output RMS in the time domain ({:.3} dB / {:.2} deg on the FRF).",
-            ident::nonlinear::percent(b.rms_time_rel),
-            b.rms_db,
-            b.rms_deg
-        ),
-    };
-    let _ = writeln!(s, "{verdict}\n");
-    if let Some(p) = plot {
-        let _ = writeln!(s, "![Bode plot: recording and simulated models]({p})\n");
-    }
-    s.push_str("## Evidence\n\n");
-    for e in &d.evidence {
-        let _ = writeln!(s, "- {e}");
-    }
-    effects_and_calibration(
-        &mut s,
-        "Effects (time domain)",
-        &d.effects,
-        &d.rejected,
-        &d.calibration,
-    );
-    let _ = writeln!(
-        s,
-        "\n## Model after diagnosis\n\n```toml\n{}```",
-        d.model_after.to_toml()
-    );
-    if let Some(id) = &d.inverse_dynamics {
-        s.push_str(&inverse_dynamics_section(id));
-    }
-    if let Some(fd) = &d.frequency_domain {
-        s.push_str("\n## Frequency domain (H1 estimate, linear effects)\n\n");
-        if d.closed_loop {
-            s.push_str(
-                "In a closed loop the H1 estimate from the controller output to the position \
-                 is biased where the loop feeds noise back (low coherence); read this part with \
-                 care.\n\n",
-            );
-        }
-        let body = markdown(name, source, fd, None);
-        // Drop its title; keep the verdict and tables.
-        let body = body
-            .split_once('\n')
-            .map_or("", |(_, rest)| rest)
-            .trim_start();
-        s.push_str(&body.replace("\n## ", "\n### "));
-    }
-    s
-}
-
-/// The time-domain check of a recording where it found no nonlinear effect.
-fn time_check_note(td: &TimeDiagnosis) -> String {
-    let mut s = String::from("\n## Time-domain check (Coulomb friction, backlash, offset)\n\n");
-    let _ = writeln!(
-        s,
-        "Simulated {}, the calibrated linear model leaves {} % of the output RMS; neither \
-         Coulomb friction nor backlash nor a force offset earns its parameter.\n",
-        if td.closed_loop {
-            "inside the recorded position loop"
-        } else {
-            "from the recorded input"
-        },
-        ident::nonlinear::percent(td.fit.before.rms_time_rel)
-    );
-    for e in &td.evidence {
-        let _ = writeln!(s, "- {e}");
-    }
-    if let Some(id) = &td.inverse_dynamics {
-        s.push_str(&inverse_dynamics_section(id));
-    }
-    s
 }
 
 /// The IDIM-LS estimates as a Markdown section.

@@ -188,7 +188,7 @@ enum Command {
         /// How an effect must earn its parameters: bic (information
         /// criterion on all lines) or holdout (every 4th line held out of
         /// the fits, the effect must lower their cost).
-        #[arg(long, value_enum, default_value_t = diagnose::SelectArg::Bic)]
+        #[arg(long, value_enum, default_value_t = diagnose::SelectArg::Holdout)]
         select: diagnose::SelectArg,
         /// How far calibration may move each parameter from its nominal
         /// value (fraction).

@@ -90,7 +90,7 @@ pub struct DiagnoseOptions {
     /// springs.
     pub damper_tolerance: f64,
     /// Number of averages behind the recording's coherence (used only if
-    /// the recording has a coherence).
+    /// the recording has a coherence and no standard deviation per line).
     pub averages: f64,
     /// Lines of the running mean of the normalised cost for the bands.
     pub band_window: usize,
@@ -155,11 +155,13 @@ pub enum EffectKind {
     GainError,
     /// Structural damping of every spring; parameter `loss_factor`.
     HystereticDamping,
-    /// Viscous damper from the driven mass to the ground; parameter
-    /// `viscous_ns_per_m`. The time-domain diagnosis
-    /// ([`crate::nonlinear`]) reports Coulomb friction under the same kind,
-    /// with parameter `coulomb_n`.
-    Friction,
+    /// Viscous friction: a damper from the driven mass to the ground;
+    /// parameter `viscous_ns_per_m`.
+    ViscousFriction,
+    /// Coulomb (dry) friction on the driven mass, a force of constant size
+    /// against the velocity (time domain only, [`crate::nonlinear`] and
+    /// [`crate::idim`]); parameter `coulomb_n`.
+    CoulombFriction,
     /// A dead zone in the spring next to the driven mass (time domain
     /// only, [`crate::nonlinear`]); parameter `gap`.
     Backlash,
@@ -183,8 +185,30 @@ impl EffectKind {
         EffectKind::Lowpass,
         EffectKind::GainError,
         EffectKind::HystereticDamping,
-        EffectKind::Friction,
+        EffectKind::ViscousFriction,
     ];
+
+    /// Every kind with one parameter that a model file can hold.
+    pub const WITH_PARAMETER: [EffectKind; 8] = [
+        EffectKind::TimeDelay,
+        EffectKind::Lowpass,
+        EffectKind::GainError,
+        EffectKind::HystereticDamping,
+        EffectKind::ViscousFriction,
+        EffectKind::CoulombFriction,
+        EffectKind::Backlash,
+        EffectKind::Offset,
+    ];
+
+    /// The section of a model file's `[effects]` table that holds this
+    /// effect's parameter: `friction` for both frictions (a damper and a
+    /// dry force on the same mass), else the JSON name.
+    pub fn model_file_section(self) -> &'static str {
+        match self {
+            EffectKind::ViscousFriction | EffectKind::CoulombFriction => "friction",
+            other => other.as_str(),
+        }
+    }
 
     /// JSON name.
     pub fn as_str(self) -> &'static str {
@@ -193,7 +217,8 @@ impl EffectKind {
             EffectKind::Lowpass => "lowpass",
             EffectKind::GainError => "gain_error",
             EffectKind::HystereticDamping => "hysteretic_damping",
-            EffectKind::Friction => "friction",
+            EffectKind::ViscousFriction => "viscous_friction",
+            EffectKind::CoulombFriction => "coulomb_friction",
             EffectKind::Backlash => "backlash",
             EffectKind::Offset => "offset",
             EffectKind::ExtraMode => "extra_mode",
@@ -210,7 +235,8 @@ impl EffectKind {
             EffectKind::Lowpass => Some("corner_hz"),
             EffectKind::GainError => Some("factor"),
             EffectKind::HystereticDamping => Some("loss_factor"),
-            EffectKind::Friction => Some("viscous_ns_per_m"),
+            EffectKind::ViscousFriction => Some("viscous_ns_per_m"),
+            EffectKind::CoulombFriction => Some("coulomb_n"),
             EffectKind::Backlash => Some("gap"),
             EffectKind::Offset => Some("force_n"),
             EffectKind::None => None,
@@ -225,7 +251,8 @@ impl EffectKind {
             EffectKind::Lowpass => e.lowpass_hz = Some(value),
             EffectKind::GainError => e.gain_factor = Some(value),
             EffectKind::HystereticDamping => e.loss_factor = Some(value),
-            EffectKind::Friction => e.viscous_friction = Some(value),
+            EffectKind::ViscousFriction => e.viscous_friction = Some(value),
+            EffectKind::CoulombFriction => e.coulomb_friction = Some(value),
             EffectKind::Backlash => e.backlash_gap = Some(value),
             EffectKind::Offset => e.offset_force = Some(value),
             EffectKind::ExtraMode | EffectKind::None => {}
@@ -240,7 +267,8 @@ impl EffectKind {
             EffectKind::Lowpass => base.lowpass_hz,
             EffectKind::GainError => base.gain_factor,
             EffectKind::HystereticDamping => base.loss_factor,
-            EffectKind::Friction => base.viscous_friction,
+            EffectKind::ViscousFriction => base.viscous_friction,
+            EffectKind::CoulombFriction => base.coulomb_friction,
             EffectKind::Backlash => base.backlash_gap,
             EffectKind::Offset => base.offset_force,
             EffectKind::ExtraMode | EffectKind::None => None,
@@ -324,6 +352,9 @@ pub struct Diagnosis {
     /// kept effect added to the input's effects.
     #[serde(serialize_with = "ser_model")]
     pub model_after: ModelFile,
+    /// With [`Selection::Holdout`]: the prediction error on the held-out
+    /// lines before and after the kept effects.
+    pub held_out: Option<HeldOut>,
     /// Copy of `fit.before`, for Rust callers.
     #[serde(skip)]
     pub before: FitSummary,
@@ -332,32 +363,48 @@ pub struct Diagnosis {
     pub after: FitSummary,
 }
 
+/// The prediction error on lines left out of every fit, in noise units:
+/// `sum |e_k|^2 / sigma_k^2` over those lines (real and imaginary parts),
+/// which noise alone puts near `2 lines`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct HeldOut {
+    /// Lines held out.
+    pub lines: usize,
+    /// The calibrated model's cost on them.
+    pub before: f64,
+    /// The cost of the model after the diagnosis.
+    pub after: f64,
+}
+
+impl HeldOut {
+    /// The share of the held-out misfit beyond the noise that the kept
+    /// effects remove: `(before - after) / (before - 2 lines)`, in `[0,
+    /// 1]`; 0 when the calibrated model already fits within the noise.
+    pub fn explained(&self) -> f64 {
+        let excess = self.before - 2.0 * self.lines as f64;
+        if excess <= 0.0 || !excess.is_finite() {
+            return 0.0;
+        }
+        ((self.before - self.after) / excess).clamp(0.0, 1.0)
+    }
+}
+
 pub(crate) fn ser_model<S: serde::Serializer>(m: &ModelFile, s: S) -> Result<S::Ok, S::Error> {
     use serde::ser::SerializeMap;
     let mut parameters = BTreeMap::new();
     for (k, v) in m.parameters.iter() {
         parameters.insert(k.to_string(), v);
     }
-    let mut effects = BTreeMap::new();
-    for kind in EffectKind::HYPOTHESES {
+    // The sections of the model file's `[effects]` table, where both
+    // frictions share `friction`.
+    let mut effects: BTreeMap<&str, BTreeMap<&str, f64>> = BTreeMap::new();
+    for kind in EffectKind::WITH_PARAMETER {
         if let (Some(v), Some(name)) = (kind.current(&m.effects), kind.parameter_name()) {
-            let mut inner = BTreeMap::new();
-            inner.insert(name, v);
-            effects.insert(kind.as_str(), inner);
+            effects
+                .entry(kind.model_file_section())
+                .or_default()
+                .insert(name, v);
         }
-    }
-    // The time-domain effects' parameters (crate::nonlinear).
-    if let Some(v) = m.effects.coulomb_friction {
-        effects
-            .entry("friction")
-            .or_default()
-            .insert("coulomb_n", v);
-    }
-    if let Some(v) = m.effects.backlash_gap {
-        effects.entry("backlash").or_default().insert("gap", v);
-    }
-    if let Some(v) = m.effects.offset_force {
-        effects.entry("offset").or_default().insert("force_n", v);
     }
     let mut map = s.serialize_map(Some(5))?;
     map.serialize_entry("structure", &m.model.id())?;
@@ -833,19 +880,20 @@ pub fn diagnose(
         nominal_ln: nominal_ln.clone(),
     };
 
-    // Noise: from the coherence, else from the scatter of the nominal
-    // residual, then again from the calibrated one (a badly wrong nominal
+    // Noise: each line's own uncertainty (its standard deviation, else its
+    // coherence and the averages), else the scatter of the nominal
+    // residual, then again of the calibrated one (a badly wrong nominal
     // model can have sharp residual features at its resonances).
-    let coherence_sigma: Option<Vec<f64>> = data.coherence().map(|c| {
-        c.iter()
-            .map(|&g| {
-                let g2 = g.clamp(1e-6, 1.0 - 1e-9);
-                ((1.0 - g2) / (2.0 * o.averages * g2)).sqrt().max(1e-6)
-            })
-            .collect()
-    });
+    let measured_sigma: Option<Vec<f64>> = (data.std_dev().is_some() || data.coherence().is_some())
+        .then(|| {
+            frf::uncertainty::line_uncertainty(data, Some(o.averages))
+                .relative
+                .iter()
+                .map(|s| s.max(1e-6))
+                .collect()
+        });
     let set_sigma = |p: &mut Problem, e: &[Complex64]| -> Vec<f64> {
-        let sigma = match &coherence_sigma {
+        let sigma = match &measured_sigma {
             Some(s) => s.clone(),
             None => vec![scatter(e).max(1e-6); e.len()],
         };
@@ -913,6 +961,7 @@ pub fn diagnose(
         original: (&model.model, &calibrated.x[..np]),
     };
     let test_cost = problem.test_cost(&[], &calibrated.x)?;
+    let test_before = test_cost;
     let mut base = Fitted {
         problem,
         kinds: Vec::new(),
@@ -1073,7 +1122,10 @@ pub fn diagnose(
             })
             .collect()
     };
-    let mut noise: Vec<f64> = sigma.clone();
+    let mut noise: Vec<f64> = sigma.iter().copied().filter(|s| s.is_finite()).collect();
+    if noise.is_empty() {
+        noise.push(f64::INFINITY);
+    }
     noise.sort_by(f64::total_cmp);
     Ok(Diagnosis {
         mismatch,
@@ -1083,6 +1135,11 @@ pub fn diagnose(
         calibration,
         noise: noise[noise.len() / 2],
         model_after,
+        held_out: holdout.then_some(HeldOut {
+            lines: ctx.held,
+            before: test_before,
+            after: base.test_cost,
+        }),
         before,
         after,
     })
@@ -1114,11 +1171,12 @@ impl Context<'_> {
             EffectKind::Lowpass => (0.1 * self.f_lo, 1e3 * self.f_hi),
             EffectKind::GainError => (0.01, 100.0),
             EffectKind::HystereticDamping => (1e-5, 1.0),
-            EffectKind::Friction => (
+            EffectKind::ViscousFriction => (
                 1e-4 * self.total_mass * 2.0 * PI * self.f_lo,
                 1e2 * self.total_mass * 2.0 * PI * self.f_hi,
             ),
             EffectKind::ExtraMode
+            | EffectKind::CoulombFriction
             | EffectKind::Backlash
             | EffectKind::Offset
             | EffectKind::None => (1.0, 1.0),

@@ -47,7 +47,7 @@
 //!     f.push(2.0 * a + 3.0 * v + 0.5 * v.signum());
 //! }
 //! let id = idim_ls(&f, &q, fs, &IdimOptions::default())?;
-//! assert_eq!(id.effects[0].kind, EffectKind::Friction);
+//! assert_eq!(id.effects[0].kind, EffectKind::CoulombFriction);
 //! assert!((id.value("m").unwrap() / 2.0 - 1.0).abs() < 0.01);
 //! assert!((id.value("coulomb_n").unwrap() / 0.5 - 1.0).abs() < 0.05);
 //! # Ok::<(), ident::idim::IdimError>(())
@@ -174,7 +174,7 @@ impl InverseDynamics {
 /// Second-order sections `(b0, b1, b2, a1, a2)` of a low-pass
 /// Butterworth filter of even `order` with corner `fc` at rate `fs`
 /// (bilinear transform with a prewarped corner).
-fn butterworth(order: usize, fc: f64, fs: f64) -> Vec<[f64; 5]> {
+pub(crate) fn butterworth(order: usize, fc: f64, fs: f64) -> Vec<[f64; 5]> {
     let k = (std::f64::consts::PI * fc / fs).tan();
     (1..=order / 2)
         .map(|i| {
@@ -215,7 +215,7 @@ fn filter(sections: &[[f64; 5]], x: &mut [f64]) {
 
 /// Zero-phase filtering: forward and backward, with `pad` samples of odd
 /// reflection at each end so the ends carry no transient.
-fn filtfilt(sections: &[[f64; 5]], x: &[f64], pad: usize) -> Vec<f64> {
+pub(crate) fn filtfilt(sections: &[[f64; 5]], x: &[f64], pad: usize) -> Vec<f64> {
     let n = x.len();
     let pad = pad.min(n - 1);
     let mut v = Vec::with_capacity(n + 2 * pad);
@@ -410,7 +410,7 @@ pub fn idim_ls(
     let y_energy: f64 = y.iter().map(|v| v * v).sum();
     let rel_err_before = (rss0 / y_energy).sqrt();
     let price = (n as f64).ln() + o.margin;
-    let candidates = [(2, EffectKind::Friction), (3, EffectKind::Offset)];
+    let candidates = [(2, EffectKind::CoulombFriction), (3, EffectKind::Offset)];
     let mut effects = Vec::new();
     let mut rejected = Vec::new();
     let mut rss_base = rss0;
@@ -433,7 +433,7 @@ pub fn idim_ls(
                 (gain - price).min(-1.0)
             };
             let (pname, value) = match kind {
-                EffectKind::Friction => ("coulomb_n", theta[idx.len() - 1]),
+                EffectKind::CoulombFriction => ("coulomb_n", theta[idx.len() - 1]),
                 _ => ("force_n", theta[idx.len() - 1]),
             };
             let mut parameters = BTreeMap::new();
@@ -474,7 +474,11 @@ pub fn idim_ls(
         fit(&chosen).ok_or_else(|| singular("the selected regressors are dependent"))?;
     // Effect parameters from the final joint fit.
     for e in &mut effects {
-        let col = if e.kind == EffectKind::Friction { 2 } else { 3 };
+        let col = if e.kind == EffectKind::CoulombFriction {
+            2
+        } else {
+            3
+        };
         let at = chosen.iter().position(|&c| c == col).unwrap_or(0);
         for v in e.parameters.values_mut() {
             *v = theta[at];

@@ -10,6 +10,7 @@ pub mod advice;
 pub mod amplitude;
 pub mod classify;
 pub mod diagnose;
+pub mod diagnosis;
 pub mod fit;
 pub mod identify;
 pub mod idim;

@@ -77,7 +77,7 @@
 //!     ..truth.clone()
 //! };
 //! let d = diagnose_time(&u, &y, fs, &nominal, &TimeOptions::default())?;
-//! assert_eq!(d.effects[0].kind, EffectKind::Friction);
+//! assert_eq!(d.effects[0].kind, EffectKind::CoulombFriction);
 //! assert!((d.effects[0].parameters["coulomb_n"] / 0.8 - 1.0).abs() < 0.01);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -125,7 +125,25 @@ pub struct TimeOptions {
     /// and the evidence are made: the user's segment length or period, so
     /// that they describe the lines the user looks at.
     pub welch: WelchOptions,
+    /// Leave every fourth of 16 blocks of the record out of every fit, and
+    /// keep an effect only if it also lowers the output error there by
+    /// more than the price of its parameter.
+    pub holdout: bool,
+    /// The time-domain comparison is informative when the model after the
+    /// diagnosis leaves at most this share of the output RMS; beyond it the
+    /// model misses more than its effects explain, and the verdict of
+    /// [`crate::diagnosis`] does not rest on it.
+    pub informative: f64,
+    /// Open loop: compare the positions high-passed at this corner (Hz,
+    /// zero phase), so that the drift of a free axis, which integrates
+    /// every slow force the model does not know of, does not swamp the
+    /// dynamics; `None`: only the initial state's trend is taken out.
+    pub highpass_hz: Option<f64>,
 }
+
+/// The blocks of [`TimeOptions::holdout`]: the record is cut into this
+/// many, and every fourth (the 4th, 8th, ...) is held out.
+pub const HOLDOUT_BLOCKS: usize = 16;
 
 impl Default for TimeOptions {
     fn default() -> TimeOptions {
@@ -138,6 +156,9 @@ impl Default for TimeOptions {
             max_iterations: 30,
             frequency_domain: false,
             welch: WelchOptions::default(),
+            holdout: true,
+            informative: 0.5,
+            highpass_hz: None,
         }
     }
 }
@@ -155,7 +176,9 @@ pub struct TimeFit {
     /// RMS of the time-domain output error `y - y_model`, in the output's
     /// units.
     pub rms_time: f64,
-    /// `rms_time` over the RMS of `y`.
+    /// `rms_time` over the RMS of what is compared of `y`: in an open
+    /// loop, its motion about the trend of its initial rigid-body state
+    /// (and above [`TimeOptions::highpass_hz`]); in a closed loop, `y`.
     pub rms_time_rel: f64,
 }
 
@@ -206,6 +229,34 @@ pub struct TimeDiagnosis {
     /// The inverse-dynamics identification (IDIM-LS) of a one-mass model
     /// in a closed loop: the second method, free of simulation.
     pub inverse_dynamics: Option<InverseDynamics>,
+    /// The output error on the held-out blocks ([`TimeOptions::holdout`]).
+    pub held_out: Option<TimeHeldOut>,
+    /// Whether the calibrated linear model explains enough of the output
+    /// ([`TimeOptions::informative`]) for the comparison to decide
+    /// anything.
+    pub informative: bool,
+}
+
+/// The output error on the samples held out of every fit.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct TimeHeldOut {
+    /// Samples held out.
+    pub samples: usize,
+    /// Sum of squares of the calibrated linear model's error there.
+    pub before: f64,
+    /// The same for the model after the diagnosis.
+    pub after: f64,
+}
+
+impl TimeHeldOut {
+    /// The share of the held-out error energy the kept effects remove,
+    /// `1 - after / before`, in `[0, 1]`.
+    pub fn explained(&self) -> f64 {
+        if self.before.is_nan() || self.before <= 0.0 {
+            return 0.0;
+        }
+        (1.0 - self.after / self.before).clamp(0.0, 1.0)
+    }
 }
 
 /// Why a time-domain diagnosis cannot run.
@@ -227,7 +278,7 @@ pub enum TimeDiagnoseError {
 
 /// The effects the time-domain diagnosis tries.
 const HYPOTHESES: [EffectKind; 3] = [
-    EffectKind::Friction,
+    EffectKind::CoulombFriction,
     EffectKind::Backlash,
     EffectKind::Offset,
 ];
@@ -277,6 +328,17 @@ struct Problem<'a> {
     closed: Option<(LoopRecord<'a>, f64, f64)>,
     /// How the H1 estimates of the fit figures are taken.
     welch: &'a WelchOptions,
+    /// Samples left out of every fit ([`TimeOptions::holdout`]).
+    held: Vec<bool>,
+    /// Polynomial degree + 1 of the trend taken out of the output error:
+    /// the rigid-body states at the start of an open-loop record, which a
+    /// simulation from rest does not know (2 for a position: offset and
+    /// velocity; 1 for a velocity; 0 for an acceleration or a closed
+    /// loop, which holds the position itself).
+    trend: usize,
+    /// Low-pass sections whose output is subtracted from the output error
+    /// ([`TimeOptions::highpass_hz`]), and their padding.
+    highpass: Option<(Vec<[f64; 5]>, usize)>,
 }
 
 impl Problem<'_> {
@@ -294,7 +356,7 @@ impl Problem<'_> {
         }
         for (&kind, &v) in kinds.iter().zip(&x[self.free.len()..]) {
             match kind {
-                EffectKind::Friction => effects.coulomb_friction = Some(v.exp()),
+                EffectKind::CoulombFriction => effects.coulomb_friction = Some(v.exp()),
                 EffectKind::Backlash => effects.backlash_gap = Some(v.exp()),
                 EffectKind::Offset => effects.offset_force = Some(v * self.offset_scale),
                 _ => {}
@@ -345,20 +407,95 @@ impl Problem<'_> {
         measured: Option<&Frf>,
     ) -> Result<TimeFit, TimeDiagnoseError> {
         let (y_sim, u_sim) = self.run(kinds, x)?;
+        let start = self.initial_state(&y_sim);
         let u = u_sim.as_deref().unwrap_or(self.u);
-        Ok(time_fit(u, self.y, &y_sim, self.fs, self.welch, measured))
+        let mut fit = time_fit(u, self.y, (&y_sim, &start), self.fs, self.welch, measured);
+        // Relative to the output's own motion about the trend of its
+        // initial state: an axis that turns at a constant speed has an
+        // output RMS that says nothing of how well its dynamics are met.
+        let t = self.slow(self.y);
+        let n = self.y.len().max(1) as f64;
+        let rms_y = (self
+            .y
+            .iter()
+            .zip(&t)
+            .map(|(a, b)| (a - b).powi(2))
+            .sum::<f64>()
+            / n)
+            .sqrt();
+        fit.rms_time_rel = if rms_y > 0.0 {
+            fit.rms_time / rms_y
+        } else {
+            0.0
+        };
+        Ok(fit)
     }
 
-    /// Residual `y - y_model` and its sum of squares (infinite if the
-    /// simulation fails, so a search steps away from there).
+    /// The trend of the initial rigid-body states that best fits the
+    /// record's difference from the simulation `sim` on the fitted samples.
+    fn initial_state(&self, sim: &[f64]) -> Vec<f64> {
+        let d: Vec<f64> = self.y.iter().zip(sim).map(|(a, b)| a - b).collect();
+        self.slow(&d)
+    }
+
+    /// The part of `d` the comparison leaves out: the trend of the initial
+    /// state and, with [`TimeOptions::highpass_hz`], what is slower than
+    /// the corner.
+    fn slow(&self, d: &[f64]) -> Vec<f64> {
+        let mut t = trend(d, &self.held, self.trend);
+        if let Some((lp, pad)) = &self.highpass {
+            let rest: Vec<f64> = d.iter().zip(&t).map(|(a, b)| a - b).collect();
+            let slow = crate::idim::filtfilt(lp, &rest, *pad);
+            for (t, s) in t.iter_mut().zip(slow) {
+                *t += s;
+            }
+        }
+        t
+    }
+
+    /// The simulated output plus [`Problem::initial_state`].
+    fn with_initial_state(&self, sim: &[f64]) -> Vec<f64> {
+        let t = self.initial_state(sim);
+        sim.iter().zip(&t).map(|(s, t)| s + t).collect()
+    }
+
+    /// The output error on every sample (after the initial state), or
+    /// `None` if the simulation fails.
+    fn errors(&self, kinds: &[EffectKind], x: &[f64]) -> Option<Vec<f64>> {
+        let s = self.simulate(kinds, x).ok()?;
+        let s = self.with_initial_state(&s);
+        Some(self.y.iter().zip(&s).map(|(a, b)| a - b).collect())
+    }
+
+    /// Residual `y - y_model` on the fitted samples and its sum of squares
+    /// (infinite if the simulation fails, so a search steps away from
+    /// there).
     fn residual(&self, kinds: &[EffectKind], x: &[f64]) -> (Vec<f64>, f64) {
-        match self.simulate(kinds, x) {
-            Ok(s) => {
-                let r: Vec<f64> = self.y.iter().zip(&s).map(|(a, b)| a - b).collect();
+        match self.errors(kinds, x) {
+            Some(e) => {
+                let r: Vec<f64> = e
+                    .into_iter()
+                    .zip(&self.held)
+                    .filter(|(_, &h)| !h)
+                    .map(|(v, _)| v)
+                    .collect();
                 let rss = r.iter().map(|v| v * v).sum();
                 (r, rss)
             }
-            Err(_) => (Vec::new(), f64::INFINITY),
+            None => (Vec::new(), f64::INFINITY),
+        }
+    }
+
+    /// Sum of squares of the output error on the held-out samples.
+    fn test_rss(&self, kinds: &[EffectKind], x: &[f64]) -> f64 {
+        match self.errors(kinds, x) {
+            Some(e) => e
+                .iter()
+                .zip(&self.held)
+                .filter(|(_, &h)| h)
+                .map(|(v, _)| v * v)
+                .sum(),
+            None => f64::INFINITY,
         }
     }
 
@@ -511,6 +648,46 @@ impl Problem<'_> {
     }
 }
 
+/// The least-squares polynomial of degree `terms - 1` in time through `d`
+/// on the samples not `held`, evaluated on every sample (zero for
+/// `terms == 0`).
+fn trend(d: &[f64], held: &[bool], terms: usize) -> Vec<f64> {
+    let n = d.len();
+    if terms == 0 || n == 0 {
+        return vec![0.0; n];
+    }
+    // Time scaled to [-1, 1] keeps the normal equations well conditioned.
+    let t = |k: usize| 2.0 * k as f64 / (n.max(2) - 1) as f64 - 1.0;
+    let mut a = vec![0.0; terms * terms];
+    let mut b = vec![0.0; terms];
+    for k in (0..n).filter(|&k| !held[k]) {
+        let mut p = vec![1.0; terms];
+        for i in 1..terms {
+            p[i] = p[i - 1] * t(k);
+        }
+        for i in 0..terms {
+            b[i] += p[i] * d[k];
+            for j in 0..terms {
+                a[i * terms + j] += p[i] * p[j];
+            }
+        }
+    }
+    let Some(c) = solve_spd(&a, &b, terms) else {
+        return vec![0.0; n];
+    };
+    (0..n)
+        .map(|k| {
+            let mut p = 1.0;
+            let mut v = 0.0;
+            for ci in &c {
+                v += ci * p;
+                p *= t(k);
+            }
+            v
+        })
+        .collect()
+}
+
 /// Golden-section search of `f` over `[a, b]` (log values), from a
 /// bracket around the best grid point.
 fn golden(mut a: f64, mut b: f64, f: impl Fn(f64) -> f64, iterations: usize) -> (f64, f64) {
@@ -586,7 +763,7 @@ pub fn diagnose_time(
 ///     .run_closed_loop(&ClosedLoop::new(&c, &r))?;
 /// let rec = LoopRecord { controller: &c, reference: &r, disturbance: None };
 /// let d = diagnose_closed_loop(&run.u, &run.y, fs, &nominal, &rec, &TimeOptions::default())?;
-/// assert_eq!(d.effects[0].kind, EffectKind::Friction);
+/// assert_eq!(d.effects[0].kind, EffectKind::CoulombFriction);
 /// assert!((d.effects[0].parameters["coulomb_n"] / 4.0 - 1.0).abs() < 0.01);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
@@ -712,7 +889,7 @@ fn diagnose(
     let scale = model.gain * model.effects.gain_factor.unwrap_or(1.0);
     let f_max = u.iter().fold(0.0f64, |a, v| a.max(v.abs())) * scale.abs();
     let f_rms = (u.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt() * scale.abs();
-    let problem = Problem {
+    let mut problem = Problem {
         file: model,
         u,
         y,
@@ -721,8 +898,26 @@ fn diagnose(
         offset_scale: f_max,
         closed,
         welch: &o.welch,
+        held: (0..n)
+            .map(|k| o.holdout && (k * HOLDOUT_BLOCKS / n) % 4 == 3)
+            .collect(),
+        trend: match (record, model.output) {
+            (Some(_), _) => 0,
+            (None, mms::Output::Position) => 2,
+            (None, mms::Output::Velocity) => 1,
+            (None, _) => 0,
+        },
+        highpass: match (record, o.highpass_hz) {
+            (None, Some(fc)) if fc > 0.0 && fc < 0.25 * fs => Some((
+                crate::idim::butterworth(2, fc, fs),
+                ((3.0 * fs / fc) as usize).max(3),
+            )),
+            _ => None,
+        },
     };
     let np = problem.free.len();
+    let n_fit = problem.held.iter().filter(|&&h| !h).count();
+    let n_test = n - n_fit;
 
     let welch = &o.welch;
     let measured = h1(u, y, fs, welch).ok();
@@ -757,7 +952,8 @@ fn diagnose(
     }
     let measured_frf = measured.as_ref().map(|e| &e.frf);
     let before = problem.time_fit(&[], &x_cal, measured_frf)?;
-    let price = (n as f64).ln() + o.margin;
+    let price = (n_fit as f64).ln() + o.margin;
+    let test_cal = problem.test_rss(&[], &x_cal);
 
     let cal_model = problem.model(&[], &x_cal)?;
     let deflection = default_backlash_link(&model.model).and_then(|i| {
@@ -775,7 +971,7 @@ fn diagnose(
     // The range each effect's coordinate is searched over.
     let range = |kind: EffectKind| -> Option<(f64, f64)> {
         match kind {
-            EffectKind::Friction if f_max > 0.0 => Some(((1e-4 * f_max).ln(), f_max.ln())),
+            EffectKind::CoulombFriction if f_max > 0.0 => Some(((1e-4 * f_max).ln(), f_max.ln())),
             EffectKind::Backlash => match deflection {
                 Some(d) if d > 0.0 => Some(((1e-4 * d).ln(), (4.0 * d).ln())),
                 _ => None,
@@ -798,11 +994,12 @@ fn diagnose(
     let mut kept: Vec<EffectVerdict> = Vec::new();
     let mut kinds: Vec<EffectKind> = Vec::new();
     let (mut x_base, mut rss_base, mut fit_base) = (x_cal.clone(), rss_cal, before);
+    let mut test_base = test_cal;
     let (mut lo_base, mut hi_base) = (lo.clone(), hi.clone());
     let rejected: Vec<EffectVerdict>;
     let mut step = 1;
     loop {
-        let mut tried: Vec<(EffectVerdict, Vec<f64>, f64, TimeFit)> = Vec::new();
+        let mut tried: Vec<(EffectVerdict, Vec<f64>, f64, TimeFit, f64)> = Vec::new();
         // Every remaining effect, also one that did not earn its parameter
         // alone: an offset can hide friction under the drift of an
         // open-loop simulation until it is removed.
@@ -834,8 +1031,13 @@ fn diagnose(
             ) else {
                 continue;
             };
-            let gain_bic = n as f64 * (rss_base / rss).ln();
+            let gain_bic = n_fit as f64 * (rss_base / rss).ln();
             let share = 1.0 - rss / rss_base;
+            // On the held-out blocks the effect must lower the error by
+            // more than its parameter's price there.
+            let test = problem.test_rss(&with, &x);
+            let gain_test = n_test as f64 * (test_base / test).ln();
+            let validated = n_test == 0 || gain_test > (n_test as f64).ln();
             // A further effect must always explain a share of what the kept
             // ones leave: that misfit is mostly the kept effects' imperfect
             // fit, which BIC would count as information.
@@ -843,11 +1045,13 @@ fn diagnose(
                 share >= o.min_share || (kinds.is_empty() && fit_base.rms_time_rel <= o.adequate);
             // A force effect must also matter next to the driving force.
             let force = match kind {
-                EffectKind::Friction | EffectKind::Offset => value(kind, x[x.len() - 1]).abs(),
+                EffectKind::CoulombFriction | EffectKind::Offset => {
+                    value(kind, x[x.len() - 1]).abs()
+                }
                 _ => f64::INFINITY,
             };
             let relevant = force >= MIN_FORCE_SHARE * f_rms;
-            let score = if enough && relevant {
+            let score = if enough && relevant && validated {
                 gain_bic - price
             } else {
                 (gain_bic - price).min(-1.0)
@@ -888,6 +1092,22 @@ fn diagnose(
                     }
                 ));
             }
+            if n_test > 0 {
+                evidence.push_str(&format!(
+                    "; held-out error {:.4e} -> {:.4e} RMS ({} samples, gain {:.1}, price {:.1})",
+                    (test_base / n_test as f64).sqrt(),
+                    (test / n_test as f64).sqrt(),
+                    n_test,
+                    gain_test,
+                    (n_test as f64).ln()
+                ));
+            }
+            if !validated {
+                evidence.push_str(
+                    "; does not lower the error on the held-out samples by its price: not \
+                     named",
+                );
+            }
             if !relevant {
                 evidence.push_str(&format!(
                     "; its force is only {} % of the RMS actuator force (at least {:.0} % \
@@ -898,11 +1118,6 @@ fn diagnose(
             }
             let mut parameters = BTreeMap::new();
             let pname = kind.parameter_name().unwrap_or("value");
-            let pname = if kind == EffectKind::Friction {
-                "coulomb_n"
-            } else {
-                pname
-            };
             parameters.insert(pname.to_string(), value(kind, x[x.len() - 1]));
             tried.push((
                 EffectVerdict {
@@ -915,12 +1130,14 @@ fn diagnose(
                 x,
                 rss,
                 after,
+                test,
             ));
         }
         tried.sort_by(|a, b| b.0.score.total_cmp(&a.0.score));
         match tried.first() {
             Some((v, ..)) if v.score > 0.0 => {
-                let (v, x, rss, after) = tried.remove(0);
+                let (v, x, rss, after, test) = tried.remove(0);
+                test_base = test;
                 let (ll, lh) = range(v.kind).unwrap_or((0.0, 0.0));
                 lo_base.push(ll);
                 hi_base.push(lh);
@@ -935,6 +1152,16 @@ fn diagnose(
             }
         }
     }
+    // The held-out blocks chose the effects; their values come from every
+    // sample.
+    if n_test > 0 && !kinds.is_empty() {
+        problem.held = vec![false; n];
+        let (x, rss) = problem.fit(&kinds, x_base.clone(), &lo_base, &hi_base, o.max_iterations);
+        if rss.is_finite() {
+            fit_base = problem.time_fit(&kinds, &x, measured_frf)?;
+            (x_base, rss_base) = (x, rss * n_fit as f64 / n as f64);
+        }
+    }
     // The kept effects' parameters from the final joint fit.
     for (e, &v) in kept.iter_mut().zip(&x_base[np..]) {
         let kind = e.kind;
@@ -943,6 +1170,9 @@ fn diagnose(
         }
     }
     let after = fit_base;
+    // Informative when the model, with whatever effects it earned, meets
+    // most of the output.
+    let informative = after.rms_time_rel <= o.informative;
     let model_after = problem.model(&kinds, &x_base)?;
     let effects = if kept.is_empty() {
         vec![EffectVerdict {
@@ -991,13 +1221,19 @@ fn diagnose(
         fit: TimeBeforeAfter { before, after },
         calibration,
         evidence,
-        noise: (rss_base / n as f64).sqrt(),
+        noise: (rss_base / n_fit as f64).sqrt(),
         model_after,
         samples: n,
         fs,
         frequency_domain,
         closed_loop: record.is_some(),
         inverse_dynamics,
+        held_out: (n_test > 0).then_some(TimeHeldOut {
+            samples: n_test,
+            before: test_cal,
+            after: test_base,
+        }),
+        informative,
     })
 }
 
@@ -1049,18 +1285,20 @@ fn good_lines(frf: &Frf) -> Vec<usize> {
     }
 }
 
-/// Errors of a simulated output against the record.
+/// Errors of a simulated output `sim` against the record: in the time
+/// domain with the initial state's trend `start` added, in the frequency
+/// domain from the simulation itself (the trend is no response to `u`).
 fn time_fit(
     u: &[f64],
     y: &[f64],
-    sim: &[f64],
+    (sim, start): (&[f64], &[f64]),
     fs: f64,
     welch: &WelchOptions,
     measured: Option<&Frf>,
 ) -> TimeFit {
     let n = y.len() as f64;
     let rms = |v: &mut dyn Iterator<Item = f64>| (v.map(|x| x * x).sum::<f64>() / n).sqrt();
-    let rms_time = rms(&mut y.iter().zip(sim).map(|(a, b)| a - b));
+    let rms_time = rms(&mut y.iter().zip(sim).zip(start).map(|((a, b), t)| a - b - t));
     let rms_y = rms(&mut y.iter().copied());
     let (mut rms_db, mut rms_deg) = (f64::NAN, f64::NAN);
     if let (Some(m), Ok(s)) = (measured, h1(u, sim, fs, welch)) {

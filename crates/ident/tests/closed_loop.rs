@@ -141,7 +141,7 @@ fn emps_inverse_dynamics_matches_published_values() {
     // Selection: friction first, then the offset; the force error falls
     // from 18 % (mass and viscous friction only) to 4 %.
     let kinds: Vec<EffectKind> = id.effects.iter().map(|e| e.kind).collect();
-    assert_eq!(kinds, [EffectKind::Friction, EffectKind::Offset]);
+    assert_eq!(kinds, [EffectKind::CoulombFriction, EffectKind::Offset]);
     assert!(id.rel_err_before > 0.15 && id.rel_err < 0.045, "{id:?}");
     let v = emps("DATA_EMPS_PULSES.mat");
     let fv: Vec<f64> = v.vir.iter().map(|x| x * v.gtau).collect();
@@ -174,8 +174,13 @@ fn emps_closed_loop_diagnosis_finds_published_friction_and_holds_on_validation()
     let d =
         diagnose_closed_loop(&e.vir, &e.qm, fs, &nominal, &rec, &TimeOptions::default()).unwrap();
     assert!(d.closed_loop);
-    assert_eq!(d.effects[0].kind, EffectKind::Friction, "{:?}", d.effects);
-    let fc = kept(&d, EffectKind::Friction, "coulomb_n").unwrap();
+    assert_eq!(
+        d.effects[0].kind,
+        EffectKind::CoulombFriction,
+        "{:?}",
+        d.effects
+    );
+    let fc = kept(&d, EffectKind::CoulombFriction, "coulomb_n").unwrap();
     assert!((fc / 20.39 - 1.0).abs() < 0.05, "Fc {fc}");
     let offset = kept(&d, EffectKind::Offset, "force_n").expect("offset kept");
     assert!((offset / -3.16 - 1.0).abs() < 0.1, "offset {offset}");
@@ -265,8 +270,13 @@ fn synthetic_closed_loop_recovers_coulomb_and_offset() {
     let truth = one_mass(30.0, 12.0, 50.0, Some(6.0), Some(-1.5));
     let (u, y) = record(&truth, &mut rng);
     let d = diagnose_closed_loop(&u, &y, fs, &nominal, &rec, &TimeOptions::default()).unwrap();
-    assert_eq!(d.effects[0].kind, EffectKind::Friction, "{:?}", d.effects);
-    let fc = kept(&d, EffectKind::Friction, "coulomb_n").unwrap();
+    assert_eq!(
+        d.effects[0].kind,
+        EffectKind::CoulombFriction,
+        "{:?}",
+        d.effects
+    );
+    let fc = kept(&d, EffectKind::CoulombFriction, "coulomb_n").unwrap();
     assert!((fc / 6.0 - 1.0).abs() < 0.02, "Fc {fc}");
     let off = kept(&d, EffectKind::Offset, "force_n").expect("offset kept");
     assert!((off / -1.5 - 1.0).abs() < 0.05, "offset {off}");

@@ -176,7 +176,7 @@ fn draw_many(seed: u64, kinds: &[EffectKind]) -> Case {
         // it to the ground, friction is only a larger damper (a parameter
         // error), so those structures do not carry a friction case.
         let driven_grounded = s.model.actuator().plus == 1 && s.model.gap() != 0;
-        if !(kinds.contains(&EffectKind::Friction) && driven_grounded) {
+        if !(kinds.contains(&EffectKind::ViscousFriction) && driven_grounded) {
             break s;
         }
     };
@@ -205,7 +205,7 @@ fn draw_many(seed: u64, kinds: &[EffectKind]) -> Case {
                 effects.loss_factor = Some(eta);
                 eta
             }
-            EffectKind::Friction => {
+            EffectKind::ViscousFriction => {
                 // A rigid-body corner b / (2 pi M) between 0.1 and 1 times
                 // the lowest line.
                 let b = 2.0 * std::f64::consts::PI * f_lo * total_mass * rng.log_uniform(0.1, 1.0);
@@ -258,7 +258,10 @@ fn draw_many(seed: u64, kinds: &[EffectKind]) -> Case {
             }
             // Backlash and offset are time-domain only (tests/nonlinear.rs,
             // tests/closed_loop.rs).
-            EffectKind::Backlash | EffectKind::Offset | EffectKind::None => continue,
+            EffectKind::CoulombFriction
+            | EffectKind::Backlash
+            | EffectKind::Offset
+            | EffectKind::None => continue,
         };
         truth.push((kind, value));
     }
@@ -307,7 +310,7 @@ const KINDS: [EffectKind; 7] = [
     EffectKind::Lowpass,
     EffectKind::GainError,
     EffectKind::HystereticDamping,
-    EffectKind::Friction,
+    EffectKind::ViscousFriction,
     EffectKind::ExtraMode,
 ];
 

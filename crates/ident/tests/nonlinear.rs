@@ -112,7 +112,7 @@ fn case(seed: u64, kind: EffectKind) -> Case {
     };
     let value = match kind {
         // Friction force 5-60 % of the low level's RMS force.
-        EffectKind::Friction => {
+        EffectKind::CoulombFriction => {
             let f = level * log_uniform(&mut rng, 0.05, 0.6);
             truth.effects.coulomb_friction = Some(f);
             f
@@ -214,7 +214,7 @@ fn concealed_none() {
 
 #[test]
 fn concealed_coulomb_friction() {
-    let (correct, errors) = score(EffectKind::Friction, 2000);
+    let (correct, errors) = score(EffectKind::CoulombFriction, 2000);
     eprintln!("friction: {correct}/10, errors {errors:?}");
     assert!(correct >= 9, "friction: {correct}/10");
     assert!(median(&errors) < 0.02, "median error {}", median(&errors));
