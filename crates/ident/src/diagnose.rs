@@ -3,12 +3,13 @@
 //! error or some physics the model lacks, where it shows, and which effect
 //! from a small library explains it best.
 //!
-//! Steps (issue 6):
+//! Steps:
 //!
 //! 1. **Noise.** Every line's log-error `e_k = ln(G_k / H_k)` has a noise
-//!    standard deviation `sigma_k` per real and imaginary part: from the
-//!    coherence if the recording has one (`var ln|H| = (1 - g^2) / (2 n
-//!    g^2)` for `n` averages, [`DiagnoseOptions::averages`]), else one value
+//!    standard deviation `sigma_k` per real and imaginary part: the line's
+//!    own uncertainty ([`frf::uncertainty::line_uncertainty`]: its standard
+//!    deviation, else its coherence with [`DiagnoseOptions::averages`])
+//!    if the recording has either, else one value
 //!    from the scatter of the residual itself (the median absolute second
 //!    difference, which a smooth model error does not reach: for white noise
 //!    `var(e_{k+1} - 2 e_k + e_{k-1}) = 6 sigma^2`).
@@ -330,8 +331,8 @@ pub struct BeforeAfter {
     pub after: FitSummary,
 }
 
-/// The result of [`diagnose`]. Serialises to the JSON of issue 6 (plus
-/// `calibration`, `noise` and `rejected`).
+/// The result of [`diagnose`]: `mismatch`, `effects`, `rejected`, `fit`,
+/// `calibration`, `noise`, `model_after`, `held_out` in JSON.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Diagnosis {
     /// Bands of the calibrated residual beyond the noise, in frequency order.

@@ -10,7 +10,7 @@
 //! system, where an open-loop simulation from the recorded input would
 //! integrate every force error into a drift.
 //!
-//! Steps (issue 6, time-domain part):
+//! Steps:
 //!
 //! 1. **Evidence** the FRF alone cannot give: the H1 estimate's coherence
 //!    (a nonlinearity turns part of the output into "noise" uncorrelated

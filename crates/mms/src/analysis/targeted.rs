@@ -1,4 +1,4 @@
-//! Targeted witness search for rare generic types (issue 4, item 2).
+//! Targeted witness search for rare generic types .
 //!
 //! Some types fill so thin a sliver of the orthant that the prover's few
 //! hundred log-uniform samples never land in it (at four masses, some show
@@ -572,8 +572,8 @@ impl Prover<'_> {
         }
     }
 
-    /// Constructs points with wanted root coincidences exactly (issue 4,
-    /// item 2: parameters from wanted root positions). A type with `c`
+    /// Constructs points with wanted root coincidences exactly
+    /// (parameters from wanted root positions). A type with `c`
     /// cancelled poles and multiple antiresonances of multiplicities
     /// `k_1, k_2, ...` lives where `num(r) = den(r) = 0` at `c` points and
     /// `num` and its first `k_j - 1` derivatives vanish at one point each.
@@ -714,7 +714,7 @@ impl Prover<'_> {
             .count()
     }
 
-    /// Constructs cancellations from the chain's blocks (issue 4, item 2):
+    /// Constructs cancellations from the chain's blocks:
     /// a pole of a block cancels where the eigenvalue of a run of the
     /// block's masses falls on it, or where another block has the same
     /// eigenvalue. Both are two determinant conditions at a chosen `r`,

@@ -1,4 +1,4 @@
-//! Witnesses with multiple zeros on cancellation walls (issue 4, item 2).
+//! Witnesses with multiple zeros on cancellation walls.
 //!
 //! A double zero that must come with a cancelled pole lives on the
 //! intersection of two varieties, and where its root conditions are not
