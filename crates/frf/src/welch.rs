@@ -35,7 +35,12 @@
 //! * periodic excitation ([`WelchOptions::period`]): one segment per
 //!   period, rectangular window, no overlap, the first period dropped as
 //!   the transient; with a steady-state periodic input this is leakage
-//!   free and H1 is exact up to noise.
+//!   free and H1 is exact up to noise. A drift common to the periods (the
+//!   position of an axis that turns at a constant speed: a ramp under the
+//!   periodic motion) is taken out first, its slope from the change of
+//!   the period means, which a periodic signal does not have; the mean of
+//!   one period would leave the ramp as a sawtooth leaking into every
+//!   line.
 //!
 //! ```
 //! use frf::welch::{h1, WelchOptions};
@@ -376,6 +381,32 @@ pub fn sample_rate_from_times(t: &[f64]) -> Result<f64, TimeAxisError> {
 
 /// H1 estimate of the response from `u` to `y`, sampled at `fs` Hz.
 ///
+/// `x` less the ramp through the means of its periods (starting at
+/// `starts`, `period` samples each): the slope is the least-squares slope
+/// of the period means against their start, which a periodic signal
+/// leaves at zero.
+fn without_ramp(x: &[f64], starts: &[usize], period: usize) -> Vec<f64> {
+    let means: Vec<(f64, f64)> = starts
+        .iter()
+        .map(|&s| {
+            let m = x[s..s + period].iter().sum::<f64>() / period as f64;
+            (s as f64, m)
+        })
+        .collect();
+    let n = means.len() as f64;
+    let (ts, ms) = means
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (t, m)| (a + t / n, b + m / n));
+    let (num, den) = means.iter().fold((0.0, 0.0), |(a, b), (t, m)| {
+        (a + (t - ts) * (m - ms), b + (t - ts) * (t - ts))
+    });
+    let slope = if den > 0.0 { num / den } else { 0.0 };
+    x.iter()
+        .enumerate()
+        .map(|(k, v)| v - slope * k as f64)
+        .collect()
+}
+
 /// See the [module documentation](self) for the method. With periodic
 /// excitation the estimate is exact up to rounding:
 ///
@@ -483,6 +514,15 @@ pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estima
             (starts, nfft, opts.window, overlap, how)
         };
 
+    // Periodic mode: the ramp common to the periods.
+    let (u, y) = match (opts.period, how) {
+        (Some(_), Detrend::Mean | Detrend::Linear) if starts.len() >= 2 => (
+            without_ramp(u, &starts, nfft),
+            without_ramp(y, &starts, nfft),
+        ),
+        _ => (u.to_vec(), y.to_vec()),
+    };
+    let (u, y) = (u.as_slice(), y.as_slice());
     let lines = nfft / 2;
     let plan = FftPlan::new(nfft);
     let w = window.weights(nfft);
@@ -614,6 +654,30 @@ mod tests {
         }
         fn white(&mut self, n: usize) -> Vec<f64> {
             (0..n).map(|_| self.next()).collect()
+        }
+    }
+
+    /// A periodic response riding on a ramp (an axis turning at constant
+    /// speed) gives the H1 of the periodic part alone: the exact response
+    /// of a one-sample delay times 0.5 at every excited line, where the
+    /// mean of each period would leave a sawtooth leaking into them.
+    #[test]
+    fn periodic_h1_takes_out_a_common_ramp() {
+        let period = 64;
+        let one = Xorshift(7).white(period);
+        let u: Vec<f64> = (0..6 * period).map(|k| one[k % period]).collect();
+        let y: Vec<f64> = (0..u.len())
+            .map(|k| 0.5 * u[(k + u.len() - 1) % u.len()] + 3.0 + 0.02 * k as f64)
+            .collect();
+        let opts = WelchOptions {
+            period: Some(period),
+            ..WelchOptions::default()
+        };
+        let est = h1(&u, &y, 64.0, &opts).unwrap();
+        for (k, h) in est.frf.response().iter().enumerate() {
+            let f = (k + 1) as f64;
+            let want = Complex64::from_polar(0.5, -2.0 * std::f64::consts::PI * f / 64.0);
+            assert!((h - want).norm() < 1e-9, "line {f}: {h} vs {want}");
         }
     }
 

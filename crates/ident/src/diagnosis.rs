@@ -112,7 +112,8 @@ pub enum Domain {
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Reason {
     /// No line of the recording carries information (no excitation, no
-    /// coherence): nothing can be compared, and nothing is named.
+    /// coherence), or fewer lines than the model has parameters: nothing
+    /// can be compared, and nothing is named.
     NothingInformative,
     /// Neither domain has an effect that lowers the held-out error: the
     /// calibrated model explains the recording within its noise, or no
@@ -255,12 +256,18 @@ pub fn diagnose_recording(
         selection: o.selection,
         ..DiagnoseOptions::default()
     };
+    // A band with fewer lines than the model has parameters is as good as
+    // none: nothing can be told from it.
     let fd = match &data {
-        Some(d) => Some(diagnose(d, &linear, &fd_options)?),
+        Some(d) => match diagnose(d, &linear, &fd_options) {
+            Ok(f) => Some(f),
+            Err(DiagnoseError::TooFewLines { .. }) => None,
+            Err(e) => return Err(e.into()),
+        },
         None => None,
     };
     let td = match samples {
-        Some(s) if data.is_some() => {
+        Some(s) if fd.is_some() => {
             let to = TimeOptions {
                 // The time domain compares what the FRF band holds: slower
                 // motion is the drift of a free axis.
