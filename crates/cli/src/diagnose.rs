@@ -126,6 +126,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
             SelectArg::Holdout => Selection::Holdout,
         },
         welch: args.recording.welch(),
+        ..DiagnosisOptions::default()
     };
     let name = args.recording.path()?.display().to_string();
     let looped = match &args.closed_loop {
@@ -228,9 +229,9 @@ fn effect_names(effects: &[EffectVerdict]) -> Vec<String> {
         .collect()
 }
 
-/// The share of a held-out misfit, in words.
-fn share(x: Option<f64>) -> String {
-    x.map_or("-".into(), |x| format!("{:.0} %", 100.0 * x))
+/// A held-out gain in noise units, in words.
+fn evidence(x: Option<f64>) -> String {
+    x.map_or("-".into(), |x| format!("{x:.1}"))
 }
 
 /// The verdict in words: what is missing, which domain decided and why.
@@ -292,16 +293,22 @@ fn verdict_text(d: &RecordingDiagnosis) -> String {
             100.0 * ident::nonlinear::TimeOptions::default().informative
         ),
         Reason::OnlyOneDomainNames => format!(
-            "Only this domain names an effect that lowers the error on held-out data (share of \
-             the held-out misfit removed: frequency domain {}, time domain {}).",
-            share(v.frequency_share),
-            share(v.time_share)
+            "Only this domain names an effect that lowers the prediction error on held-out data \
+             (gain in noise units: frequency domain {}, time domain {}).",
+            evidence(v.frequency_evidence),
+            evidence(v.time_evidence)
         ),
-        Reason::LargerHeldOutShare { frequency, time } => format!(
-            "Both domains name effects; this one removes the larger share of the misfit on \
-             held-out data (frequency domain {}, time domain {}).",
-            share(Some(frequency)),
-            share(Some(time))
+        Reason::FrequencyDomainNotInformative { log_error } => format!(
+            "The frequency-domain comparison is not informative: with the effects it earned the \
+             model still misses the FRF by {log_error:.2} nepers RMS (more than {}; in a closed \
+             loop the H1 estimate is biased where the loop feeds noise back), so the time domain \
+             decides.",
+            ident::diagnosis::INFORMATIVE_LOG_ERROR
+        ),
+        Reason::StrongerHeldOutEvidence { frequency, time } => format!(
+            "Both domains name effects; this one gains more on the data held out of its fits \
+             (drop of the prediction error in noise units: frequency domain {frequency:.1}, time \
+             domain {time:.1})."
         ),
     };
     if !why.is_empty() {
@@ -316,6 +323,18 @@ fn markdown(name: &str, source: &str, d: &RecordingDiagnosis, plot: Option<&str>
     let _ = writeln!(s, "# Diagnosis of `{name}`\n");
     let _ = writeln!(s, "{source}\n");
     let _ = writeln!(s, "{}\n", verdict_text(d));
+    if let Some(e) = &d.verdict.held_out_errors {
+        let _ = writeln!(
+            s,
+            "Cross-check on the held-out samples (RMS output error, each model's chain \
+             calibrated in the time domain): calibrated linear model {:.4e}, the frequency \
+             domain's model {}, the time domain's {:.4e}.\n",
+            e.linear,
+            e.frequency_model
+                .map_or("- (cannot be simulated)".into(), |x| format!("{x:.4e}")),
+            e.time_model
+        );
+    }
     if let Some(p) = plot {
         let _ = writeln!(s, "![Bode plot: recording, model, improved model]({p})\n");
     }
