@@ -9,7 +9,9 @@ use ident::amplitude::{
     StiffnessTrend,
 };
 use ident::diagnose::{model_from_simulation, Diagnosis, EffectVerdict, Selection};
-use ident::diagnosis::{diagnose_recording, DiagnosisOptions, Domain, Reason, RecordingDiagnosis};
+use ident::diagnosis::{
+    diagnose_recording, validate, DiagnosisOptions, Domain, Reason, RecordingDiagnosis, Validation,
+};
 use ident::nonlinear::{percent, LoopRecord, TimeDiagnosis};
 use mms::model_file::ModelFile;
 use mms::simulate::Controller;
@@ -67,6 +69,8 @@ pub struct DiagnoseArgs<'a> {
     pub model: Option<&'a ModelSource>,
     /// Recordings of the same system at other excitation levels.
     pub levels: &'a [PathBuf],
+    /// Another recording of the same rig to check the diagnosis on.
+    pub validate: Option<&'a Path>,
     pub select: SelectArg,
     pub tolerance: f64,
     pub band: Option<(f64, f64)>,
@@ -142,9 +146,35 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         &options,
     )
     .map_err(|e| format!("{name}: {e}"))?;
+    let validation = match args.validate {
+        None => None,
+        Some(path) => {
+            let other = args.recording.read_file(path)?;
+            let other_args = RecordingArgs {
+                recording: Some(path.to_path_buf()),
+                recording_flag: None,
+                ..args.recording.clone()
+            };
+            let looped = match &args.closed_loop {
+                Some(l) => Some(read_loop(&other_args, l, other.samples.as_ref())?),
+                None => None,
+            };
+            let record = looped.as_ref().map(|l| l.record());
+            let v = validate(
+                &d,
+                &other.frf,
+                other.samples.as_ref(),
+                &model,
+                record.as_ref(),
+                &options,
+            )
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+            Some((path.display().to_string(), v))
+        }
+    };
     let plot = bode(&d);
     let report = match args.format {
-        IdentifyFormat::Json => json(&d, amplitude.as_ref())?,
+        IdentifyFormat::Json => json(&d, amplitude.as_ref(), validation.as_ref().map(|v| &v.1))?,
         IdentifyFormat::Md | IdentifyFormat::Html => {
             let mut m = markdown(
                 &name,
@@ -152,6 +182,9 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
                 &d,
                 (args.format == IdentifyFormat::Md && args.out.is_some()).then_some("bode.svg"),
             );
+            if let Some((other, v)) = &validation {
+                m.push_str(&validation_markdown(other, v));
+            }
             if let Some(a) = &amplitude {
                 m.push_str(&amplitude_markdown(a));
             }
@@ -167,7 +200,11 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
 
 /// The JSON report: the verdict, the deciding domain's effects, fit and
 /// model at the top, each domain's diagnosis inside.
-fn json(d: &RecordingDiagnosis, amplitude: Option<&AmplitudeDependence>) -> Result<String, String> {
+fn json(
+    d: &RecordingDiagnosis,
+    amplitude: Option<&AmplitudeDependence>,
+    validation: Option<&Validation>,
+) -> Result<String, String> {
     let err = |e: serde_json::Error| format!("JSON: {e}");
     let mut v = serde_json::to_value(d).map_err(err)?;
     // Kinds split viscous from Coulomb friction from version 2 on.
@@ -184,6 +221,9 @@ fn json(d: &RecordingDiagnosis, amplitude: Option<&AmplitudeDependence>) -> Resu
     };
     if let Some(a) = amplitude {
         v["amplitude_dependence"] = serde_json::to_value(a).map_err(err)?;
+    }
+    if let Some(val) = validation {
+        v["validation"] = serde_json::to_value(val).map_err(err)?;
     }
     let mut s = serde_json::to_string_pretty(&v).map_err(err)?;
     s.push('\n');
@@ -348,6 +388,68 @@ fn markdown(name: &str, source: &str, d: &RecordingDiagnosis, plot: Option<&str>
         s,
         "\n## Model after diagnosis\n\n```toml\n{}```",
         d.model_after.to_toml()
+    );
+    s
+}
+
+/// The validation on another recording: what carries over, how the model
+/// fits there.
+fn validation_markdown(other: &str, v: &Validation) -> String {
+    let mut s = format!("\n## Validation on `{other}`\n\n");
+    let o = &v.other.verdict;
+    let _ = writeln!(
+        s,
+        "Diagnosed with the same model, the other recording reads: {} ({}). Structure after \
+         the diagnosis: {} here, {} there.\n",
+        if o.headline == ident::diagnose::EffectKind::None {
+            "nothing missing".to_string()
+        } else {
+            effect_names(&o.effects).join(" together with ")
+        },
+        match o.decided_by {
+            Some(Domain::Frequency) => "frequency domain",
+            Some(Domain::Time) => "time domain",
+            None => "no domain names an effect",
+        },
+        v.structure,
+        v.other_structure
+    );
+    s.push_str("| effect | parameter | here | there | change |\n|---|---|---:|---:|---:|\n");
+    for e in &v.effects {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.4e} | {} | {} |",
+            e.kind.as_str(),
+            e.parameter,
+            e.value,
+            e.other_value
+                .map_or("not kept".into(), |x| format!("{x:.4e}")),
+            e.change
+                .map_or("-".into(), |c| format!("{:+.1} %", 100.0 * c))
+        );
+    }
+    if let Some((a, b)) = v.phase_lag_s {
+        let _ = writeln!(
+            s,
+            "\nLow-frequency phase lag (dead time plus `1/(2 pi f_c)` of a lag): {:.4e} s here, \
+             {:.4e} s there ({:+.1} %).",
+            a,
+            b,
+            100.0 * (b / a - 1.0)
+        );
+    }
+    let f = &v.fit_on_other;
+    let _ = writeln!(
+        s,
+        "\nOn the other recording's band: the nominal model misses it by {:.3} dB / {:.2} deg \
+         RMS, the model after this diagnosis (unchanged) by {:.3} dB / {:.2} deg, the model \
+         after its own diagnosis by {:.3} dB / {:.2} deg.",
+        f.nominal.rms_db,
+        f.nominal.rms_deg,
+        f.first_model.rms_db,
+        f.first_model.rms_deg,
+        f.own_model.rms_db,
+        f.own_model.rms_deg
     );
     s
 }

@@ -185,6 +185,13 @@ enum Command {
         /// and --simulation only this comparison runs.
         #[arg(long = "level", value_name = "FILE")]
         levels: Vec<PathBuf>,
+        /// Another recording of the same rig, read with the same flags (and
+        /// in a closed loop the same --reference, --controller,
+        /// --disturbance variables): diagnosed with the same model, it says
+        /// which effects and parameters carry over and how the model after
+        /// this diagnosis fits it.
+        #[arg(long, value_name = "FILE")]
+        validate: Option<PathBuf>,
         /// How an effect must earn its parameters: bic (information
         /// criterion on all lines) or holdout (every 4th line held out of
         /// the fits, the effect must lower their cost).
@@ -417,6 +424,7 @@ fn run(cli: Cli) -> Result<(), String> {
             model,
             simulation,
             levels,
+            validate,
             select,
             tolerance,
             band,
@@ -442,6 +450,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 recording: &recording,
                 model: model.as_ref(),
                 levels: &levels,
+                validate: validate.as_deref(),
                 select,
                 tolerance,
                 band: band.as_deref().map(parse_band).transpose()?,

@@ -737,7 +737,7 @@ fn scatter(e: &[Complex64]) -> f64 {
     1.4826 * d[d.len() / 2] / 6f64.sqrt()
 }
 
-fn summary(e: &[Complex64]) -> FitSummary {
+pub(crate) fn summary(e: &[Complex64]) -> FitSummary {
     let n = e.len().max(1) as f64;
     FitSummary {
         rms_db: (e.iter().map(|z| z.re * z.re).sum::<f64>() / n).sqrt() * 20.0 / LN_10,

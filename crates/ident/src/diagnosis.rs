@@ -575,3 +575,145 @@ fn simulated_frf(
     }
     Ok(est.frf.response().to_vec())
 }
+
+/// A diagnosis checked on another recording of the same rig
+/// ([`validate`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Validation {
+    /// The structure of the model after the first diagnosis.
+    pub structure: String,
+    /// The structure of the model after the diagnosis of the other
+    /// recording with the same nominal model.
+    pub other_structure: String,
+    /// Each effect of the first verdict and what the other recording
+    /// gives for it.
+    pub effects: Vec<CarriedEffect>,
+    /// The low-frequency phase lag of the models after the two diagnoses,
+    /// seconds: the dead time plus `1 / (2 pi f_c)` of a first-order lag,
+    /// which one record may split differently from another (`None` when
+    /// neither model has either).
+    pub phase_lag_s: Option<(f64, f64)>,
+    /// Errors on the other recording's band.
+    pub fit_on_other: FitOnOther,
+    /// The other recording's own diagnosis.
+    pub other: Box<RecordingDiagnosis>,
+}
+
+/// One effect of a diagnosis on another recording.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CarriedEffect {
+    /// The effect.
+    pub kind: EffectKind,
+    /// Its parameter.
+    pub parameter: String,
+    /// Its value from the first recording.
+    pub value: f64,
+    /// Its value from the other recording, if that diagnosis keeps the
+    /// same kind (in either domain).
+    pub other_value: Option<f64>,
+    /// `other_value / value - 1`.
+    pub change: Option<f64>,
+}
+
+/// How the models do on the other recording's FRF (its band).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FitOnOther {
+    /// The nominal model.
+    pub nominal: crate::diagnose::FitSummary,
+    /// The model after the first recording's diagnosis, as it is.
+    pub first_model: crate::diagnose::FitSummary,
+    /// The model after the other recording's own diagnosis.
+    pub own_model: crate::diagnose::FitSummary,
+}
+
+/// Checks the diagnosis `first` of one recording on another recording of
+/// the same rig (`frf`, `samples`, taken inside `closed_loop` if given):
+/// diagnoses it with the same nominal `model` and `options`, and says
+/// which effects and parameters carry over and how the first model after
+/// the diagnosis, unchanged, fits the other recording.
+pub fn validate(
+    first: &RecordingDiagnosis,
+    frf: &Frf,
+    samples: Option<&Samples>,
+    model: &ModelFile,
+    closed_loop: Option<&LoopRecord>,
+    options: &DiagnosisOptions,
+) -> Result<Validation, DiagnosisError> {
+    let other = diagnose_recording(frf, samples, model, closed_loop, options)?;
+    let kept = |d: &RecordingDiagnosis| -> Vec<EffectVerdict> {
+        let mut all = Vec::new();
+        if let Some(f) = &d.frequency_domain {
+            all.extend(f.effects.iter().cloned());
+        }
+        if let Some(t) = &d.time_domain {
+            all.extend(t.effects.iter().cloned());
+        }
+        all
+    };
+    let theirs = kept(&other);
+    let mut effects = Vec::new();
+    for e in first
+        .verdict
+        .effects
+        .iter()
+        .filter(|e| e.kind != EffectKind::None)
+    {
+        for (name, &value) in &e.parameters {
+            let other_value = theirs
+                .iter()
+                .find(|t| t.kind == e.kind)
+                .and_then(|t| t.parameters.get(name).copied());
+            effects.push(CarriedEffect {
+                kind: e.kind,
+                parameter: name.clone(),
+                value,
+                other_value,
+                change: other_value.map(|v| v / value - 1.0),
+            });
+        }
+    }
+    let lag = |m: &ModelFile| -> Option<f64> {
+        let e = &m.effects;
+        if e.time_delay_s.is_none() && e.lowpass_hz.is_none() {
+            return None;
+        }
+        Some(
+            e.time_delay_s.unwrap_or(0.0)
+                + e.lowpass_hz
+                    .map_or(0.0, |f| 1.0 / (2.0 * std::f64::consts::PI * f)),
+        )
+    };
+    let phase_lag_s = match (lag(&first.model_after), lag(&other.model_after)) {
+        (None, None) => None,
+        (a, b) => Some((a.unwrap_or(0.0), b.unwrap_or(0.0))),
+    };
+    // The other recording's band (all of it if nothing was informative).
+    let data = match other.band_hz {
+        Some((lo, hi)) => frf
+            .band(lo.max(f64::MIN_POSITIVE), hi)
+            .ok_or(DiagnosisError::EmptyBand(lo, hi))?,
+        None => frf.clone(),
+    };
+    let on = |m: &ModelFile| {
+        let g = transfer_function(m, data.freq_hz());
+        let e: Vec<Complex64> = g
+            .iter()
+            .zip(data.response())
+            .map(|(g, h)| (g / h).ln())
+            .filter(|z| z.is_finite())
+            .collect();
+        crate::diagnose::summary(&e)
+    };
+    Ok(Validation {
+        structure: first.model_after.model.id(),
+        other_structure: other.model_after.model.id(),
+        effects,
+        phase_lag_s,
+        fit_on_other: FitOnOther {
+            nominal: on(model),
+            first_model: on(&first.model_after),
+            own_model: on(&other.model_after),
+        },
+        other: Box::new(other),
+    })
+}
