@@ -88,10 +88,12 @@ pub struct DiagnosisOptions {
     /// How the recording's H1 estimate was made (segment length or
     /// period): the simulated models' curves use the same.
     pub welch: WelchOptions,
-    /// The open-loop time-domain hypotheses are fitted on at most this
-    /// many samples from the start of the record: each fit simulates the
-    /// whole stretch hundreds of times, and a few seconds of a drive show
-    /// a friction or a backlash as well as a minute does.
+    /// The time-domain hypotheses are fitted on at most this many samples
+    /// from the start of an open-loop record (three times as many in a
+    /// closed loop, whose reference may take longer to visit every
+    /// motion): each fit simulates the whole stretch hundreds of times,
+    /// and a few seconds of a drive show a friction or a backlash as well
+    /// as a minute does.
     pub time_samples: usize,
 }
 
@@ -319,11 +321,18 @@ pub fn diagnose_recording(
             let to = time_options(o, band);
             let w = match closed_loop {
                 None => s.u.len().min(o.time_samples.max(64)),
-                Some(_) => s.u.len(),
+                Some(_) => s.u.len().min(3 * o.time_samples.max(64)),
             };
             Some(match closed_loop {
                 None => diagnose_time(&s.u[..w], &s.y[..w], s.fs, model, &to)?,
-                Some(l) => diagnose_closed_loop(&s.u, &s.y, s.fs, model, l, &to)?,
+                Some(l) => {
+                    let window = LoopRecord {
+                        controller: l.controller,
+                        reference: &l.reference[..w],
+                        disturbance: l.disturbance.map(|d| &d[..w]),
+                    };
+                    diagnose_closed_loop(&s.u[..w], &s.y[..w], s.fs, model, &window, &to)?
+                }
             })
         }
         _ => None,
