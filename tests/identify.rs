@@ -659,3 +659,63 @@ fn diagnose_emps_closed_loop() {
         }
     }
 }
+
+/// `mms diagnose` on recordings it cannot use: a record shorter than the
+/// segment, a constant input, a constant output and a column with a NaN
+/// are one-line errors naming the file and the channel (exit 2, nothing
+/// on stdout); a record whose input and output are unrelated noise says
+/// that nothing is informative and names no effect (exit 0).
+#[test]
+fn diagnose_bad_and_uninformative_recordings() {
+    let dir = temp_dir("diagnose-bad");
+    let [_, _, model, _] = a1_files(&dir);
+    let model = model.to_str().unwrap();
+    let mut rng = XorShift::new(17);
+    let write = |name: &str, n: usize, f: &mut dyn FnMut(usize) -> (f64, f64)| {
+        let mut text = String::from("t,u,y\n");
+        for k in 0..n {
+            let (u, y) = f(k);
+            text.push_str(&format!("{},{u},{y}\n", k as f64 / 1000.0));
+        }
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_string_lossy().into_owned()
+    };
+    let wave = |k: usize| (0.3 * k as f64).sin();
+    let cases = [
+        (
+            write("short.csv", 100, &mut |k| (wave(k), wave(k + 3))),
+            "short.csv",
+            "too few",
+        ),
+        (
+            write("flat_u.csv", 5000, &mut |k| (1.0, wave(k))),
+            "flat_u.csv",
+            "input u is constant",
+        ),
+        (
+            write("flat_y.csv", 5000, &mut |k| (wave(k), 2.0)),
+            "flat_y.csv",
+            "output y is constant",
+        ),
+        (
+            write("nan.csv", 5000, &mut |k| {
+                (wave(k), if k == 7 { f64::NAN } else { wave(k + 1) })
+            }),
+            "nan.csv:9:",
+            "column 'y'",
+        ),
+    ];
+    for (path, place, what) in &cases {
+        let (code, out, err) = mms(&["diagnose", path, "--model", model, "--nfft", "256"]);
+        assert_eq!(code, 2, "{path}: {err}");
+        assert!(out.is_empty(), "{path}: {out}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains(place) && err.contains(what), "{path}: {err}");
+    }
+    let noise = write("noise.csv", 20000, &mut |_| (rng.normal(), rng.normal()));
+    let v = diagnose_json(&[&noise, "--model", model]);
+    assert_eq!(v["verdict"]["headline"], "none", "{}", v["verdict"]);
+    assert_eq!(v["verdict"]["reason"]["kind"], "nothing_informative");
+    assert_eq!(v["effects"][0]["kind"], "none");
+}

@@ -540,6 +540,19 @@ fn estimate(
     input: String,
     output: String,
 ) -> Result<(Frf, Source), RecordingError> {
+    // A constant channel has no spectrum: nothing to estimate, and the
+    // ratio of two zero spectra would read as noise.
+    for (what, name, x) in [("input", &input, u), ("output", &output, y)] {
+        if let Some(&first) = x.first() {
+            if x.iter().all(|&v| v == first) {
+                return Err(ctx.file(format!(
+                    "the {what} {name} is constant ({first} in all {} samples): there is \
+                     nothing to estimate an FRF from",
+                    x.len()
+                )));
+            }
+        }
+    }
     let est = welch::h1(u, y, fs, &opts.welch)
         .map_err(|e| ctx.file(format!("estimating the FRF from {input} to {output}: {e}")))?;
     if est.frf.len() < MIN_LINES {
