@@ -524,5 +524,10 @@ fn sperte_motor_side_diagnosis_leads_with_the_dead_time() {
     assert!(after < 0.3 * before, "{before} -> {after}");
     // The time domain ran and did not lead.
     assert!(v["time_domain"]["effects"].is_array());
+    // The halves of the record and half the segment length read the same
+    // headline.
+    let runs = v["stability"]["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 3);
+    assert!(runs.iter().all(|r| r["same_headline"] == true), "{runs:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -362,6 +362,19 @@ fn markdown(name: &str, source: &str, d: &RecordingDiagnosis, plot: Option<&str>
     let mut s = String::new();
     let _ = writeln!(s, "# Diagnosis of `{name}`\n");
     let _ = writeln!(s, "{source}\n");
+    if let Some(st) = d.stability.as_ref().filter(|st| !st.stable()) {
+        let flipped: Vec<String> = st
+            .runs
+            .iter()
+            .filter(|r| !r.same_headline)
+            .map(|r| crate::identify::cut_name(r.cut))
+            .collect();
+        let _ = writeln!(
+            s,
+            "**Uncertain:** the headline changes on {} of the record (see Stability).\n",
+            flipped.join(", ")
+        );
+    }
     let _ = writeln!(s, "{}\n", verdict_text(d));
     if let Some(e) = &d.verdict.held_out_errors {
         let _ = writeln!(
@@ -377,6 +390,31 @@ fn markdown(name: &str, source: &str, d: &RecordingDiagnosis, plot: Option<&str>
     }
     if let Some(p) = plot {
         let _ = writeln!(s, "![Bode plot: recording, model, improved model]({p})\n");
+    }
+    if let Some(st) = &d.stability {
+        s.push_str(
+            "## Stability\n\nThe same diagnosis on other cuts of the record: a headline that \
+             changes is uncertain.\n\n| cut | headline | decided by | same headline |\n\
+             |---|---|---|---|\n",
+        );
+        for r in &st.runs {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} |",
+                crate::identify::cut_name(r.cut),
+                match &r.error {
+                    Some(e) => format!("not diagnosed: {e}"),
+                    None => r.headline.as_str().to_string(),
+                },
+                match r.decided_by {
+                    Some(Domain::Frequency) => "frequency domain",
+                    Some(Domain::Time) => "time domain",
+                    None => "-",
+                },
+                if r.same_headline { "yes" } else { "**no**" }
+            );
+        }
+        s.push('\n');
     }
     if let Some(f) = &d.frequency_domain {
         frequency_markdown(&mut s, d.band_hz, f);

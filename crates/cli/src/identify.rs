@@ -424,7 +424,7 @@ fn html(name: &str, id: &Identification, stability: Option<&Stability>, svg: &st
     html_page("mms identify", &markdown(name, id, stability, None), svg)
 }
 
-fn cut_name(cut: Cut) -> String {
+pub fn cut_name(cut: Cut) -> String {
     match cut {
         Cut::FirstHalf => "the first half".into(),
         Cut::SecondHalf => "the second half".into(),

@@ -13,7 +13,9 @@
 //! error in noise units, `-2 ln` of the likelihood ratio of the model
 //! after to the calibrated model on the held-out data (for lines, the
 //! drop of `sum |e_k|^2 / sigma_k^2` with each line's own uncertainty; for
-//! samples, `n ln(RSS_before / RSS_after)`, the noise level profiled out).
+//! samples, `n ln(RSS_before / RSS_after)`, the noise level profiled out
+//! and `n` the independent samples, fewer than the samples when the
+//! model's error is smooth).
 //! The headline is the effect whose domain gains more there, and
 //! [`Verdict`] says which domain decided and why. A time-domain comparison
 //! in which the model, with the effects it earned, still leaves most of
@@ -64,6 +66,7 @@ use crate::nonlinear::{
     diagnose_closed_loop, diagnose_time, held_out_error, LoopRecord, TimeDiagnoseError,
     TimeDiagnosis, TimeOptions,
 };
+use crate::stability::Cut;
 use frf::welch::WelchOptions;
 use frf::{Complex64, Frf, Samples};
 use mms::model_file::ModelFile;
@@ -95,6 +98,9 @@ pub struct DiagnosisOptions {
     /// and a few seconds of a drive show a friction or a backlash as well
     /// as a minute does.
     pub time_samples: usize,
+    /// Rerun the diagnosis on the halves of the record and at half the
+    /// segment length, and report whether the headline holds.
+    pub stability: bool,
 }
 
 impl Default for DiagnosisOptions {
@@ -105,6 +111,7 @@ impl Default for DiagnosisOptions {
             selection: Selection::Holdout,
             welch: WelchOptions::default(),
             time_samples: 4096,
+            stability: true,
         }
     }
 }
@@ -238,6 +245,10 @@ pub struct RecordingDiagnosis {
     pub frequency_domain: Option<Diagnosis>,
     /// The time-domain diagnosis of the samples, if there are any.
     pub time_domain: Option<TimeDiagnosis>,
+    /// The headline rerun on the halves of the record and at half the
+    /// segment length (open-loop time-domain recordings with
+    /// [`DiagnosisOptions::stability`]).
+    pub stability: Option<DiagnosisStability>,
     /// The model after the diagnosis: the deciding domain's (the
     /// frequency domain's calibrated model when nothing is named).
     #[serde(serialize_with = "crate::diagnose::ser_model")]
@@ -282,92 +293,53 @@ pub fn diagnose_recording(
             o.tolerance
         )));
     }
-    // The lines to compare: the user's band, else the informative one.
-    let band = match o.band_hz {
-        Some(b) => Some(b),
-        None => crate::classify(frf, model.output, &crate::ClassifyOptions::default())
-            .map(|c| c.band_hz)
-            .ok(),
+    let band = band_of(frf, model, o);
+    // The time domain compares what the whole record's band holds (slower
+    // motion is the drift of a free axis), in the reruns too.
+    let corner = band.map(|b| b.0).filter(|&f| f > 0.0);
+    let cuts = match samples {
+        Some(s) if o.stability && closed_loop.is_none() => cuts(s, frf, &o.welch),
+        _ => Vec::new(),
     };
-    let data = match band {
-        Some((lo, hi)) => Some(
-            frf.band(lo.max(f64::MIN_POSITIVE), hi)
-                .ok_or(DiagnosisError::EmptyBand(lo, hi))?,
-        ),
-        None => None,
-    };
-    // The FRF knows nothing of the nonlinear effects.
-    let mut linear = model.clone();
-    linear.effects.coulomb_friction = None;
-    linear.effects.backlash_gap = None;
-    linear.effects.offset_force = None;
-    let fd_options = DiagnoseOptions {
-        tolerance: o.tolerance,
-        selection: o.selection,
-        ..DiagnoseOptions::default()
-    };
-    // A band with fewer lines than the model has parameters is as good as
-    // none: nothing can be told from it.
-    let fd = match &data {
-        Some(d) => match diagnose(d, &linear, &fd_options) {
-            Ok(f) => Some(f),
-            Err(DiagnoseError::TooFewLines { .. }) => None,
-            Err(e) => return Err(e.into()),
-        },
-        None => None,
-    };
-    let td = match samples {
-        Some(s) if fd.is_some() => {
-            let to = time_options(o, band);
-            let w = match closed_loop {
-                None => s.u.len().min(o.time_samples.max(64)),
-                Some(_) => s.u.len().min(3 * o.time_samples.max(64)),
+    // The reruns on other cuts run beside the whole record's diagnosis
+    // (two cores: the time-domain halves dominate); the results do not
+    // depend on the order.
+    let (main, reruns) = std::thread::scope(|scope| {
+        let reruns = scope.spawn(|| {
+            cuts.iter()
+                .map(|cut| rerun(cut, samples, model, corner, o))
+                .collect::<Vec<_>>()
+        });
+        let main = (|| -> Result<_, DiagnosisError> {
+            let fd = frequency_part(frf, band, model, o)?;
+            let td = match (samples, &fd) {
+                (Some(s), Some(_)) => Some(time_part(s, 0, model, closed_loop, corner, o)?),
+                _ => None,
             };
-            Some(match closed_loop {
-                None => diagnose_time(&s.u[..w], &s.y[..w], s.fs, model, &to)?,
-                Some(l) => {
-                    let window = LoopRecord {
-                        controller: l.controller,
-                        reference: &l.reference[..w],
-                        disturbance: l.disturbance.map(|d| &d[..w]),
-                    };
-                    diagnose_closed_loop(&s.u[..w], &s.y[..w], s.fs, model, &window, &to)?
-                }
-            })
-        }
-        _ => None,
-    };
-    let errors = match (samples, &fd, &td) {
-        (Some(s), Some(f), Some(t)) => t.held_out.map(|h| {
-            let w = t.samples;
-            let to = time_options(o, band);
-            // The frequency domain's model with the input's nonlinear
-            // effects back, which the FRF could not see.
-            let mut m = f.model_after.clone();
-            m.effects.coulomb_friction = model.effects.coulomb_friction;
-            m.effects.backlash_gap = model.effects.backlash_gap;
-            m.effects.offset_force = model.effects.offset_force;
-            let loop_window = closed_loop.map(|l| LoopRecord {
-                controller: l.controller,
-                reference: &l.reference[..w],
-                disturbance: l.disturbance.map(|d| &d[..w]),
-            });
-            HeldOutErrors {
-                linear: (h.before / h.samples as f64).sqrt(),
-                frequency_model: held_out_error(
-                    &s.u[..w],
-                    &s.y[..w],
-                    s.fs,
-                    &m,
-                    loop_window.as_ref(),
-                    &to,
-                ),
-                time_model: (h.after / h.samples as f64).sqrt(),
-            }
+            let errors = cross_check(
+                samples,
+                model,
+                closed_loop,
+                fd.as_ref(),
+                td.as_ref(),
+                corner,
+                o,
+            );
+            Ok((fd, td, errors))
+        })();
+        (main, reruns.join())
+    });
+    let (fd, td, errors) = main?;
+    let verdict = reconcile(fd.as_ref(), td.as_ref(), errors);
+    let stability = match reruns {
+        Ok(runs) if !cuts.is_empty() => Some(DiagnosisStability {
+            runs: runs
+                .into_iter()
+                .map(|r| r.verdict(&verdict, td.as_ref()))
+                .collect(),
         }),
         _ => None,
     };
-    let verdict = reconcile(fd.as_ref(), td.as_ref(), errors);
     let model_after = match (verdict.decided_by, &fd, &td) {
         (Some(Domain::Time), _, Some(t)) => t.model_after.clone(),
         (_, Some(f), _) => f.model_after.clone(),
@@ -379,17 +351,275 @@ pub fn diagnose_recording(
         band_hz: band,
         frequency_domain: fd,
         time_domain: td,
+        stability,
         model_after,
         curves,
     })
 }
 
-/// The options of the time-domain half.
-fn time_options(o: &DiagnosisOptions, band: Option<(f64, f64)>) -> TimeOptions {
+/// The lines to compare: the user's band, else the informative one.
+fn band_of(frf: &Frf, model: &ModelFile, o: &DiagnosisOptions) -> Option<(f64, f64)> {
+    match o.band_hz {
+        Some(b) => Some(b),
+        None => crate::classify(frf, model.output, &crate::ClassifyOptions::default())
+            .map(|c| c.band_hz)
+            .ok(),
+    }
+}
+
+/// The frequency-domain diagnosis on `band` (`None` without a band, or
+/// with fewer lines than the model has parameters: nothing can be told
+/// from it).
+fn frequency_part(
+    frf: &Frf,
+    band: Option<(f64, f64)>,
+    model: &ModelFile,
+    o: &DiagnosisOptions,
+) -> Result<Option<Diagnosis>, DiagnosisError> {
+    let Some((lo, hi)) = band else {
+        return Ok(None);
+    };
+    let data = frf
+        .band(lo.max(f64::MIN_POSITIVE), hi)
+        .ok_or(DiagnosisError::EmptyBand(lo, hi))?;
+    // The FRF knows nothing of the nonlinear effects.
+    let mut linear = model.clone();
+    linear.effects.coulomb_friction = None;
+    linear.effects.backlash_gap = None;
+    linear.effects.offset_force = None;
+    let fd_options = DiagnoseOptions {
+        tolerance: o.tolerance,
+        selection: o.selection,
+        ..DiagnoseOptions::default()
+    };
+    match diagnose(&data, &linear, &fd_options) {
+        Ok(f) => Ok(Some(f)),
+        Err(DiagnoseError::TooFewLines { .. }) => Ok(None),
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// The samples the time-domain half uses from `start` on: at most
+/// [`DiagnosisOptions::time_samples`] of an open loop, three times as many
+/// in a closed loop.
+fn time_window(len: usize, closed: bool, o: &DiagnosisOptions) -> usize {
+    let cap = o.time_samples.max(64);
+    len.min(if closed { 3 * cap } else { cap })
+}
+
+/// The time-domain diagnosis of the samples from `start` on.
+fn time_part(
+    s: &Samples,
+    start: usize,
+    model: &ModelFile,
+    closed_loop: Option<&LoopRecord>,
+    corner: Option<f64>,
+    o: &DiagnosisOptions,
+) -> Result<TimeDiagnosis, DiagnosisError> {
+    let to = time_options(o, corner);
+    let w = time_window(s.u.len() - start, closed_loop.is_some(), o);
+    let (u, y) = (&s.u[start..start + w], &s.y[start..start + w]);
+    Ok(match closed_loop {
+        None => diagnose_time(u, y, s.fs, model, &to)?,
+        Some(l) => {
+            let window = LoopRecord {
+                controller: l.controller,
+                reference: &l.reference[start..start + w],
+                disturbance: l.disturbance.map(|d| &d[start..start + w]),
+            };
+            diagnose_closed_loop(u, y, s.fs, model, &window, &to)?
+        }
+    })
+}
+
+/// How the frequency domain's model does on the held-out samples, next to
+/// the time domain's models.
+fn cross_check(
+    samples: Option<&Samples>,
+    model: &ModelFile,
+    closed_loop: Option<&LoopRecord>,
+    fd: Option<&Diagnosis>,
+    td: Option<&TimeDiagnosis>,
+    corner: Option<f64>,
+    o: &DiagnosisOptions,
+) -> Option<HeldOutErrors> {
+    let (s, f, t) = (samples?, fd?, td?);
+    let h = t.held_out?;
+    let w = t.samples;
+    // The frequency domain's model with the input's nonlinear effects
+    // back, which the FRF could not see.
+    let mut m = f.model_after.clone();
+    m.effects.coulomb_friction = model.effects.coulomb_friction;
+    m.effects.backlash_gap = model.effects.backlash_gap;
+    m.effects.offset_force = model.effects.offset_force;
+    let loop_window = closed_loop.map(|l| LoopRecord {
+        controller: l.controller,
+        reference: &l.reference[..w],
+        disturbance: l.disturbance.map(|d| &d[..w]),
+    });
+    Some(HeldOutErrors {
+        linear: (h.before / h.samples as f64).sqrt(),
+        frequency_model: held_out_error(
+            &s.u[..w],
+            &s.y[..w],
+            s.fs,
+            &m,
+            loop_window.as_ref(),
+            &time_options(o, corner),
+        ),
+        time_model: (h.after / h.samples as f64).sqrt(),
+    })
+}
+
+/// A cut of the record for a rerun: its cut, its samples' range and the
+/// H1 options.
+struct CutSpec {
+    cut: Cut,
+    range: std::ops::Range<usize>,
+    welch: WelchOptions,
+}
+
+/// The cuts of an open-loop record: its halves at the same segment
+/// length, and the whole at half the segment length (not for periodic
+/// records, whose period is fixed).
+fn cuts(s: &Samples, frf: &Frf, welch: &WelchOptions) -> Vec<CutSpec> {
+    let n = s.u.len();
+    // The segment length behind `frf`: its first line is fs / nfft.
+    let nfft = frf
+        .freq_hz()
+        .first()
+        .map_or(0, |&f| (s.fs / f).round() as usize);
+    let same = WelchOptions {
+        nfft: welch.period.is_none().then_some(nfft),
+        ..welch.clone()
+    };
+    let half = match welch.period {
+        Some(p) if p > 0 => n / (2 * p) * p,
+        _ => n / 2,
+    };
+    let mut out = vec![
+        CutSpec {
+            cut: Cut::FirstHalf,
+            range: 0..half,
+            welch: same.clone(),
+        },
+        CutSpec {
+            cut: Cut::SecondHalf,
+            range: half..n,
+            welch: same,
+        },
+    ];
+    if welch.period.is_none() && nfft >= 128 {
+        out.push(CutSpec {
+            cut: Cut::SegmentLength(nfft / 2),
+            range: 0..n,
+            welch: WelchOptions {
+                nfft: Some(nfft / 2),
+                ..welch.clone()
+            },
+        });
+    }
+    out
+}
+
+/// A rerun's diagnoses; its time domain is `None` when it would see the
+/// same samples as the whole record's (a cut that starts where the record
+/// does), whose result it then shares.
+struct RerunResult {
+    cut: Cut,
+    result: Result<(Option<Diagnosis>, Option<TimeDiagnosis>, bool), String>,
+}
+
+/// The diagnosis of one cut (open loop).
+fn rerun(
+    c: &CutSpec,
+    samples: Option<&Samples>,
+    model: &ModelFile,
+    corner: Option<f64>,
+    o: &DiagnosisOptions,
+) -> RerunResult {
+    let result = (|| -> Result<_, String> {
+        let s = samples.ok_or("no samples")?;
+        let (u, y) = (&s.u[c.range.clone()], &s.y[c.range.clone()]);
+        let est = frf::h1(u, y, s.fs, &c.welch).map_err(|e| e.to_string())?;
+        let band = band_of(&est.frf, model, o);
+        let fd = frequency_part(&est.frf, band, model, o).map_err(|e| e.to_string())?;
+        if fd.is_none() {
+            return Ok((None, None, false));
+        }
+        // The same first samples as the whole record: the same time-domain
+        // result.
+        let whole = time_window(s.u.len(), false, o);
+        let here = time_window(c.range.len(), false, o);
+        if c.range.start == 0 && here == whole {
+            return Ok((fd, None, true));
+        }
+        let td = time_part(s, c.range.start, model, None, corner, o).map_err(|e| e.to_string())?;
+        Ok((fd, Some(td), false))
+    })();
+    RerunResult { cut: c.cut, result }
+}
+
+impl RerunResult {
+    /// The rerun's verdict against the whole record's.
+    fn verdict(self, whole: &Verdict, whole_td: Option<&TimeDiagnosis>) -> DiagnosisRerun {
+        match self.result {
+            Ok((fd, td, shared)) => {
+                let td = if shared { whole_td.cloned() } else { td };
+                let v = reconcile(fd.as_ref(), td.as_ref(), None);
+                DiagnosisRerun {
+                    cut: self.cut,
+                    same_headline: v.headline == whole.headline,
+                    headline: v.headline,
+                    decided_by: v.decided_by,
+                    error: None,
+                }
+            }
+            Err(e) => DiagnosisRerun {
+                cut: self.cut,
+                headline: EffectKind::None,
+                decided_by: None,
+                error: Some(e),
+                same_headline: false,
+            },
+        }
+    }
+}
+
+/// A rerun of the diagnosis on another cut of the record.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DiagnosisRerun {
+    /// The cut.
+    pub cut: Cut,
+    /// Its headline.
+    pub headline: EffectKind,
+    /// Which domain decided it.
+    pub decided_by: Option<Domain>,
+    /// Why it could not run, if it could not.
+    pub error: Option<String>,
+    /// The same headline as the whole record's.
+    pub same_headline: bool,
+}
+
+/// The reruns of a diagnosis on the halves of the record and at half the
+/// segment length.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DiagnosisStability {
+    /// One per cut.
+    pub runs: Vec<DiagnosisRerun>,
+}
+
+impl DiagnosisStability {
+    /// No rerun changed the headline.
+    pub fn stable(&self) -> bool {
+        self.runs.iter().all(|r| r.same_headline)
+    }
+}
+
+/// The options of the time-domain half, compared above `corner`.
+fn time_options(o: &DiagnosisOptions, corner: Option<f64>) -> TimeOptions {
     TimeOptions {
-        // The time domain compares what the FRF band holds: slower motion
-        // is the drift of a free axis.
-        highpass_hz: band.map(|b| b.0).filter(|&f| f > 0.0),
+        highpass_hz: corner,
         tolerance: o.tolerance,
         welch: o.welch.clone(),
         ..TimeOptions::default()
@@ -420,15 +650,7 @@ fn reconcile(
         }]
     };
     let frequency_evidence = fd.map(|d| d.held_out.map_or(0.0, |h| h.before - h.after));
-    let time_evidence = td.map(|d| {
-        d.held_out.map_or(0.0, |h| {
-            if h.after > 0.0 && h.before > 0.0 {
-                h.samples as f64 * (h.before / h.after).ln()
-            } else {
-                0.0
-            }
-        })
-    });
+    let time_evidence = td.map(|d| d.held_out.map_or(0.0, |h| h.evidence()));
     let verdict = |domain: Option<Domain>, reason: Reason| {
         let effects = match domain {
             Some(Domain::Frequency) => fd.map_or_else(none, |d| d.effects.clone()),

@@ -246,9 +246,25 @@ pub struct TimeHeldOut {
     pub before: f64,
     /// The same for the model after the diagnosis.
     pub after: f64,
+    /// The held-out samples counted as independent: `samples (1 - r) /
+    /// (1 + r)` for `r` the lag-one correlation of that model's error
+    /// there. A smooth error (the model still misses slow motion) has far
+    /// fewer independent samples than samples; white noise has as many.
+    pub effective_samples: f64,
 }
 
 impl TimeHeldOut {
+    /// The drop of the held-out prediction error in noise units, `-2 ln`
+    /// of the likelihood ratio with the noise level profiled out and the
+    /// samples counted by [`TimeHeldOut::effective_samples`].
+    pub fn evidence(&self) -> f64 {
+        if self.after > 0.0 && self.before > 0.0 {
+            self.effective_samples * (self.before / self.after).ln()
+        } else {
+            0.0
+        }
+    }
+
     /// The share of the held-out error energy the kept effects remove,
     /// `1 - after / before`, in `[0, 1]`.
     pub fn explained(&self) -> f64 {
@@ -1241,6 +1257,28 @@ fn diagnose(
             }
         }
     }
+    // How many of the held-out samples count as independent, from the
+    // chosen model's error there.
+    let effective_samples = match problem.errors(&kinds, &x_base) {
+        Some(e) => {
+            let (mut num, mut den) = (0.0, 0.0);
+            for k in 0..n {
+                if problem.held[k] {
+                    den += e[k] * e[k];
+                    if k + 1 < n && problem.held[k + 1] {
+                        num += e[k] * e[k + 1];
+                    }
+                }
+            }
+            let r = if den > 0.0 {
+                (num / den).clamp(0.0, 0.999)
+            } else {
+                0.0
+            };
+            n_test as f64 * (1.0 - r) / (1.0 + r)
+        }
+        None => n_test as f64,
+    };
     // The held-out blocks chose the effects; their values come from every
     // sample.
     if n_test > 0 && !kinds.is_empty() {
@@ -1321,6 +1359,7 @@ fn diagnose(
             samples: n_test,
             before: test_cal,
             after: test_base,
+            effective_samples,
         }),
         informative,
     })
