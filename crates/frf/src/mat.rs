@@ -12,7 +12,10 @@
 //! [`read_mat`] returns every numeric array (double, single, int8 ..
 //! uint64, logical; real or complex) converted to `f64` in MATLAB's
 //! column-major order, and lists the variables of other classes (cell,
-//! struct, char, sparse, objects, ...) in [`MatFile::skipped`].
+//! char, sparse, objects, ...) in [`MatFile::skipped`]. The fields of a
+//! scalar struct are read as variables of their own, named by their path
+//! (`Data.signals.u`), to a nesting depth of [`MAX_STRUCT_DEPTH`]; a
+//! struct array is listed as skipped.
 //!
 //! Every size read from the file is checked against the bytes that remain
 //! before anything is allocated, so a truncated or garbled file gives an
@@ -52,6 +55,10 @@ use std::fmt;
 /// deflate can expand about 1000-fold, so the compressed size alone does
 /// not bound the memory a hostile file could ask for.
 pub const MAX_INFLATED_BYTES: usize = 1 << 31;
+
+/// How deeply structs may nest: deeper fields are an error, so a hostile
+/// file cannot recurse without bound.
+pub const MAX_STRUCT_DEPTH: usize = 16;
 
 /// A problem in a MAT-file, naming the variable where it is known.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -349,7 +356,7 @@ pub fn read_mat(bytes: &[u8]) -> Result<MatFile, MatError> {
                 while !inner.at_end() {
                     let el = inner.next(true)?;
                     match el.kind {
-                        MI_MATRIX => read_matrix(el.data, big, &mut out)?,
+                        MI_MATRIX => read_matrix(el.data, big, &mut out, None, 0)?,
                         other => {
                             return Err(err(format!(
                                 "compressed element at byte {} holds data type {other}, expected a matrix",
@@ -360,7 +367,7 @@ pub fn read_mat(bytes: &[u8]) -> Result<MatFile, MatError> {
                 }
             }
             MI_MATRIX => {
-                read_matrix(el.data, big, &mut out)?;
+                read_matrix(el.data, big, &mut out, None, 0)?;
                 // Uncompressed arrays are padded to 8 bytes.
                 top.pos = top.pos.next_multiple_of(8).min(bytes.len());
             }
@@ -388,8 +395,16 @@ fn class_name(class: u32) -> String {
     }
 }
 
-/// Parses the contents of one `miMATRIX` element.
-fn read_matrix(content: &[u8], big: bool, out: &mut MatFile) -> Result<(), MatError> {
+/// Parses the contents of one `miMATRIX` element; `path` names a struct
+/// field (whose own name in the file is empty), `depth` counts the structs
+/// around it.
+fn read_matrix(
+    content: &[u8],
+    big: bool,
+    out: &mut MatFile,
+    path: Option<&str>,
+    depth: usize,
+) -> Result<(), MatError> {
     if content.is_empty() {
         // An empty array element (as MATLAB writes for empty cells).
         return Ok(());
@@ -417,7 +432,7 @@ fn read_matrix(content: &[u8], big: bool, out: &mut MatFile) -> Result<(), MatEr
         // Opaque objects (e.g. string, table) have a name but no dims.
         let name = c.next(true).map(|e| text(e.data)).unwrap_or_default();
         out.skipped.push(SkippedVariable {
-            name,
+            name: path.map_or(name, str::to_string),
             class: class_name(class),
         });
         return Ok(());
@@ -435,11 +450,15 @@ fn read_matrix(content: &[u8], big: bool, out: &mut MatFile) -> Result<(), MatEr
             name_el.kind
         )));
     }
-    let name = text(name_el.data);
+    let name = path.map_or_else(|| text(name_el.data), str::to_string);
     let with_name = |message: String| MatError {
         variable: Some(name.clone()),
         message,
     };
+    if class == 2 {
+        return read_struct(&mut c, &dims_el, big, out, &name, depth)
+            .map_err(|e| with_name(e.message));
+    }
     let numeric = match class {
         6 => NumericClass::Double,
         7 => NumericClass::Single,
@@ -492,6 +511,73 @@ fn read_matrix(content: &[u8], big: bool, out: &mut MatFile) -> Result<(), MatEr
         real,
         imag,
     });
+    Ok(())
+}
+
+/// The fields of a struct after its name: the field-name length, the
+/// names, then one `miMATRIX` per field (per element; only scalar structs
+/// are read).
+fn read_struct(
+    c: &mut Cursor<'_>,
+    dims_el: &Element<'_>,
+    big: bool,
+    out: &mut MatFile,
+    name: &str,
+    depth: usize,
+) -> Result<(), MatError> {
+    let numel = dims_el.data.chunks_exact(4).try_fold(1usize, |acc, b| {
+        let b: [u8; 4] = b.try_into().unwrap_or_default();
+        let d = if big {
+            i32::from_be_bytes(b)
+        } else {
+            i32::from_le_bytes(b)
+        };
+        usize::try_from(d).ok().and_then(|d| acc.checked_mul(d))
+    });
+    if numel != Some(1) {
+        out.skipped.push(SkippedVariable {
+            name: name.to_string(),
+            class: "struct array".into(),
+        });
+        return Ok(());
+    }
+    if depth >= MAX_STRUCT_DEPTH {
+        return Err(err(format!(
+            "structs nested deeper than {MAX_STRUCT_DEPTH} levels"
+        )));
+    }
+    let len_el = c.next(true)?;
+    let field_len = match (len_el.kind, len_el.data.len()) {
+        (MI_INT32, 4) => {
+            let b: [u8; 4] = len_el.data.try_into().unwrap_or_default();
+            (if big {
+                i32::from_be_bytes(b)
+            } else {
+                i32::from_le_bytes(b)
+            }) as i64
+        }
+        _ => return Err(err("malformed struct: no field-name length")),
+    };
+    let names_el = c.next(true)?;
+    if field_len <= 0 || names_el.kind != MI_INT8 || names_el.data.len() % field_len as usize != 0 {
+        return Err(err("malformed struct: field names do not fit their length"));
+    }
+    let fields: Vec<String> = names_el
+        .data
+        .chunks_exact(field_len as usize)
+        .map(text)
+        .collect();
+    for field in fields {
+        let el = c.next(true)?;
+        if el.kind != MI_MATRIX {
+            return Err(err(format!(
+                "malformed struct: field '{field}' is data type {}, not an array",
+                el.kind
+            )));
+        }
+        let path = format!("{name}.{field}");
+        read_matrix(el.data, big, out, Some(&path), depth + 1)?;
+    }
     Ok(())
 }
 
@@ -564,6 +650,9 @@ pub(crate) mod writer {
         Char(String),
         /// An empty cell array (class 1).
         Cell,
+        /// A struct (class 2): its fields, each a variable whose own name
+        /// the writer leaves empty, as MATLAB does.
+        Struct(Vec<(String, Var)>),
     }
 
     pub struct Var {
@@ -575,6 +664,34 @@ pub(crate) mod writer {
     }
 
     impl Var {
+        /// A copy of the parts the struct writer needs.
+        pub fn shallow(&self) -> Var {
+            Var {
+                name: self.name.clone(),
+                dims: self.dims.clone(),
+                class: self.class,
+                logical: self.logical,
+                data: match &self.data {
+                    Data::Real(x, k) => Data::Real(x.clone(), *k),
+                    Data::Struct(f) => {
+                        Data::Struct(f.iter().map(|(n, v)| (n.clone(), v.shallow())).collect())
+                    }
+                    _ => Data::Cell,
+                },
+            }
+        }
+
+        /// A 1 x 1 struct of `fields`.
+        pub fn structure(name: &str, fields: Vec<(&str, Var)>) -> Var {
+            Var {
+                name: name.into(),
+                dims: vec![1, 1],
+                class: 2,
+                logical: false,
+                data: Data::Struct(fields.into_iter().map(|(n, v)| (n.into(), v)).collect()),
+            }
+        }
+
         pub fn double(name: &str, rows: i32, cols: i32, values: Vec<f64>) -> Var {
             Var {
                 name: name.into(),
@@ -692,6 +809,33 @@ pub(crate) mod writer {
                 w.element(4, &encode(&v, 4, big));
             }
             Data::Cell => {}
+            Data::Struct(fields) => {
+                let len = 32usize;
+                w.element(5, &encode(&[len as f64], 5, big));
+                let mut names = Vec::new();
+                for (n, _) in fields {
+                    let mut b = n.as_bytes().to_vec();
+                    b.resize(len, 0);
+                    names.extend_from_slice(&b);
+                }
+                w.element(1, &names);
+                for (_, v) in fields {
+                    let inner = Var {
+                        name: String::new(),
+                        dims: v.dims.clone(),
+                        class: v.class,
+                        logical: v.logical,
+                        data: match &v.data {
+                            Data::Real(x, k) => Data::Real(x.clone(), *k),
+                            Data::Struct(f) => Data::Struct(
+                                f.iter().map(|(n, v)| (n.clone(), v.shallow())).collect(),
+                            ),
+                            _ => Data::Cell,
+                        },
+                    };
+                    w.out.extend_from_slice(&matrix(&inner, big));
+                }
+            }
         }
         let body = w.out;
         let mut e = W {
@@ -735,6 +879,47 @@ pub(crate) mod writer {
 mod tests {
     use super::writer::{file, Data, Var};
     use super::*;
+
+    /// Struct fields come out as variables named by their path, in both
+    /// byte orders, compressed or not; a struct array is listed, not read;
+    /// nesting beyond the limit is an error.
+    #[test]
+    fn struct_fields_are_variables_by_path() {
+        let data = Var::structure(
+            "Data",
+            vec![
+                (
+                    "signals",
+                    Var::structure(
+                        "",
+                        vec![
+                            ("u", Var::double("", 3, 1, vec![1.0, -2.0, 3.5])),
+                            ("y", Var::double("", 1, 2, vec![0.25, 7.0])),
+                        ],
+                    ),
+                ),
+                ("fs", Var::double("", 1, 1, vec![4000.0])),
+            ],
+        );
+        for (compress, big) in [(false, false), (true, false), (false, true)] {
+            let m = read_mat(&file(&[data.shallow()], compress, big)).unwrap();
+            assert_eq!(m.get("Data.signals.u").unwrap().real, vec![1.0, -2.0, 3.5]);
+            assert_eq!(m.get("Data.signals.y").unwrap().dims, vec![1, 2]);
+            assert_eq!(m.get("Data.fs").unwrap().scalar(), Some(4000.0));
+        }
+        let mut array = Var::structure("many", vec![("a", Var::double("", 1, 1, vec![1.0]))]);
+        array.dims = vec![1, 2];
+        let m = read_mat(&file(&[array], false, false)).unwrap();
+        assert!(m.variables.is_empty());
+        assert_eq!(m.skipped[0].class, "struct array");
+        let mut deep = Var::double("", 1, 1, vec![1.0]);
+        for _ in 0..MAX_STRUCT_DEPTH + 1 {
+            deep = Var::structure("", vec![("x", deep)]);
+        }
+        deep.name = "deep".into();
+        let e = read_mat(&file(&[deep], true, false)).unwrap_err();
+        assert!(e.message.contains("nested deeper"), "{e}");
+    }
 
     fn sample_vars() -> Vec<Var> {
         vec![

@@ -405,3 +405,40 @@ fn other_real_files_read_and_garble_safely() {
         );
     }
 }
+
+/// The fields of a MATLAB struct are variables named by their path: the
+/// TU/e 2025 closed-loop record (`Data.signals.u`, nested two deep) and the
+/// 2018 record (`Data.y2`), against scipy's `loadmat(..., squeeze_me=True,
+/// struct_as_record=False)` of the same files. A struct truncated anywhere
+/// is an error, not a panic.
+#[test]
+fn struct_fields_read_by_path() {
+    let bytes = std::fs::read(data("tue_motion_2025/motor_side_stationary.mat")).unwrap();
+    let mat = frf::mat::read_mat(&bytes).unwrap();
+    assert_eq!(mat.get("Data.settings.fs").unwrap().scalar(), Some(4000.0));
+    let u = mat.get("Data.signals.u").unwrap();
+    assert_eq!(u.dims, vec![240_000, 1]);
+    assert_eq!(u.real[12345], -0.46216094493865967);
+    assert_eq!(
+        mat.get("Data.signals.y").unwrap().real[200_000],
+        0.0031415927223861217
+    );
+    assert_eq!(
+        mat.get("Data.signals.d").unwrap().real[7],
+        -0.2851995825767517
+    );
+    // The file name is a MATLAB string object: listed, not read.
+    assert!(mat
+        .skipped
+        .iter()
+        .any(|s| s.name == "Data.FileName" && s.class == "opaque object"));
+    for cut in [bytes.len() / 3, bytes.len() - 100] {
+        assert!(frf::mat::read_mat(&bytes[..cut]).is_err(), "{cut}");
+    }
+    let bytes = std::fs::read(data("tue_motion_2018/scan_10hz_with_feedforward.mat")).unwrap();
+    let mat = frf::mat::read_mat(&bytes).unwrap();
+    assert_eq!(mat.get("Data.y2").unwrap().real[30_000], 8.3409284952809);
+    assert_eq!(mat.get("Data.u").unwrap().real[100], 0.033356489783915255);
+    let t = &mat.get("Data.Time").unwrap().real;
+    assert_eq!(t[1] - t[0], 0.00048828125);
+}
