@@ -719,3 +719,38 @@ fn diagnose_bad_and_uninformative_recordings() {
     assert_eq!(v["verdict"]["reason"]["kind"], "nothing_informative");
     assert_eq!(v["effects"][0]["kind"], "none");
 }
+
+/// `--excitation` errors: a constant excitation, and one that does not
+/// reach the plant input (unrelated to u), are one-line errors naming the
+/// file and the excitation, exit code 2.
+#[test]
+fn excitation_that_is_constant_or_does_not_reach_the_input() {
+    let dir = temp_dir("excitation");
+    let mut rng = XorShift::new(23);
+    let mut text = String::from("t,u,y,flat,other\n");
+    for k in 0..8000 {
+        let u = rng.normal();
+        let _ = std::fmt::Write::write_fmt(
+            &mut text,
+            format_args!(
+                "{},{u},{},1.5,{}\n",
+                k as f64 / 1000.0,
+                0.5 * u,
+                rng.normal()
+            ),
+        );
+    }
+    let path = dir.join("loop.csv");
+    std::fs::write(&path, text).unwrap();
+    let p = path.to_str().unwrap();
+    for (x, want) in [
+        ("flat", "excitation flat is constant"),
+        ("other", "does not reach the input u"),
+    ] {
+        let (code, out, err) = mms(&["identify", p, "--excitation", x]);
+        assert_eq!(code, 2, "{x}: {err}");
+        assert!(out.is_empty());
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains("loop.csv") && err.contains(want), "{x}: {err}");
+    }
+}

@@ -59,9 +59,7 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
     // A time-domain recording is identified again on other cuts of it.
     let stability = match (&rec.samples, &rec.source) {
         (Some(s), frf::Source::TimeDomain { nfft, .. }) => Some(verdict_stability(
-            &s.u,
-            &s.y,
-            s.fs,
+            s,
             &args.recording.welch(),
             *nfft,
             output,
@@ -71,17 +69,34 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
         _ => None,
     };
     let plots = bode(&rec.frf, output, &id);
+    let closed = rec.excitation.as_ref().map(closed_loop_section);
     let report = match args.format {
         IdentifyFormat::Json => {
-            let mut s = serde_json::to_string_pretty(&to_json(&id, stability.as_ref()))
-                .map_err(|e| format!("JSON: {e}"))?;
+            let mut v = to_json(&id, stability.as_ref());
+            if let Some(e) = &rec.excitation {
+                let peak = e.peak_sensitivity_db();
+                v["closed_loop"] = json!({
+                    "excitation": e.name,
+                    "estimate": "3-point",
+                    "peak_sensitivity_db": peak.map(|p| p.0),
+                    "peak_sensitivity_hz": peak.map(|p| p.1),
+                    "modulus_margin": peak.map(|p| 10f64.powf(-p.0 / 20.0)),
+                });
+            }
+            let mut s = serde_json::to_string_pretty(&v).map_err(|e| format!("JSON: {e}"))?;
             s.push('\n');
             s
         }
         IdentifyFormat::Md => {
-            markdown(&name, &id, stability.as_ref(), args.out.map(|_| "bode.svg"))
+            let mut m = markdown(&name, &id, stability.as_ref(), args.out.map(|_| "bode.svg"));
+            m.push_str(closed.as_deref().unwrap_or(""));
+            m
         }
-        IdentifyFormat::Html => html(&name, &id, stability.as_ref(), &plots.to_svg()),
+        IdentifyFormat::Html => {
+            let mut m = markdown(&name, &id, stability.as_ref(), None);
+            m.push_str(closed.as_deref().unwrap_or(""));
+            html_page("mms identify", &m, &plots.to_svg())
+        }
     };
     let Some(dir) = args.out else {
         return Ok(Some(report));
@@ -420,8 +435,24 @@ fn markdown(
     s
 }
 
-fn html(name: &str, id: &Identification, stability: Option<&Stability>, svg: &str) -> String {
-    html_page("mms identify", &markdown(name, id, stability, None), svg)
+/// The loop behind a 3-point estimate: its excitation and peak
+/// sensitivity.
+fn closed_loop_section(e: &frf::recording::Excitation) -> String {
+    let mut s = format!(
+        "\n## Closed loop\n\nThe FRF is the 3-point estimate `P = S_xy / S_xu` from the \
+         excitation `{}` (the noise the controller feeds back from the output into the input \
+         does not bias it, as it biases H1 from u to y).",
+        e.name
+    );
+    if let Some((db, f)) = e.peak_sensitivity_db() {
+        let _ = write!(
+            s,
+            " Peak sensitivity `max |S|` = {db:.2} dB at {f:.4} Hz: modulus margin {:.3}.",
+            10f64.powf(-db / 20.0)
+        );
+    }
+    s.push('\n');
+    s
 }
 
 pub fn cut_name(cut: Cut) -> String {

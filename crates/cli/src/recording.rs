@@ -43,6 +43,12 @@ pub struct RecordingArgs {
     /// UFF files with several FRFs: the dataset to read (from 1).
     #[arg(long, value_name = "N")]
     pub dataset: Option<usize>,
+    /// The excitation injected into a closed loop (VAR[:COL], as for --u):
+    /// the FRF becomes the 3-point estimate S_xy / S_xu from it, which the
+    /// noise the controller feeds back does not bias, and the report adds
+    /// the loop's sensitivity.
+    #[arg(long, value_name = "VAR[:COL]")]
+    pub excitation: Option<String>,
 }
 
 impl RecordingArgs {
@@ -91,6 +97,7 @@ impl RecordingArgs {
             fs: self.fs,
             welch: self.welch(),
             dataset: self.dataset,
+            excitation: signal("excitation", &self.excitation)?,
         };
         read_recording(path, &opts).map_err(|e| e.to_string())
     }

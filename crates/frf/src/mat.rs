@@ -183,6 +183,27 @@ impl MatFile {
     pub fn get(&self, name: &str) -> Option<&MatVariable> {
         self.variables.iter().find(|v| v.name == name)
     }
+
+    /// The fields of the struct at `path` (`Data.signals`), numeric or
+    /// not, in file order; empty if there is no such struct.
+    pub fn fields(&self, path: &str) -> Vec<String> {
+        let prefix = format!("{path}.");
+        let mut out: Vec<String> = Vec::new();
+        let names = self
+            .variables
+            .iter()
+            .map(|v| &v.name)
+            .chain(self.skipped.iter().map(|s| &s.name));
+        for name in names {
+            if let Some(rest) = name.strip_prefix(&prefix) {
+                let field = rest.split('.').next().unwrap_or(rest).to_string();
+                if !out.contains(&field) {
+                    out.push(field);
+                }
+            }
+        }
+        out
+    }
 }
 
 // Data types of elements.
@@ -431,6 +452,9 @@ fn read_matrix(
     if class == 17 {
         // Opaque objects (e.g. string, table) have a name but no dims.
         let name = c.next(true).map(|e| text(e.data)).unwrap_or_default();
+        if path.is_none() && name.is_empty() {
+            return Ok(());
+        }
         out.skipped.push(SkippedVariable {
             name: path.map_or(name, str::to_string),
             class: class_name(class),
@@ -451,6 +475,11 @@ fn read_matrix(
         )));
     }
     let name = path.map_or_else(|| text(name_el.data), str::to_string);
+    // A nameless top-level entry is MATLAB's subsystem data (behind string
+    // and other objects), not a variable anyone saved.
+    if path.is_none() && name.is_empty() {
+        return Ok(());
+    }
     let with_name = |message: String| MatError {
         variable: Some(name.clone()),
         message,

@@ -160,6 +160,10 @@ pub struct RecordingOptions {
     /// (from 1, counting every dataset). Needed when the file holds more
     /// than one FRF.
     pub dataset: Option<usize>,
+    /// The excitation injected into a closed loop (time-domain files):
+    /// the FRF is then the 3-point estimate `S_xy / S_xu`
+    /// ([`crate::welch::three_point`]) instead of H1 from `u` to `y`.
+    pub excitation: Option<SignalRef>,
 }
 
 /// The kind of file that was read.
@@ -208,6 +212,24 @@ pub struct Samples {
     pub y: Vec<f64>,
     /// Sample rate, Hz.
     pub fs: f64,
+    /// The excitation injected into a closed loop, if one was named.
+    pub excitation: Option<Vec<f64>>,
+}
+
+impl Samples {
+    /// The FRF of the samples in `range` with `welch`: the 3-point
+    /// estimate from the excitation if there is one, else H1.
+    pub fn frf(
+        &self,
+        range: std::ops::Range<usize>,
+        welch: &WelchOptions,
+    ) -> Result<Frf, crate::welch::WelchError> {
+        let (u, y) = (&self.u[range.clone()], &self.y[range.clone()]);
+        match &self.excitation {
+            Some(x) => Ok(crate::welch::three_point(&x[range], u, y, self.fs, welch)?.plant),
+            None => Ok(welch::h1(u, y, self.fs, welch)?.frf),
+        }
+    }
 }
 
 /// A measured FRF and where it came from.
@@ -225,6 +247,36 @@ pub struct Recording {
     /// The input and output samples of a time-domain recording (for
     /// time-domain analyses); `None` for FRF files.
     pub samples: Option<Samples>,
+    /// With an excitation: the loop functions behind the 3-point FRF.
+    pub excitation: Option<Excitation>,
+}
+
+/// The loop functions of a 3-point estimate, from the excitation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Excitation {
+    /// The excitation signal's name.
+    pub name: String,
+    /// From the excitation to the plant input: the sensitivity when the
+    /// excitation is added at the plant input.
+    pub sensitivity: Frf,
+    /// From the excitation to the output: the process sensitivity.
+    pub process_sensitivity: Frf,
+}
+
+impl Excitation {
+    /// The modulus margin's reciprocal, `max |S|` in dB, and where, over
+    /// the lines with finite uncertainty (excited lines).
+    pub fn peak_sensitivity_db(&self) -> Option<(f64, f64)> {
+        let sd = self.sensitivity.std_dev();
+        let f = self.sensitivity.freq_hz();
+        self.sensitivity
+            .response()
+            .iter()
+            .enumerate()
+            .filter(|(k, h)| h.is_finite() && sd.is_none_or(|s| s[*k].is_finite()))
+            .map(|(k, h)| (20.0 * h.norm().log10(), f[k]))
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+    }
 }
 
 /// Why a recording could not be read. Displays as one line naming the file
@@ -308,6 +360,8 @@ struct Ctx<'a> {
     path: &'a Path,
     /// The samples behind an estimate, kept for [`Recording::samples`].
     samples: std::cell::RefCell<Option<Samples>>,
+    /// The loop functions of a 3-point estimate.
+    excitation: std::cell::RefCell<Option<Excitation>>,
 }
 
 impl Ctx<'_> {
@@ -395,6 +449,7 @@ pub fn read_recording(
     let ctx = Ctx {
         path,
         samples: std::cell::RefCell::new(None),
+        excitation: std::cell::RefCell::new(None),
     };
     let bytes = std::fs::read(path).map_err(|source| RecordingError::Io {
         path: path.to_path_buf(),
@@ -446,7 +501,16 @@ pub fn read_recording(
                 );
                 let ts =
                     csv::time_series_from_table(&table, &u, &y, opts.fs).map_err(|e| ctx.csv(e))?;
-                let (frf, source) = estimate(&ctx, &ts.u, &ts.y, ts.fs, opts, u, y)?;
+                let x = match opts.excitation.as_ref() {
+                    Some(r) => {
+                        let name = csv_column(&ctx, Some(r), "")?;
+                        let xs = csv::time_series_from_table(&table, &name, &y, opts.fs)
+                            .map_err(|e| ctx.csv(e))?;
+                        Some((xs.u, name))
+                    }
+                    None => None,
+                };
+                let (frf, source) = estimate(&ctx, &ts.u, &ts.y, ts.fs, opts, u, y, x)?;
                 (Format::TimeCsv, frf, source)
             }
         }
@@ -463,6 +527,7 @@ pub fn read_recording(
         frf,
         source,
         samples: ctx.samples.take(),
+        excitation: ctx.excitation.take(),
     })
 }
 
@@ -505,9 +570,9 @@ fn utf8<'a>(ctx: &Ctx<'_>, bytes: &'a [u8]) -> Result<&'a str, RecordingError> {
 }
 
 fn no_signals(ctx: &Ctx<'_>, opts: &RecordingOptions, what: &str) -> Result<(), RecordingError> {
-    if opts.u.is_some() || opts.y.is_some() {
+    if opts.u.is_some() || opts.y.is_some() || opts.excitation.is_some() {
         return Err(ctx.file(format!(
-            "is {what}: input and output signals apply to time-domain recordings only"
+            "is {what}: input, output and excitation signals apply to time-domain recordings only"
         )));
     }
     Ok(())
@@ -531,6 +596,7 @@ fn csv_column(
 }
 
 /// H1 estimate with the file's context, checked for [`MIN_LINES`].
+#[allow(clippy::too_many_arguments)]
 fn estimate(
     ctx: &Ctx<'_>,
     u: &[f64],
@@ -539,10 +605,18 @@ fn estimate(
     opts: &RecordingOptions,
     input: String,
     output: String,
+    excitation: Option<(Vec<f64>, String)>,
 ) -> Result<(Frf, Source), RecordingError> {
     // A constant channel has no spectrum: nothing to estimate, and the
     // ratio of two zero spectra would read as noise.
-    for (what, name, x) in [("input", &input, u), ("output", &output, y)] {
+    let x_name = excitation.as_ref().map(|e| e.1.clone()).unwrap_or_default();
+    let channels = [("input", &input, u), ("output", &output, y)];
+    let all = channels.into_iter().chain(
+        excitation
+            .as_ref()
+            .map(|(x, _)| ("excitation", &x_name, x.as_slice())),
+    );
+    for (what, name, x) in all {
         if let Some(&first) = x.first() {
             if x.iter().all(|&v| v == first) {
                 return Err(ctx.file(format!(
@@ -552,6 +626,66 @@ fn estimate(
                 )));
             }
         }
+    }
+    if let Some((x, name)) = &excitation {
+        if x.len() != u.len() {
+            return Err(ctx.file(format!(
+                "the excitation {name} has {} samples but the input {input} has {}",
+                x.len(),
+                u.len()
+            )));
+        }
+        let est = welch::three_point(x, u, y, fs, &opts.welch).map_err(|e| {
+            ctx.file(format!(
+                "estimating the FRF from {input} to {output} with the excitation {name}: {e}"
+            ))
+        })?;
+        // An excitation that does not reach the plant input explains
+        // nothing of it. Unrelated signals have some coherence by chance:
+        // with n averages it exceeds c at a line with probability
+        // (1 - c)^(n - 1), so a line counts only above the 1 % level (and
+        // 0.1), and the excitation reaches u if 5 % of the lines do.
+        let n = est.averages.max(2) as f64;
+        let level = (1.0 - 0.01f64.powf(1.0 / (n - 1.0))).max(0.1);
+        let coh = est.sensitivity.coherence().unwrap_or(&[]);
+        let above = coh.iter().filter(|&&g| g > level).count();
+        if above * 20 < coh.len().max(1) {
+            let best = coh.iter().cloned().fold(0.0, f64::max);
+            return Err(ctx.file(format!(
+                "the excitation {name} does not reach the input {input}: its coherence with \
+                 it exceeds {level:.3} (chance with {} averages) at {above} of {} lines (at \
+                 most {best:.3})",
+                est.averages,
+                coh.len()
+            )));
+        }
+        if est.plant.len() < MIN_LINES {
+            return Err(ctx.file(format!(
+                "only {} frequency lines (nfft {}); at least {MIN_LINES} are needed",
+                est.plant.len(),
+                est.nfft
+            )));
+        }
+        *ctx.samples.borrow_mut() = Some(Samples {
+            u: u.to_vec(),
+            y: y.to_vec(),
+            fs,
+            excitation: Some(x.clone()),
+        });
+        *ctx.excitation.borrow_mut() = Some(Excitation {
+            name: name.clone(),
+            sensitivity: est.sensitivity,
+            process_sensitivity: est.process_sensitivity,
+        });
+        let source = Source::TimeDomain {
+            fs,
+            n_samples: u.len(),
+            averages: est.averages,
+            nfft: est.nfft,
+            input,
+            output,
+        };
+        return Ok((est.plant, source));
     }
     let est = welch::h1(u, y, fs, &opts.welch)
         .map_err(|e| ctx.file(format!("estimating the FRF from {input} to {output}: {e}")))?;
@@ -566,6 +700,7 @@ fn estimate(
         u: u.to_vec(),
         y: y.to_vec(),
         fs,
+        excitation: None,
     });
     let source = Source::TimeDomain {
         fs,
@@ -618,6 +753,16 @@ fn matrix_recording(
     })?;
     let u = m.column(cu).unwrap_or_default();
     let y = m.column(cy).unwrap_or_default();
+    let x = match opts.excitation.as_ref() {
+        Some(r) => {
+            let cx = column(Some(r), 0)?;
+            Some((
+                m.column(cx).unwrap_or_default().to_vec(),
+                format!("column {cx}"),
+            ))
+        }
+        None => None,
+    };
     estimate(
         ctx,
         u,
@@ -626,7 +771,33 @@ fn matrix_recording(
         opts,
         format!("column {cu}"),
         format!("column {cy}"),
+        x,
     )
+}
+
+/// Why `name` is not in the file: the fields of the deepest struct on its
+/// path that exists, else every variable.
+fn not_found(mat: &MatFile, name: &str) -> String {
+    let mut path = name;
+    while let Some((parent, _)) = path.rsplit_once('.') {
+        let fields = mat.fields(parent);
+        if !fields.is_empty() {
+            let field = &name[parent.len() + 1..];
+            let field = field.split('.').next().unwrap_or(field);
+            if fields.iter().any(|f| f == field) {
+                return format!(
+                    "'{parent}.{field}' is a struct, not a signal (fields: {})",
+                    mat.fields(&format!("{parent}.{field}")).join(", ")
+                );
+            }
+            return format!(
+                "struct '{parent}' has no field '{field}' (fields: {})",
+                fields.join(", ")
+            );
+        }
+        path = parent;
+    }
+    format!("not in the file (variables: {})", inventory(mat))
 }
 
 /// One line per numeric variable (and skipped ones), for messages.
@@ -714,8 +885,8 @@ fn read_mat_recording(
             Some(v) => Ok((channel(ctx, v, r.channel)?, r.to_string())),
             None => {
                 let message = match mat.skipped.iter().find(|s| s.name == r.name) {
-                    Some(s) => format!("is a {} variable, not numeric", s.class),
-                    None => format!("not in the file (variables: {})", inventory(&mat)),
+                    Some(s) => format!("is not numeric (class {})", s.class),
+                    None => not_found(&mat, &r.name),
                 };
                 Err(ctx.variable(&r.name, message))
             }
@@ -767,13 +938,28 @@ fn read_mat_recording(
         Some(fs) => fs,
         None => mat_sample_rate(ctx, &mat, u.len())?,
     };
-    let (frf, source) = estimate(ctx, &u, &y, fs, opts, un, yn)?;
+    let x = opts.excitation.as_ref().map(lookup).transpose()?;
+    let (frf, source) = estimate(ctx, &u, &y, fs, opts, un, yn, x)?;
     Ok((Format::Mat, frf, source))
 }
 
-/// `Fs` or `fs` (a positive scalar), else the time vector `t`.
+/// `Fs` or `fs` (a positive scalar, also as a struct field such as
+/// `Data.settings.fs`), else the time vector `t` (or a struct field `t` or
+/// `Time`).
 fn mat_sample_rate(ctx: &Ctx<'_>, mat: &MatFile, n: usize) -> Result<f64, RecordingError> {
-    for name in ["Fs", "fs"] {
+    let last = |v: &&MatVariable| v.name.rsplit('.').next().unwrap_or(&v.name).to_string();
+    let field = |want: &[&str]| -> Option<String> {
+        mat.variables
+            .iter()
+            .find(|v| want.contains(&last(v).as_str()))
+            .map(|v| v.name.clone())
+    };
+    let rate_names: Vec<String> = ["Fs", "fs"]
+        .iter()
+        .map(|s| s.to_string())
+        .chain(field(&["Fs", "fs"]))
+        .collect();
+    for name in rate_names.iter().map(String::as_str) {
         if let Some(v) = mat.get(name) {
             let fs = v
                 .scalar()
@@ -787,11 +973,17 @@ fn mat_sample_rate(ctx: &Ctx<'_>, mat: &MatFile, n: usize) -> Result<f64, Record
             return Ok(fs);
         }
     }
-    if let Some(t) = mat.get("t") {
+    let time_name = if mat.get("t").is_some() {
+        Some("t".to_string())
+    } else {
+        field(&["t", "Time", "time"])
+    };
+    if let Some(t) = time_name.as_deref().and_then(|t| mat.get(t)) {
+        let tn = t.name.as_str();
         let times = channel(ctx, t, None)?;
         if times.len() != n {
             return Err(ctx.variable(
-                "t",
+                tn,
                 format!(
                     "has {} time stamps but the signals have {n} samples",
                     times.len()
@@ -799,7 +991,7 @@ fn mat_sample_rate(ctx: &Ctx<'_>, mat: &MatFile, n: usize) -> Result<f64, Record
             ));
         }
         return sample_rate_from_times(&times)
-            .map_err(|e| ctx.variable("t", format!("sample {}: {e}", e.index + 1)));
+            .map_err(|e| ctx.variable(tn, format!("sample {}: {e}", e.index + 1)));
     }
     Err(ctx.file(format!(
         "no sample rate: give it, or store a scalar Fs or a time vector t (variables: {})",
@@ -1202,7 +1394,7 @@ mod tests {
         );
         assert_eq!(
             err(&opts("note", "Force")),
-            at("note", "is a char variable, not numeric")
+            at("note", "is not numeric (class char)")
         );
         // Without u and y: two signal variables, so the choice is the user's.
         let e = err(&RecordingOptions::default());

@@ -381,6 +381,119 @@ pub fn sample_rate_from_times(t: &[f64]) -> Result<f64, TimeAxisError> {
 
 /// H1 estimate of the response from `u` to `y`, sampled at `fs` Hz.
 ///
+/// The closed-loop (3-point, indirect) estimate from an excitation `x`
+/// injected into a running loop: the plant `P = S_xy / S_xu` and the two
+/// loop functions it comes from, each from the excitation with the same
+/// segments, window and detrending as [`h1`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThreePoint {
+    /// The plant from `u` to `y`, `S_xy / S_xu`. Its standard deviation per
+    /// line combines those of the two loop functions (relative variances
+    /// add), and its coherence is the one that gives that uncertainty
+    /// with Bendat and Piersol's formula.
+    pub plant: Frf,
+    /// From the excitation to the plant input, `S_xu / S_xx`: the
+    /// (input) sensitivity when `x` is added at the plant input.
+    pub sensitivity: Frf,
+    /// From the excitation to the output, `S_xy / S_xx`: the process
+    /// sensitivity.
+    pub process_sensitivity: Frf,
+    /// Segments averaged.
+    pub averages: usize,
+    /// Segment length.
+    pub nfft: usize,
+}
+
+/// The 3-point estimate of the plant from `u` to `y` in a closed loop
+/// excited by `x`; see [`ThreePoint`]. Unlike [`h1`] from `u` to `y`, it
+/// is not biased by the noise on `y` that the controller feeds back into
+/// `u`: that noise is uncorrelated with `x`.
+///
+/// ```
+/// use frf::welch::{three_point, WelchOptions};
+///
+/// // A loop u = x - 0.5 y_meas around the plant y = 0.8 u[n-1], with
+/// // sensor noise n that the controller feeds back into u.
+/// let mut state = 7u64;
+/// let mut white = || {
+///     state ^= state << 13; state ^= state >> 7; state ^= state << 17;
+///     (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+/// };
+/// let n = 65536;
+/// let (mut u, mut y, mut x) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+/// for k in 0..n {
+///     x[k] = white();
+///     let y_true = if k > 0 { 0.8 * u[k - 1] } else { 0.0 };
+///     y[k] = y_true + 0.3 * white();
+///     u[k] = x[k] - 0.5 * y[k];
+/// }
+/// // Short segments, many averages.
+/// let opts = WelchOptions { nfft: Some(256), ..WelchOptions::default() };
+/// let est = three_point(&x, &u, &y, 100.0, &opts)?;
+/// // P = 0.8 e^(-i w / fs): the mean error over the lines is small; H1
+/// // from u to y is far off, biased by the fed-back noise.
+/// let error = |f: &frf::Frf| {
+///     f.freq_hz().iter().zip(f.response()).map(|(&f, h)| {
+///         let p = frf::Complex64::from_polar(0.8, -2.0 * std::f64::consts::PI * f / 100.0);
+///         (h - p).norm()
+///     }).sum::<f64>() / f.len() as f64
+/// };
+/// assert!(error(&est.plant) < 0.02, "{}", error(&est.plant));
+/// let biased = frf::welch::h1(&u, &y, 100.0, &opts)?;
+/// assert!(error(&biased.frf) > 0.035, "{}", error(&biased.frf));
+/// # Ok::<(), frf::welch::WelchError>(())
+/// ```
+pub fn three_point(
+    x: &[f64],
+    u: &[f64],
+    y: &[f64],
+    fs: f64,
+    opts: &WelchOptions,
+) -> Result<ThreePoint, WelchError> {
+    if x.len() != u.len() {
+        return Err(WelchError::LengthMismatch {
+            u: x.len(),
+            y: u.len(),
+        });
+    }
+    let s = h1(x, u, fs, opts)?;
+    let ps = h1(x, y, fs, opts)?;
+    let (sf, psf) = (&s.frf, &ps.frf);
+    let rel = |f: &Frf| f.relative_std_dev().unwrap_or_else(|| vec![0.0; f.len()]);
+    let (rs, rps) = (rel(sf), rel(psf));
+    let mut response = Vec::with_capacity(sf.len());
+    let mut std_dev = Vec::with_capacity(sf.len());
+    let mut coherence = Vec::with_capacity(sf.len());
+    for k in 0..sf.len() {
+        let p = psf.response()[k] / sf.response()[k];
+        let r = (rs[k] * rs[k] + rps[k] * rps[k]).sqrt();
+        let finite = p.is_finite() && r.is_finite();
+        response.push(if p.is_finite() {
+            p
+        } else {
+            Complex64::new(0.0, 0.0)
+        });
+        std_dev.push(if finite { r * p.norm() } else { f64::INFINITY });
+        // (1 - g) / g = sum of the two loop functions' (1 - g_i) / g_i.
+        let odds = |g: f64| (1.0 - g) / g.max(1e-300);
+        let c = match (sf.coherence(), psf.coherence()) {
+            (Some(a), Some(b)) => 1.0 / (1.0 + odds(a[k]) + odds(b[k])),
+            _ => 0.0,
+        };
+        coherence.push(if c.is_finite() { c } else { 0.0 });
+    }
+    let plant = Frf::new(sf.freq_hz().to_vec(), response, Some(coherence))
+        .and_then(|f| f.with_std_dev(std_dev))
+        .map_err(|e| WelchError::Options(format!("the 3-point estimate: {e}")))?;
+    Ok(ThreePoint {
+        plant,
+        sensitivity: s.frf,
+        process_sensitivity: ps.frf,
+        averages: s.averages,
+        nfft: s.nfft,
+    })
+}
+
 /// `x` less the ramp through the means of its periods (starting at
 /// `starts`, `period` samples each): the slope is the least-squares slope
 /// of the period means against their start, which a periodic signal

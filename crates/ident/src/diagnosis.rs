@@ -540,10 +540,11 @@ fn rerun(
 ) -> RerunResult {
     let result = (|| -> Result<_, String> {
         let s = samples.ok_or("no samples")?;
-        let (u, y) = (&s.u[c.range.clone()], &s.y[c.range.clone()]);
-        let est = frf::h1(u, y, s.fs, &c.welch).map_err(|e| e.to_string())?;
-        let band = band_of(&est.frf, model, o);
-        let fd = frequency_part(&est.frf, band, model, o).map_err(|e| e.to_string())?;
+        let est = s
+            .frf(c.range.clone(), &c.welch)
+            .map_err(|e| e.to_string())?;
+        let band = band_of(&est, model, o);
+        let fd = frequency_part(&est, band, model, o).map_err(|e| e.to_string())?;
         if fd.is_none() {
             return Ok((None, None, false));
         }

@@ -34,14 +34,16 @@
 //! let est = h1(&u, &y, fs, &WelchOptions::default())?;
 //! let options = IdentifyOptions::default();
 //! let id = identify(&est.frf, Output::Position, &options)?;
-//! let s = verdict_stability(&u, &y, fs, &WelchOptions::default(), est.nfft, Output::Position, &options, &id);
+//! let samples = frf::Samples { u, y, fs, excitation: None };
+//! let s = verdict_stability(&samples, &WelchOptions::default(), est.nfft, Output::Position, &options, &id);
 //! assert_eq!(s.runs.len(), 3);
 //! assert!(s.stable(), "{s:?}");
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 use crate::identify::{identify, Identification, IdentifyOptions};
-use frf::welch::{h1, WelchOptions};
+use frf::welch::WelchOptions;
+use frf::Samples;
 use mms::Output;
 use serde::Serialize;
 
@@ -88,35 +90,32 @@ impl Stability {
     }
 }
 
-/// Reruns the identification of `u -> y` (sampled at `fs`, estimated with
-/// `welch` at segment length `nfft` into `verdict`) on the halves of the
-/// record and at half the segment length; see the module docs.
-#[allow(clippy::too_many_arguments)]
+/// Reruns the identification of the recording's `samples` (estimated with
+/// `welch` at segment length `nfft` into `verdict`; from the excitation if
+/// the samples have one) on the halves of the record and at half the
+/// segment length; see the module docs.
 pub fn verdict_stability(
-    u: &[f64],
-    y: &[f64],
-    fs: f64,
+    samples: &Samples,
     welch: &WelchOptions,
     nfft: usize,
     output: Output,
     options: &IdentifyOptions,
     verdict: &Identification,
 ) -> Stability {
-    let n = u.len().min(y.len());
+    let n = samples.u.len().min(samples.y.len());
     let half = n / 2;
     let same = WelchOptions {
         nfft: welch.period.is_none().then_some(nfft),
         ..welch.clone()
     };
-    let mut cuts: Vec<(Cut, &[f64], &[f64], WelchOptions)> = vec![
-        (Cut::FirstHalf, &u[..half], &y[..half], same.clone()),
-        (Cut::SecondHalf, &u[half..n], &y[half..n], same),
+    let mut cuts: Vec<(Cut, std::ops::Range<usize>, WelchOptions)> = vec![
+        (Cut::FirstHalf, 0..half, same.clone()),
+        (Cut::SecondHalf, half..n, same),
     ];
     if welch.period.is_none() && nfft >= 128 {
         cuts.push((
             Cut::SegmentLength(nfft / 2),
-            &u[..n],
-            &y[..n],
+            0..n,
             WelchOptions {
                 nfft: Some(nfft / 2),
                 ..welch.clone()
@@ -127,10 +126,11 @@ pub fn verdict_stability(
     let want_best = verdict.candidates.first().map(|c| c.id.clone());
     let runs = cuts
         .into_iter()
-        .map(|(cut, u, y, w)| {
-            let result = h1(u, y, fs, &w)
+        .map(|(cut, range, w)| {
+            let result = samples
+                .frf(range, &w)
                 .map_err(|e| e.to_string())
-                .and_then(|est| identify(&est.frf, output, options).map_err(|e| e.to_string()));
+                .and_then(|frf| identify(&frf, output, options).map_err(|e| e.to_string()));
             match result {
                 Ok(id) => {
                     let frf_type = id.classification.frf_type.to_string();

@@ -137,7 +137,18 @@ fn time_case(seed: u64) -> (Frf, Samples, ModelFile, WelchOptions, String) {
         truth.model.id(),
         100.0 * noise
     );
-    (frf, Samples { u, y, fs: FS }, nominal, welch, label)
+    (
+        frf,
+        Samples {
+            u,
+            y,
+            fs: FS,
+            excitation: None,
+        },
+        nominal,
+        welch,
+        label,
+    )
 }
 
 /// Cases where something is named, printed with what.
