@@ -142,6 +142,10 @@ const FIT_MAX_LINES: usize = 400;
 const PROMINENCE_REACH: f64 = 0.7;
 /// Candidates at this many noise standard deviations bound the others.
 const STRONG_SIGMA: f64 = 8.0;
+/// A phase step between two lines beyond this (150 deg) is ambiguous in
+/// sign: the magnitude decides ([`Data::unwrap_phase`]).
+const AMBIGUOUS_STEP: f64 = 150.0 * PI / 180.0;
+
 /// Features and nm dips under this confidence are not reported at all.
 const REPORT_CONFIDENCE: f64 = 0.1;
 /// Confidence cap of a near pole-zero cancellation.
@@ -952,9 +956,27 @@ impl Data {
         self.orig.retain(|_| *it.next().unwrap_or(&true));
     }
 
+    /// Unwraps the phase line by line. A step of nearly half a turn
+    /// between two lines (a lightly damped feature no wider than one line)
+    /// is ambiguous in sign; the magnitude decides it: across a dip the
+    /// phase rises (an antiresonance, the minimum-phase reading), across a
+    /// peak it falls (a resonance).
     fn unwrap_phase(&mut self) {
-        for i in 1..self.len() {
-            self.phi[i] = self.phi[i - 1] + wrap(self.phi[i] - self.phi[i - 1]);
+        let n = self.len();
+        let wrapped = self.phi.clone();
+        for i in 1..n {
+            let mut d = wrap(wrapped[i] - wrapped[i - 1]);
+            if d.abs() > AMBIGUOUS_STEP && i >= 2 && i + 1 < n {
+                let y = &self.y;
+                let (lo, hi) = (y[i - 1].min(y[i]), y[i - 1].max(y[i]));
+                let (a, b) = (y[i - 2], y[i + 1]);
+                if lo < a && lo < b && d < 0.0 {
+                    d += 2.0 * PI;
+                } else if hi > a && hi > b && d > 0.0 {
+                    d -= 2.0 * PI;
+                }
+            }
+            self.phi[i] = self.phi[i - 1] + d;
         }
     }
 

@@ -967,3 +967,43 @@ fn paper_models_have_the_papers_types() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// A lightly damped resonance that falls between two lines, behind a dead
+/// time: the phase falls by a little more than half a turn from one line
+/// to the next, which wrapping alone reads as a rise (+132 deg before the
+/// magnitude decided the sign). The magnitude peak decides: the phase
+/// falls across it, by half a turn plus what the delay adds over the
+/// feature's neighbourhood, as without the delay it falls by half a turn.
+#[test]
+fn half_turn_between_two_lines_is_read_from_the_magnitude() {
+    use frf::{Complex64, Frf};
+    let f: Vec<f64> = (0..61).map(|k| 20.0 + 0.5 * k as f64).collect();
+    let (f0, zeta) = (35.25, 0.00005);
+    let frf = |delay: f64| {
+        let h: Vec<Complex64> = f
+            .iter()
+            .map(|&f| {
+                let r = f / f0;
+                let g = Complex64::new(1.0 - r * r, 2.0 * zeta * r).inv();
+                g * Complex64::from_polar(1.0, -2.0 * std::f64::consts::PI * f * delay)
+            })
+            .collect();
+        Frf::new(f.clone(), h, None).unwrap()
+    };
+    // The step across the resonance is -pi + 2 atan(2 zeta r / (1 - r^2))
+    // - 2 pi (0.5 Hz) T: beyond -pi for T = 8 ms.
+    for (delay, lo, hi) in [(0.0, -200.0, -160.0), (0.008, -260.0, -180.0)] {
+        let c =
+            ident::classify(&frf(delay), mms::Output::Acceleration, &Default::default()).unwrap();
+        let r = c
+            .features
+            .iter()
+            .find(|x| x.kind == mms::analysis::Feature::Resonance && (x.freq_hz - f0).abs() < 0.3)
+            .unwrap_or_else(|| panic!("delay {delay}: {c:?}"));
+        assert!(
+            (lo..hi).contains(&r.phase_change_deg),
+            "delay {delay}: {}",
+            r.phase_change_deg
+        );
+    }
+}
