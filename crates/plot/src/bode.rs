@@ -119,9 +119,10 @@ struct Trace {
 /// successive finite points are taken as wraps, across gaps too). The first
 /// trace starts in `[-180, 180)` (so a real negative response reads -180,
 /// the lagging convention); every other trace is then shifted by the
-/// multiple of 360 degrees that brings it closest, on average, to the first
-/// trace (compared at common frequencies, or by mean if they do not
-/// overlap), so that equal phases plot on top of each other.
+/// multiple of 360 degrees that brings it closest to the first trace where
+/// they start (the median difference over the lowest quarter of their
+/// common frequencies, or by mean if they do not overlap), so that equal
+/// phases plot on top of each other.
 ///
 /// Points whose frequency is not finite and positive, or whose response is
 /// not finite or zero, are gaps that break the line. Input never panics:
@@ -576,12 +577,25 @@ fn align_phases(mut curves: Vec<Curve>) -> Vec<Curve> {
     };
     let first_mean = mean(&mut first.deg.iter().copied().filter(|v| v.is_finite()));
     for c in rest {
-        let mut diffs =
+        // Compared where the traces start: unwrapping accumulates its
+        // errors upward (noise between poorly excited lines adds turns),
+        // so the lowest quarter of the common frequencies decides, by the
+        // median difference.
+        let mut diffs: Vec<(f64, f64)> =
             c.f.iter()
                 .zip(&c.deg)
-                .map(|(&f, &d)| d - reference.at(f))
-                .filter(|d| d.is_finite());
-        let offset = mean(&mut diffs).or_else(|| {
+                .map(|(&f, &d)| (f, d - reference.at(f)))
+                .filter(|(f, d)| f.is_finite() && d.is_finite())
+                .collect();
+        diffs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let low: Vec<f64> = {
+            let k = (diffs.len() / 4).max(3).min(diffs.len());
+            let mut v: Vec<f64> = diffs[..k].iter().map(|d| d.1).collect();
+            v.sort_by(f64::total_cmp);
+            v
+        };
+        let median = (!low.is_empty()).then(|| low[low.len() / 2]);
+        let offset = median.or_else(|| {
             let own = mean(&mut c.deg.iter().copied().filter(|v| v.is_finite()));
             Some(own? - first_mean?)
         });
