@@ -73,6 +73,7 @@
 //! ```
 
 use crate::fit::solve_spd;
+use crate::selection::{forward_select, none, Trial};
 use frf::Frf;
 use mms::model_file::ModelFile;
 use mms::response::{ChainResponse, Effects, Parameters, ResponseError};
@@ -322,13 +323,15 @@ pub struct FitSummary {
     pub rms_deg: f64,
 }
 
-/// Before and after (the JSON `fit` object).
+/// Before and after (the JSON `fit` object), in whichever figures the
+/// diagnosis measures: [`FitSummary`] on an FRF, the time-domain
+/// diagnosis's [`crate::nonlinear::TimeFit`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct BeforeAfter {
+pub struct BeforeAfter<T = FitSummary> {
     /// The calibrated model without a new effect.
-    pub before: FitSummary,
-    /// The model after the best kept effect (equal to `before` if none).
-    pub after: FitSummary,
+    pub before: T,
+    /// The model after the kept effects (equal to `before` if none).
+    pub after: T,
 }
 
 /// The result of [`diagnose`]: `mismatch`, `effects`, `rejected`, `fit`,
@@ -963,21 +966,19 @@ pub fn diagnose(
     };
     let test_cost = problem.test_cost(&[], &calibrated.x)?;
     let test_before = test_cost;
-    let mut base = Fitted {
+    let start = Fitted {
         problem,
         kinds: Vec::new(),
         extended: false,
         state: calibrated.clone(),
         test_cost,
     };
-    let mut kept: Vec<(EffectKind, f64)> = Vec::new();
-    let mut evidences: Vec<String> = Vec::new();
+    // Only effects that earn their parameters on their own are tried in
+    // combination (and the time stays bounded).
     let mut earned_alone: Vec<EffectKind> = Vec::new();
     // The extra mass's placement found in the first step.
     let mut placement: Option<Placement> = None;
-    let rejected: Vec<EffectVerdict>;
-    let mut step = 1;
-    loop {
+    let selected = forward_select(start, |base, kept, step| {
         let e_base = base.problem.errors(&base.kinds, &base.state.x)?;
         let summary_base = summary(&e_base);
         // From the second step on, the misfit the effects kept so far leave
@@ -992,12 +993,12 @@ pub fn diagnose(
         } else {
             (base.state.cost / ctx.rows).max(1.0)
         };
-        let mut tried: Vec<(EffectKind, Fitted, f64, String)> = Vec::new();
+        let mut tried: Vec<Trial<Fitted>> = Vec::new();
         for kind in EffectKind::HYPOTHESES
             .into_iter()
             .chain([EffectKind::ExtraMode])
         {
-            if base.kinds.contains(&kind)
+            if kept.contains(&kind)
                 || (kind == EffectKind::ExtraMode && base.extended)
                 || (step > 1 && !earned_alone.contains(&kind))
             {
@@ -1005,12 +1006,12 @@ pub fn diagnose(
             }
             let fitted = match kind {
                 EffectKind::ExtraMode => {
-                    extra_mode(&base, &e_base, &ctx, placement.as_ref()).map(|(f, p)| {
+                    extra_mode(base, &e_base, &ctx, placement.as_ref()).map(|(f, p)| {
                         placement.get_or_insert(p);
                         f
                     })
                 }
-                _ => add_effect(&base, kind, &e_base, &ctx),
+                _ => add_effect(base, kind, &e_base, &ctx),
             };
             let Some(fitted) = fitted else { continue };
             let n_new = if kind == EffectKind::ExtraMode { 3 } else { 1 };
@@ -1048,78 +1049,43 @@ pub fn diagnose(
                 );
             }
             if step > 1 {
-                let with: Vec<&str> = kept.iter().map(|k| k.0.as_str()).collect();
+                let with: Vec<&str> = kept.iter().map(|k| k.as_str()).collect();
                 evidence = format!("added to {}: {evidence}", with.join(" + "));
             }
-            tried.push((kind, fitted, score, evidence));
-        }
-        // Best first; ties keep the fixed hypothesis order (stable sort).
-        tried.sort_by(|a, b| b.2.total_cmp(&a.2));
-        if step == 1 {
-            // Only effects that earn their parameters on their own are
-            // tried in combination (and the time stays bounded).
-            earned_alone = tried.iter().filter(|t| t.2 > 0.0).map(|t| t.0).collect();
-        }
-        let accept = tried.first().is_some_and(|t| t.2 > 0.0);
-        let mut verdicts = Vec::new();
-        let mut next = None;
-        for (i, (kind, fitted, score, evidence)) in tried.into_iter().enumerate() {
-            if i == 0 && accept {
-                kept.push((kind, score));
-                next = Some((fitted, evidence));
-                continue;
-            }
-            let parameters = fitted.parameters(kind, &ctx);
-            verdicts.push(EffectVerdict {
-                kind,
-                parameters,
-                evidence,
-                score,
-                step,
+            tried.push(Trial {
+                verdict: EffectVerdict {
+                    kind,
+                    parameters: fitted.parameters(kind, &ctx),
+                    evidence,
+                    score,
+                    step,
+                },
+                state: fitted,
             });
         }
-        match next {
-            Some((fitted, evidence)) => {
-                base = fitted;
-                evidences.push(evidence);
-                step += 1;
-            }
-            None => {
-                rejected = verdicts;
-                break;
-            }
+        if step == 1 {
+            earned_alone = tried
+                .iter()
+                .filter(|t| t.verdict.score > 0.0)
+                .map(|t| t.verdict.kind)
+                .collect();
         }
-    }
-
+        Ok::<_, DiagnoseError>(tried)
+    })?;
+    let base = selected.state;
+    let rejected = selected.rejected;
+    let kept = selected.kept;
     let errors_after = base.problem.errors(&base.kinds, &base.state.x)?;
     let after = summary(&errors_after);
     let model_after = base.model_file()?;
     let effects = if kept.is_empty() {
-        vec![EffectVerdict {
-            kind: EffectKind::None,
-            parameters: BTreeMap::new(),
-            evidence: match rejected.first() {
-                Some(v) => format!(
-                    "no effect earns its parameter; best was {} ({})",
-                    v.kind.as_str(),
-                    v.evidence
-                ),
-                None => "no hypothesis could be fitted".into(),
-            },
-            score: 0.0,
-            step: 0,
-        }]
+        vec![none(&rejected)]
     } else {
         // The parameters of the final joint fit.
-        kept.iter()
-            .zip(evidences)
-            .enumerate()
-            .map(|(i, (&(kind, score), evidence))| EffectVerdict {
-                kind,
-                parameters: base.parameters(kind, &ctx),
-                evidence,
-                score,
-                step: i + 1,
+        kept.into_iter()
+            .map(|v| EffectVerdict {
+                parameters: base.parameters(v.kind, &ctx),
+                ..v
             })
             .collect()
     };

@@ -55,6 +55,7 @@
 
 use crate::diagnose::{EffectKind, EffectVerdict};
 use crate::fit::solve_spd;
+use crate::selection::{forward_select, none, Trial};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -400,7 +401,7 @@ pub fn idim_ls(
     let all = ["m", "viscous_ns_per_m", "coulomb_n", "offset_n"];
     let (cols, y) = regressors(force, q, fs, cutoff_hz, o.order, o.decimation, &all)?;
     let n = y.len();
-    let mut chosen: Vec<usize> = if o.viscous { vec![0, 1] } else { vec![0] };
+    let chosen: Vec<usize> = if o.viscous { vec![0, 1] } else { vec![0] };
     let fit = |idx: &[usize]| {
         let c: Vec<&Vec<f64>> = idx.iter().map(|&i| &cols[i]).collect();
         least_squares(&c, &y)
@@ -411,65 +412,52 @@ pub fn idim_ls(
     let rel_err_before = (rss0 / y_energy).sqrt();
     let price = (n as f64).ln() + o.margin;
     let candidates = [(2, EffectKind::CoulombFriction), (3, EffectKind::Offset)];
-    let mut effects = Vec::new();
-    let mut rejected = Vec::new();
-    let mut rss_base = rss0;
-    let mut step = 1;
-    let mut left: Vec<(usize, EffectKind)> = candidates.to_vec();
-    while !left.is_empty() {
+    // Forward selection: the state is the chosen columns and their RSS.
+    let selected = forward_select((chosen, rss0), |(chosen, rss_base), _, step| {
         // Each remaining effect added to the kept ones, refitted jointly.
-        let mut tried: Vec<(usize, EffectVerdict)> = Vec::new();
-        for (pos, &(col, kind)) in left.iter().enumerate() {
-            let mut idx = chosen.clone();
-            idx.push(col);
-            let Some((theta, _, rss, _)) = fit(&idx) else {
-                continue;
-            };
-            let gain = n as f64 * (rss_base / rss).ln();
-            let share = 1.0 - rss / rss_base;
-            let score = if share >= o.min_share {
-                gain - price
-            } else {
-                (gain - price).min(-1.0)
-            };
-            let (pname, value) = match kind {
-                EffectKind::CoulombFriction => ("coulomb_n", theta[idx.len() - 1]),
-                _ => ("force_n", theta[idx.len() - 1]),
-            };
-            let mut parameters = BTreeMap::new();
-            parameters.insert(pname.to_string(), value);
-            tried.push((
-                pos,
-                EffectVerdict {
-                    kind,
-                    parameters,
-                    evidence: format!(
-                        "force residual {:.2} % -> {:.2} % of the force RMS (removes {:.1} % \
-                         of the residual energy); BIC gain {gain:.1} (price {price:.1})",
-                        100.0 * (rss_base / y_energy).sqrt(),
-                        100.0 * (rss / y_energy).sqrt(),
-                        100.0 * share
-                    ),
-                    score,
-                    step,
-                },
-            ));
-        }
-        tried.sort_by(|a, b| b.1.score.total_cmp(&a.1.score));
-        match tried.first() {
-            Some((pos, v)) if v.score > 0.0 => {
-                let (col, _) = left.remove(*pos);
-                chosen.push(col);
-                rss_base = fit(&chosen).map(|r| r.2).unwrap_or(rss_base);
-                effects.push(v.clone());
-                step += 1;
-            }
-            _ => {
-                rejected = tried.into_iter().map(|t| t.1).collect();
-                break;
-            }
-        }
-    }
+        Ok::<_, IdimError>(
+            candidates
+                .iter()
+                .filter(|(col, _)| !chosen.contains(col))
+                .filter_map(|&(col, kind)| {
+                    let mut idx = chosen.clone();
+                    idx.push(col);
+                    let (theta, _, rss, _) = fit(&idx)?;
+                    let gain = n as f64 * (rss_base / rss).ln();
+                    let share = 1.0 - rss / rss_base;
+                    let score = if share >= o.min_share {
+                        gain - price
+                    } else {
+                        (gain - price).min(-1.0)
+                    };
+                    let mut parameters = BTreeMap::new();
+                    parameters.insert(
+                        kind.parameter_name().unwrap_or("value").to_string(),
+                        theta[idx.len() - 1],
+                    );
+                    Some(Trial {
+                        verdict: EffectVerdict {
+                            kind,
+                            parameters,
+                            evidence: format!(
+                            "force residual {:.2} % -> {:.2} % of the force RMS (removes {:.1} % \
+                             of the residual energy); BIC gain {gain:.1} (price {price:.1})",
+                            100.0 * (rss_base / y_energy).sqrt(),
+                            100.0 * (rss / y_energy).sqrt(),
+                            100.0 * share
+                        ),
+                            score,
+                            step,
+                        },
+                        state: (idx, rss),
+                    })
+                })
+                .collect(),
+        )
+    })?;
+    let chosen = selected.state.0.clone();
+    let rejected = selected.rejected.clone();
+    let mut effects = selected.kept;
     let (theta, std, rss, condition) =
         fit(&chosen).ok_or_else(|| singular("the selected regressors are dependent"))?;
     // Effect parameters from the final joint fit.
@@ -485,20 +473,7 @@ pub fn idim_ls(
         }
     }
     if effects.is_empty() {
-        effects.push(EffectVerdict {
-            kind: EffectKind::None,
-            parameters: BTreeMap::new(),
-            evidence: match rejected.first() {
-                Some(v) => format!(
-                    "no effect earns its parameter; best was {} ({})",
-                    v.kind.as_str(),
-                    v.evidence
-                ),
-                None => "no effect could be fitted".into(),
-            },
-            score: 0.0,
-            step: 0,
-        });
+        effects.push(none(&rejected));
     }
     let estimates = chosen
         .iter()

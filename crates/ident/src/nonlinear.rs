@@ -82,9 +82,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use crate::diagnose::{Band, Diagnosis, EffectKind, EffectVerdict};
+use crate::diagnose::{Band, BeforeAfter, Diagnosis, EffectKind, EffectVerdict};
 use crate::fit::solve_spd;
 use crate::idim::{idim_ls, IdimOptions, InverseDynamics};
+use crate::selection::{forward_select, none, Trial};
 use frf::welch::{h1, WelchOptions};
 use frf::Frf;
 use mms::model_file::ModelFile;
@@ -182,15 +183,6 @@ pub struct TimeFit {
     pub rms_time_rel: f64,
 }
 
-/// Before (the calibrated linear model) and after (the best kept effect).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct TimeBeforeAfter {
-    /// The calibrated model without a new effect.
-    pub before: TimeFit,
-    /// The model after the best kept effect (equal to `before` if none).
-    pub after: TimeFit,
-}
-
 /// The result of [`diagnose_time`]: the JSON of the frequency-domain
 /// [`Diagnosis`] (`mismatch`, `effects`, `rejected`, `fit`, `calibration`,
 /// `noise`, `model_after`) plus `evidence`, `samples`, `fs` and, if asked
@@ -205,7 +197,7 @@ pub struct TimeDiagnosis {
     /// Hypotheses that did not earn their parameter, best first.
     pub rejected: Vec<EffectVerdict>,
     /// Errors before and after.
-    pub fit: TimeBeforeAfter,
+    pub fit: BeforeAfter<TimeFit>,
     /// Calibration notes: parameters pinned at their bounds.
     pub calibration: Vec<String>,
     /// Nonlinearity evidence: coherence, amplitude dependence, harmonics.
@@ -664,6 +656,17 @@ impl Problem<'_> {
     }
 }
 
+/// A fitted state of the forward selection: the coordinates, their RSS on
+/// the fitted samples, the figures, the held-out RSS and the bounds.
+struct Fit {
+    x: Vec<f64>,
+    rss: f64,
+    fit: TimeFit,
+    test: f64,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+}
+
 /// The parameters the calibration moves and their log bounds.
 struct Calibration {
     /// Indices in the model's parameter order; `usize::MAX` for the
@@ -1093,15 +1096,18 @@ fn diagnose(
     // (step 1), then each remaining one added to those kept (step 2, ...),
     // everything refitted jointly. A further effect is scored against the
     // model with the kept ones.
-    let mut kept: Vec<EffectVerdict> = Vec::new();
-    let mut kinds: Vec<EffectKind> = Vec::new();
-    let (mut x_base, mut rss_base, mut fit_base) = (x_cal.clone(), rss_cal, before);
-    let mut test_base = test_cal;
-    let (mut lo_base, mut hi_base) = (lo.clone(), hi.clone());
-    let rejected: Vec<EffectVerdict>;
-    let mut step = 1;
-    loop {
-        let mut tried: Vec<(EffectVerdict, Vec<f64>, f64, TimeFit, f64)> = Vec::new();
+    let base = Fit {
+        x: x_cal.clone(),
+        rss: rss_cal,
+        fit: before,
+        test: test_cal,
+        lo: lo.clone(),
+        hi: hi.clone(),
+    };
+    let selected = forward_select(base, |b, kinds, step| {
+        let (x_base, rss_base, fit_base, test_base) = (&b.x, b.rss, b.fit, b.test);
+        let (lo_base, hi_base) = (&b.lo, &b.hi);
+        let mut tried: Vec<Trial<Fit>> = Vec::new();
         // Every remaining effect, also one that did not earn its parameter
         // alone: an offset can hide friction under the drift of an
         // open-loop simulation until it is removed.
@@ -1115,25 +1121,20 @@ fn diagnose(
             let Some((ll, lh)) = range(kind) else {
                 continue;
             };
-            let mut with = kinds.clone();
+            let mut with = kinds.to_vec();
             with.push(kind);
             // Step 1 starts from the calibrated and from the nominal chain:
             // a large effect can pull the linear calibration far off (an
             // offset, which the calibration cannot mimic, only from the
             // calibrated one).
             let bases: Vec<&Vec<f64>> = if kinds.is_empty() && kind != EffectKind::Offset {
-                vec![&x_base, &x_nominal]
+                vec![x_base, &x_nominal]
             } else {
-                vec![&x_base]
+                vec![x_base]
             };
-            let Some((x, rss)) = problem.search(
-                &with,
-                &bases,
-                &lo_base,
-                &hi_base,
-                (ll, lh),
-                o.max_iterations,
-            ) else {
+            let Some((x, rss)) =
+                problem.search(&with, &bases, lo_base, hi_base, (ll, lh), o.max_iterations)
+            else {
                 continue;
             };
             let gain_bic = n_fit as f64 * (rss_base / rss).ln();
@@ -1224,39 +1225,40 @@ fn diagnose(
             let mut parameters = BTreeMap::new();
             let pname = kind.parameter_name().unwrap_or("value");
             parameters.insert(pname.to_string(), value(kind, x[x.len() - 1]));
-            tried.push((
-                EffectVerdict {
+            let (mut lo_k, mut hi_k) = (lo_base.clone(), hi_base.clone());
+            lo_k.push(ll);
+            hi_k.push(lh);
+            tried.push(Trial {
+                verdict: EffectVerdict {
                     kind,
                     parameters,
                     evidence,
                     score,
                     step,
                 },
-                x,
-                rss,
-                after,
-                test,
-            ));
+                state: Fit {
+                    x,
+                    rss,
+                    fit: after,
+                    test,
+                    lo: lo_k,
+                    hi: hi_k,
+                },
+            });
         }
-        tried.sort_by(|a, b| b.0.score.total_cmp(&a.0.score));
-        match tried.first() {
-            Some((v, ..)) if v.score > 0.0 => {
-                let (v, x, rss, after, test) = tried.remove(0);
-                test_base = test;
-                let (ll, lh) = range(v.kind).unwrap_or((0.0, 0.0));
-                lo_base.push(ll);
-                hi_base.push(lh);
-                kinds.push(v.kind);
-                kept.push(v);
-                (x_base, rss_base, fit_base) = (x, rss, after);
-                step += 1;
-            }
-            _ => {
-                rejected = tried.into_iter().map(|t| t.0).collect();
-                break;
-            }
-        }
-    }
+        Ok::<_, TimeDiagnoseError>(tried)
+    })?;
+    let kinds: Vec<EffectKind> = selected.kept.iter().map(|v| v.kind).collect();
+    let mut kept = selected.kept;
+    let rejected = selected.rejected;
+    let Fit {
+        x: mut x_base,
+        rss: mut rss_base,
+        fit: mut fit_base,
+        test: test_base,
+        lo: lo_base,
+        hi: hi_base,
+    } = selected.state;
     // How many of the held-out samples count as independent, from the
     // chosen model's error there.
     let effective_samples = match problem.errors(&kinds, &x_base) {
@@ -1302,20 +1304,7 @@ fn diagnose(
     let informative = after.rms_time_rel <= o.informative;
     let model_after = problem.model(&kinds, &x_base)?;
     let effects = if kept.is_empty() {
-        vec![EffectVerdict {
-            kind: EffectKind::None,
-            step: 0,
-            parameters: BTreeMap::new(),
-            evidence: match rejected.first() {
-                Some(v) => format!(
-                    "no effect earns its parameter; best was {} ({})",
-                    v.kind.as_str(),
-                    v.evidence
-                ),
-                None => "no hypothesis could be fitted".into(),
-            },
-            score: 0.0,
-        }]
+        vec![none(&rejected)]
     } else {
         kept
     };
@@ -1345,7 +1334,7 @@ fn diagnose(
             .unwrap_or_default(),
         effects,
         rejected,
-        fit: TimeBeforeAfter { before, after },
+        fit: BeforeAfter { before, after },
         calibration,
         evidence,
         noise: (rss_base / n_fit as f64).sqrt(),

@@ -1008,6 +1008,9 @@ fn half_turn_between_two_lines_is_read_from_the_magnitude() {
     }
 }
 
+/// A confidence bin: its lower edge, features reported, features real.
+type Bin = (f64, usize, usize);
+
 /// How often a feature claimed at a given confidence is real: synthetic
 /// recordings from `ident::synth` (2-4 masses of the paper's rule (3)
 /// structures, 150 log-spaced lines, position output, 1-30 % noise per
@@ -1017,7 +1020,7 @@ fn half_turn_between_two_lines_is_read_from_the_magnitude() {
 /// (same kind within 3 % in frequency). Returns per bin (lower edge,
 /// reported, real), and the true features inside the classified band with
 /// how many of them the type claims.
-fn calibration(recordings: u64) -> (Vec<(f64, usize, usize)>, (usize, usize)) {
+fn calibration(recordings: u64) -> (Vec<Bin>, (usize, usize)) {
     use ident::synth::{synthetic, SynthOptions};
     let edges = [0.2, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0001];
     let mut bins = vec![(0usize, 0usize); edges.len() - 1];
