@@ -582,12 +582,7 @@ fn diagnose_recording_and_simulation_flags_and_holdout() {
 fn diagnose_emps_closed_loop() {
     let dir = temp_dir("emps");
     let model = dir.join("emps.toml");
-    std::fs::write(
-        &model,
-        "masses = 1\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\noutput = \"position\"\n\
-         gain = 35.15\n[parameters]\nm1 = 100\n[effects]\nfriction = { viscous_ns_per_m = 200 }\n",
-    )
-    .unwrap();
+    std::fs::write(&model, common::EMPS_MODEL).unwrap();
     let mat = real_data("emps/DATA_EMPS.mat");
     let model = model.to_str().unwrap();
     let base = [

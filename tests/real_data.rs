@@ -639,12 +639,7 @@ fn tue_and_emps_pulses_verdicts() {
     }
     let dir = temp_dir("emps-pulses");
     let model = dir.join("emps.toml");
-    std::fs::write(
-        &model,
-        "masses = 1\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\noutput = \"position\"\n\
-         gain = 35.15\n[parameters]\nm1 = 100\n[effects]\nfriction = { viscous_ns_per_m = 200 }\n",
-    )
-    .unwrap();
+    std::fs::write(&model, common::EMPS_MODEL).unwrap();
     let path = real_data("emps/DATA_EMPS_PULSES.mat");
     let v = json(&[
         "diagnose",

@@ -35,3 +35,11 @@ pub fn real_data(rel: &str) -> String {
     assert!(p.exists(), "real recording {} missing", p.display());
     p.to_string_lossy().into_owned()
 }
+
+/// The EMPS model the diagnosis starts from: one rigid body of 100 kg
+/// behind the drive's 35.15 N/V, viscous friction only (no Coulomb
+/// friction, no offset).
+#[allow(dead_code)] // not every test binary diagnoses EMPS
+pub const EMPS_MODEL: &str = "masses = 1\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\n\
+    output = \"position\"\ngain = 35.15\n[parameters]\nm1 = 100\n[effects]\n\
+    friction = { viscous_ns_per_m = 200 }\n";

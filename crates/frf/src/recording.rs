@@ -627,90 +627,82 @@ fn estimate(
             }
         }
     }
-    if let Some((x, name)) = &excitation {
-        if x.len() != u.len() {
-            return Err(ctx.file(format!(
-                "the excitation {name} has {} samples but the input {input} has {}",
-                x.len(),
-                u.len()
-            )));
-        }
-        let est = welch::three_point(x, u, y, fs, &opts.welch).map_err(|e| {
-            ctx.file(format!(
-                "estimating the FRF from {input} to {output} with the excitation {name}: {e}"
-            ))
-        })?;
-        // An excitation that does not reach the plant input explains
-        // nothing of it. Unrelated signals have some coherence by chance:
-        // with n averages it exceeds c at a line with probability
-        // (1 - c)^(n - 1), so a line counts only above the 1 % level (and
-        // 0.1), and the excitation reaches u if 5 % of the lines do.
-        let n = est.averages.max(2) as f64;
-        let level = (1.0 - 0.01f64.powf(1.0 / (n - 1.0))).max(0.1);
-        let coh = est.sensitivity.coherence().unwrap_or(&[]);
-        let above = coh.iter().filter(|&&g| g > level).count();
-        if above * 20 < coh.len().max(1) {
-            let best = coh.iter().cloned().fold(0.0, f64::max);
-            return Err(ctx.file(format!(
-                "the excitation {name} does not reach the input {input}: its coherence with \
-                 it exceeds {level:.3} (chance with {} averages) at {above} of {} lines (at \
-                 most {best:.3})",
+    let (frf, averages, nfft, kept, loop_functions) = match &excitation {
+        Some((x, name)) => {
+            if x.len() != u.len() {
+                return Err(ctx.file(format!(
+                    "the excitation {name} has {} samples but the input {input} has {}",
+                    x.len(),
+                    u.len()
+                )));
+            }
+            let est = welch::three_point(x, u, y, fs, &opts.welch).map_err(|e| {
+                ctx.file(format!(
+                    "estimating the FRF from {input} to {output} with the excitation {name}: {e}"
+                ))
+            })?;
+            // An excitation that does not reach the plant input explains
+            // nothing of it. Unrelated signals have some coherence by
+            // chance: with n averages it exceeds c at a line with
+            // probability (1 - c)^(n - 1), so a line counts only above the
+            // 1 % level (and 0.1), and the excitation reaches u if 5 % of
+            // the lines do.
+            let n = est.averages.max(2) as f64;
+            let level = (1.0 - 0.01f64.powf(1.0 / (n - 1.0))).max(0.1);
+            let coh = est.sensitivity.coherence().unwrap_or(&[]);
+            let above = coh.iter().filter(|&&g| g > level).count();
+            if above * 20 < coh.len().max(1) {
+                let best = coh.iter().cloned().fold(0.0, f64::max);
+                return Err(ctx.file(format!(
+                    "the excitation {name} does not reach the input {input}: its coherence \
+                     with it exceeds {level:.3} (chance with {} averages) at {above} of {} \
+                     lines (at most {best:.3})",
+                    est.averages,
+                    coh.len()
+                )));
+            }
+            let functions = Excitation {
+                name: name.clone(),
+                sensitivity: est.sensitivity,
+                process_sensitivity: est.process_sensitivity,
+            };
+            (
+                est.plant,
                 est.averages,
-                coh.len()
-            )));
+                est.nfft,
+                Some(x.clone()),
+                Some(functions),
+            )
         }
-        if est.plant.len() < MIN_LINES {
-            return Err(ctx.file(format!(
-                "only {} frequency lines (nfft {}); at least {MIN_LINES} are needed",
-                est.plant.len(),
-                est.nfft
-            )));
+        None => {
+            let est = welch::h1(u, y, fs, &opts.welch).map_err(|e| {
+                ctx.file(format!("estimating the FRF from {input} to {output}: {e}"))
+            })?;
+            (est.frf, est.averages, est.nfft, None, None)
         }
-        *ctx.samples.borrow_mut() = Some(Samples {
-            u: u.to_vec(),
-            y: y.to_vec(),
-            fs,
-            excitation: Some(x.clone()),
-        });
-        *ctx.excitation.borrow_mut() = Some(Excitation {
-            name: name.clone(),
-            sensitivity: est.sensitivity,
-            process_sensitivity: est.process_sensitivity,
-        });
-        let source = Source::TimeDomain {
-            fs,
-            n_samples: u.len(),
-            averages: est.averages,
-            nfft: est.nfft,
-            input,
-            output,
-        };
-        return Ok((est.plant, source));
-    }
-    let est = welch::h1(u, y, fs, &opts.welch)
-        .map_err(|e| ctx.file(format!("estimating the FRF from {input} to {output}: {e}")))?;
-    if est.frf.len() < MIN_LINES {
+    };
+    if frf.len() < MIN_LINES {
         return Err(ctx.file(format!(
-            "only {} frequency lines (nfft {}); at least {MIN_LINES} are needed",
-            est.frf.len(),
-            est.nfft
+            "only {} frequency lines (nfft {nfft}); at least {MIN_LINES} are needed",
+            frf.len()
         )));
     }
     *ctx.samples.borrow_mut() = Some(Samples {
         u: u.to_vec(),
         y: y.to_vec(),
         fs,
-        excitation: None,
+        excitation: kept,
     });
+    *ctx.excitation.borrow_mut() = loop_functions;
     let source = Source::TimeDomain {
         fs,
         n_samples: u.len(),
-        averages: est.averages,
-        nfft: est.nfft,
+        averages,
+        nfft,
         input,
         output,
     };
-    Ok((est.frf, source))
+    Ok((frf, source))
 }
 
 fn matrix_recording(

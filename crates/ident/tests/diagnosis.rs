@@ -4,6 +4,8 @@
 //! every parameter off by up to ±8 %, as measured FRFs with their
 //! standard deviation per line.
 
+mod common;
+use common::{chain_parameters, log_uniform};
 use frf::welch::{h1, WelchOptions};
 use frf::{Complex64, Frf, Samples};
 use ident::diagnose::EffectKind;
@@ -18,30 +20,12 @@ use std::f64::consts::PI;
 const FS: f64 = 1000.0;
 const PERIOD: usize = 1000;
 
-fn log_uniform(rng: &mut XorShift, lo: f64, hi: f64) -> f64 {
-    lo * (hi / lo).powf(rng.uniform())
-}
-
 /// A random chain of `n` masses satisfying rule (3), masses 0.5-2, link
 /// modes 4-60 Hz, 2-8 % damping per link.
 fn chain(rng: &mut XorShift, n: usize) -> (Model, Vec<f64>) {
     let all = mms::rule3_models(n).unwrap();
     let model = all[(rng.uniform() * all.len() as f64) as usize % all.len()];
-    let masses: Vec<f64> = (0..n).map(|_| log_uniform(rng, 0.5, 2.0)).collect();
-    let mut values = masses.clone();
-    let mut dampers = Vec::new();
-    for i in (0..n).filter(|&i| model.has_link(i)) {
-        let reduced = if i == 0 {
-            masses[0]
-        } else {
-            masses[i - 1] * masses[i] / (masses[i - 1] + masses[i])
-        };
-        let w = 2.0 * PI * log_uniform(rng, 4.0, 60.0);
-        let c = reduced * w * w;
-        values.push(c);
-        dampers.push(2.0 * log_uniform(rng, 0.02, 0.08) * (c * reduced).sqrt());
-    }
-    values.extend(dampers);
+    let values = chain_parameters(rng, &model, (4.0, 60.0));
     (model, values)
 }
 

@@ -6,6 +6,8 @@
 //! parameter is off by up to ±10 %, and must name the concealed kind and
 //! its size.
 
+mod common;
+use common::{chain_parameters, log_uniform};
 use ident::diagnose::EffectKind;
 use ident::nonlinear::{diagnose_time, TimeOptions};
 use mms::model_file::{ModelFile, Motion};
@@ -25,10 +27,6 @@ struct Case {
     nominal: ModelFile,
     kind: EffectKind,
     value: f64,
-}
-
-fn log_uniform(rng: &mut XorShift, lo: f64, hi: f64) -> f64 {
-    lo * (hi / lo).powf(rng.uniform())
 }
 
 /// A random-phase multisine over the odd lines 1..59 Hz (each odd line
@@ -73,22 +71,7 @@ fn chain(rng: &mut XorShift, backlash: bool) -> (Model, Vec<f64>) {
             break m;
         }
     };
-    let n = model.n_masses();
-    let masses: Vec<f64> = (0..n).map(|_| log_uniform(rng, 0.5, 2.0)).collect();
-    let mut values = masses.clone();
-    let mut dampers = Vec::new();
-    for i in (0..n).filter(|&i| model.has_link(i)) {
-        let reduced = if i == 0 {
-            masses[0]
-        } else {
-            masses[i - 1] * masses[i] / (masses[i - 1] + masses[i])
-        };
-        let w = 2.0 * PI * log_uniform(rng, 4.0, 30.0);
-        let c = reduced * w * w;
-        values.push(c);
-        dampers.push(2.0 * log_uniform(rng, 0.02, 0.08) * (c * reduced).sqrt());
-    }
-    values.extend(dampers);
+    let values = chain_parameters(rng, &model, (4.0, 30.0));
     (model, values)
 }
 
