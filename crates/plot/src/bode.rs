@@ -2,6 +2,7 @@
 //! panel, shaded bands and a legend, built into a [`Scene`].
 
 use num_complex::Complex64;
+use std::collections::BTreeMap;
 
 use crate::axis::Axis;
 use crate::scene::{
@@ -120,9 +121,9 @@ struct Trace {
 /// trace starts in `[-180, 180)` (so a real negative response reads -180,
 /// the lagging convention); every other trace is then shifted by the
 /// multiple of 360 degrees that brings it closest to the first trace where
-/// they start (the median difference over the lowest quarter of their
-/// common frequencies, or by mean if they do not overlap), so that equal
-/// phases plot on top of each other.
+/// they start (the turn count most of their common lines agree on in the
+/// lower half of their common range in log frequency, or by mean if they
+/// do not overlap), so that equal phases plot on top of each other.
 ///
 /// Points whose frequency is not finite and positive, or whose response is
 /// not finite or zero, are gaps that break the line. Input never panics:
@@ -579,23 +580,31 @@ fn align_phases(mut curves: Vec<Curve>) -> Vec<Curve> {
     for c in rest {
         // Compared where the traces start: unwrapping accumulates its
         // errors upward (noise between poorly excited lines adds turns),
-        // so the lowest quarter of the common frequencies decides, by the
-        // median difference.
-        let mut diffs: Vec<(f64, f64)> =
+        // so the lower half of the common frequencies (in log frequency)
+        // decides, by the turn count most of its lines agree on.
+        let diffs: Vec<(f64, f64)> =
             c.f.iter()
                 .zip(&c.deg)
                 .map(|(&f, &d)| (f, d - reference.at(f)))
                 .filter(|(f, d)| f.is_finite() && d.is_finite())
                 .collect();
-        diffs.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let low: Vec<f64> = {
-            let k = (diffs.len() / 4).max(3).min(diffs.len());
-            let mut v: Vec<f64> = diffs[..k].iter().map(|d| d.1).collect();
-            v.sort_by(f64::total_cmp);
-            v
-        };
-        let median = (!low.is_empty()).then(|| low[low.len() / 2]);
-        let offset = median.or_else(|| {
+        let shift = (!diffs.is_empty()).then(|| {
+            let (lo, hi) = diffs.iter().fold((f64::INFINITY, 0.0f64), |(a, b), d| {
+                (a.min(d.0), b.max(d.0))
+            });
+            let mid = (lo * hi).sqrt();
+            let mut turns: BTreeMap<i64, usize> = BTreeMap::new();
+            for (_, d) in diffs.iter().filter(|(f, _)| *f <= mid) {
+                *turns.entry((d / 360.0).round() as i64).or_default() += 1;
+            }
+            // The most lines; a tie goes to the fewest turns.
+            let best = turns
+                .iter()
+                .max_by(|a, b| a.1.cmp(b.1).then(b.0.abs().cmp(&a.0.abs())))
+                .map_or(0, |(t, _)| *t);
+            360.0 * best as f64
+        });
+        let offset = shift.or_else(|| {
             let own = mean(&mut c.deg.iter().copied().filter(|v| v.is_finite()));
             Some(own? - first_mean?)
         });
@@ -670,6 +679,35 @@ mod tests {
         // A real negative response starts at -180, not +180.
         let c = Curve::new(&trace(&[1.0], &[Complex64::new(-1.0, 0.0)]));
         assert_eq!(c.deg, [-180.0]);
+    }
+
+    #[test]
+    fn a_model_is_never_a_turn_away_from_noisy_data() {
+        // Data: a dead time over 1-2000 Hz whose upper decade is noise, so
+        // its unwrapped phase gains turns there; the model: the same dead
+        // time. Aligned where they start, the model sits on the data at
+        // every line below the noise, not a multiple of 360 deg away.
+        let f: Vec<f64> = (1..=2000).map(|k| k as f64).collect();
+        let mut state = 3u64;
+        let mut noise = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 360.0 - 180.0
+        };
+        let delay = |f: f64| -360.0 * f * 2e-4;
+        let data: Vec<Complex64> = f
+            .iter()
+            .map(|&f| polar(delay(f) + if f > 200.0 { noise() } else { 0.0 }))
+            .collect();
+        let model: Vec<Complex64> = f.iter().map(|&f| polar(delay(f))).collect();
+        let curves = align_phases(vec![
+            Curve::new(&trace(&f, &data)),
+            Curve::new(&trace(&f, &model)),
+        ]);
+        for ((f, m), d) in f.iter().zip(&curves[1].deg).zip(&curves[0].deg).take(200) {
+            assert!((m - d).abs() < 1e-6, "line {f}: {m} vs {d}");
+        }
     }
 
     #[test]
