@@ -251,6 +251,10 @@ fn bode(d: &RecordingDiagnosis) -> Bode {
             b = b.band(band.f_lo_hz, band.f_hi_hz, "mismatch");
         }
     }
+    // The compared lines with some context fill the figure.
+    if let Some((lo, hi)) = d.band_hz {
+        b = b.view(lo.max(c.freq_hz.first().copied().unwrap_or(lo)), hi);
+    }
     b.residual()
 }
 

@@ -250,7 +250,8 @@ fn bode(frf: &Frf, output: Output, id: &Identification) -> Bode {
         b = b.band(f[0], lo, "outside the band");
         b = b.band(hi, f[f.len() - 1], "outside the band");
     }
-    b.residual()
+    // The analysed band with some context fills the figure.
+    b.view(lo.max(f[0]), hi.min(f[f.len() - 1])).residual()
 }
 
 fn fmt_sig(x: f64) -> String {

@@ -156,6 +156,7 @@ pub struct Bode {
     bands: Vec<(f64, f64, String)>,
     residual: bool,
     size: Option<(u32, u32)>,
+    view: Option<(f64, f64)>,
 }
 
 /// Fills of band groups (bands sharing a label), in order of first use.
@@ -179,6 +180,7 @@ impl Bode {
             title,
             traces: Vec::new(),
             bands: Vec::new(),
+            view: None,
             residual: false,
             size: None,
         }
@@ -256,6 +258,30 @@ impl Bode {
     /// ```
     pub fn size(mut self, width: u32, height: u32) -> Bode {
         self.size = Some((width, height));
+        self
+    }
+
+    /// Shows the lines from `lo_hz` to `hi_hz` (the analysed band) with a
+    /// little context either side (a factor 1.3), within the data: the
+    /// value axes fit what is shown, so poorly excited lines far outside
+    /// the band (whose unwrapped phase wanders by turns) do not squeeze
+    /// it. Lines outside stay in the figure, clipped.
+    ///
+    /// ```
+    /// use num_complex::Complex64;
+    /// let f: Vec<f64> = (1..=1000).map(f64::from).collect();
+    /// let h: Vec<Complex64> = f.iter().map(|&f| Complex64::new(1.0 / f, 0.0)).collect();
+    /// let scene = plot::Bode::new("").trace("H", &f, &h, plot::Style::line()).view(10.0, 100.0).scene();
+    /// let x = &scene.panels[0].x;
+    /// assert!(x.min <= 10.0 / 1.3 && x.max >= 100.0 * 1.3 && x.max < 1000.0);
+    /// // The magnitude axis fits 10-100 Hz (-20 to -40 dB) with context,
+    /// // not the -60 dB at 1 kHz.
+    /// assert!(scene.panels[0].y.min > -50.0);
+    /// ```
+    pub fn view(mut self, lo_hz: f64, hi_hz: f64) -> Bode {
+        if lo_hz > 0.0 && hi_hz > lo_hz && hi_hz.is_finite() {
+            self.view = Some((lo_hz, hi_hz));
+        }
         self
     }
 
@@ -346,7 +372,14 @@ impl Bode {
                 .flat_map(|b| [b.0, b.1])
                 .filter(|f| *f > 0.0),
         );
-        let (f_lo, f_hi) = all_f.or(band_f).unwrap_or((1.0, 1000.0));
+        let (mut f_lo, mut f_hi) = all_f.or(band_f).unwrap_or((1.0, 1000.0));
+        if let Some((lo, hi)) = self.view {
+            (f_lo, f_hi) = ((lo / 1.3).max(f_lo), (hi * 1.3).min(f_hi));
+            if f_lo >= f_hi {
+                (f_lo, f_hi) = (lo, hi);
+            }
+        }
+        let shown = |f: f64| f >= f_lo * (1.0 - 1e-12) && f <= f_hi * (1.0 + 1e-12);
         let (gap, bottom_margin) = (12.0, 44.0);
         let avail = f64::from(h) - top - bottom_margin - gap * (panels.len() - 1) as f64;
         let total: f64 = panels.iter().map(|p| p.2).sum();
@@ -354,7 +387,14 @@ impl Bode {
         let count = panels.len();
         for (k, (values, name, weight)) in panels.into_iter().enumerate() {
             let height = (avail * weight / total).round().max(10.0);
-            let (lo, hi) = match (finite_range(values.iter().flatten().copied()), k) {
+            // The value range of what is shown.
+            let visible = curves.iter().zip(&values).flat_map(|(c, ys)| {
+                c.f.iter()
+                    .zip(ys)
+                    .filter(|(f, _)| shown(**f))
+                    .map(|(_, y)| *y)
+            });
+            let (lo, hi) = match (finite_range(visible), k) {
                 (Some(range), 0 | 1) => range,
                 // Zero is the residual's point of reference: always show it.
                 (Some((lo, hi)), _) => (lo.min(0.0), hi.max(0.0)),
