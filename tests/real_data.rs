@@ -630,6 +630,20 @@ fn tue_and_emps_pulses_verdicts() {
         let margin = num(&v["closed_loop"]["modulus_margin"]);
         assert!((0.3..1.0).contains(&margin), "{rec}: {margin}");
     }
+    // Without --excitation the report points at the injected noise.
+    let path = real_data("tue_motion_2025/motor_side_1rads.mat");
+    let v = json(&[
+        "identify",
+        &path,
+        "--u",
+        "Data.signals.u",
+        "--y",
+        "Data.signals.y",
+        "--format",
+        "json",
+    ]);
+    let hints = v["possible_excitations"].as_array().unwrap();
+    assert!(hints.iter().any(|h| h == "Data.signals.d"), "{hints:?}");
     for y in ["Data.y1", "Data.y2"] {
         let path = real_data("tue_motion_2018/scan_10hz_with_feedforward.mat");
         let v = json(&[

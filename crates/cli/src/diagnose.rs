@@ -182,6 +182,11 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
                 &d,
                 (args.format == IdentifyFormat::Md && args.out.is_some()).then_some("bode.svg"),
             );
+            if rec.excitation.is_none() && !rec.possible_excitations.is_empty() {
+                m.push_str(&crate::identify::possible_excitation_note(
+                    &rec.possible_excitations,
+                ));
+            }
             if let Some((other, v)) = &validation {
                 m.push_str(&validation_markdown(other, v));
             }

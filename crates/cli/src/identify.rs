@@ -69,10 +69,17 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
         _ => None,
     };
     let plots = bode(&rec.frf, output, &id);
-    let closed = rec.excitation.as_ref().map(closed_loop_section);
+    let closed = match (&rec.excitation, rec.possible_excitations.is_empty()) {
+        (Some(e), _) => Some(closed_loop_section(e)),
+        (None, false) => Some(possible_excitation_note(&rec.possible_excitations)),
+        (None, true) => None,
+    };
     let report = match args.format {
         IdentifyFormat::Json => {
             let mut v = to_json(&id, stability.as_ref());
+            if rec.excitation.is_none() && !rec.possible_excitations.is_empty() {
+                v["possible_excitations"] = json!(rec.possible_excitations);
+            }
             if let Some(e) = &rec.excitation {
                 let peak = e.peak_sensitivity_db();
                 v["closed_loop"] = json!({
@@ -434,6 +441,17 @@ fn markdown(
         let _ = writeln!(s, "- {n}");
     }
     s
+}
+
+/// Signals of the file that look like an excitation, when none was given.
+pub fn possible_excitation_note(names: &[String]) -> String {
+    let list: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+    format!(
+        "\n## Closed loop?\n\nThe file also holds {} as long as the input. If the record was \
+         taken in a closed loop with one of them injected, H1 from u to y is biased by the noise \
+         the controller feeds back; give it as `--excitation` for the 3-point estimate.\n",
+        list.join(", ")
+    )
 }
 
 /// The loop behind a 3-point estimate: its excitation and peak

@@ -249,6 +249,11 @@ pub struct Recording {
     pub samples: Option<Samples>,
     /// With an excitation: the loop functions behind the 3-point FRF.
     pub excitation: Option<Excitation>,
+    /// Without one: signals of the file that look like an excitation
+    /// injected into a closed loop (named `d`, `r`, `w`, `noise`,
+    /// `excitation`, `disturbance` or `dist`, as long as the input), which
+    /// `--excitation` could use.
+    pub possible_excitations: Vec<String>,
 }
 
 /// The loop functions of a 3-point estimate, from the excitation.
@@ -358,6 +363,8 @@ fn one_line(s: impl Into<String>) -> String {
 /// Builds errors for one file.
 struct Ctx<'a> {
     path: &'a Path,
+    /// Signals that look like an excitation ([`Recording::possible_excitations`]).
+    possible_excitations: std::cell::RefCell<Vec<String>>,
     /// The samples behind an estimate, kept for [`Recording::samples`].
     samples: std::cell::RefCell<Option<Samples>>,
     /// The loop functions of a 3-point estimate.
@@ -448,6 +455,7 @@ pub fn read_recording(
     let path = path.as_ref();
     let ctx = Ctx {
         path,
+        possible_excitations: std::cell::RefCell::new(Vec::new()),
         samples: std::cell::RefCell::new(None),
         excitation: std::cell::RefCell::new(None),
     };
@@ -528,6 +536,7 @@ pub fn read_recording(
         source,
         samples: ctx.samples.take(),
         excitation: ctx.excitation.take(),
+        possible_excitations: ctx.possible_excitations.take(),
     })
 }
 
@@ -931,6 +940,19 @@ fn read_mat_recording(
         None => mat_sample_rate(ctx, &mat, u.len())?,
     };
     let x = opts.excitation.as_ref().map(lookup).transpose()?;
+    if x.is_none() {
+        const NAMES: [&str; 7] = ["d", "r", "w", "noise", "excitation", "disturbance", "dist"];
+        *ctx.possible_excitations.borrow_mut() = mat
+            .variables
+            .iter()
+            .filter(|v| v.numel() == u.len() && v.name != un && v.name != yn)
+            .filter(|v| {
+                let last = v.name.rsplit('.').next().unwrap_or(&v.name);
+                NAMES.contains(&last.to_ascii_lowercase().as_str())
+            })
+            .map(|v| v.name.clone())
+            .collect();
+    }
     let (frf, source) = estimate(ctx, &u, &y, fs, opts, un, yn, x)?;
     Ok((Format::Mat, frf, source))
 }
