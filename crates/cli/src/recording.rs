@@ -26,9 +26,10 @@ pub struct RecordingArgs {
     /// Output signal of a time-domain recording, as for --u.
     #[arg(long, value_name = "VAR[:COL]")]
     pub y: Option<String>,
-    /// Sample rate in Hz where the file has none (overrides the file's).
-    #[arg(long, value_name = "HZ")]
-    pub fs: Option<f64>,
+    /// Sample rate in Hz where the file has none (overrides the file's),
+    /// or the .mat variable that holds it (e.g. Data.settings.fs).
+    #[arg(long, value_name = "HZ|VAR")]
+    pub fs: Option<String>,
     /// The measured quantity.
     #[arg(long, value_enum, default_value_t = OutputArg::Position)]
     pub output: OutputArg,
@@ -94,7 +95,12 @@ impl RecordingArgs {
         let opts = RecordingOptions {
             u: signal("u", &self.u)?,
             y: signal("y", &self.y)?,
-            fs: self.fs,
+            fs: self.fs.as_deref().and_then(|v| v.trim().parse().ok()),
+            fs_variable: self
+                .fs
+                .as_deref()
+                .filter(|v| v.trim().parse::<f64>().is_err())
+                .map(str::to_string),
             welch: self.welch(),
             dataset: self.dataset,
             excitation: signal("excitation", &self.excitation)?,

@@ -154,6 +154,9 @@ pub struct RecordingOptions {
     pub y: Option<SignalRef>,
     /// Sample rate in Hz; overrides the file's.
     pub fs: Option<f64>,
+    /// The .mat variable (a positive scalar, e.g. `Data.settings.fs`) that
+    /// holds the sample rate; overrides the file's own.
+    pub fs_variable: Option<String>,
     /// H1 estimation options for time-domain files.
     pub welch: WelchOptions,
     /// Universal files: the dataset to read, by its position in the file
@@ -482,6 +485,11 @@ pub fn read_recording(
         "dat" | "txt" => Kind::Matrix,
         _ => sniff(&bytes),
     };
+    if let (Some(name), false) = (&opts.fs_variable, kind == Kind::Mat) {
+        return Err(ctx.file(format!(
+            "--fs {name}: a sample rate by variable name needs a .mat recording; give it in Hz"
+        )));
+    }
     if opts.dataset.is_some() && kind != Kind::Uff {
         return Err(ctx.file("a dataset number applies to universal files only"));
     }
@@ -935,9 +943,22 @@ fn read_mat_recording(
             y.len()
         )));
     }
-    let fs = match opts.fs {
-        Some(fs) => fs,
-        None => mat_sample_rate(ctx, &mat, u.len())?,
+    let fs = match (opts.fs, &opts.fs_variable) {
+        (Some(fs), _) => fs,
+        (None, Some(name)) => {
+            let v = mat.get(name).ok_or_else(|| {
+                let why = match mat.skipped.iter().find(|s| &s.name == name) {
+                    Some(s) => format!("is not numeric (class {})", s.class),
+                    None => not_found(&mat, name),
+                };
+                ctx.variable(name, why)
+            })?;
+            match v.scalar() {
+                Some(fs) if fs.is_finite() && fs > 0.0 => fs,
+                _ => return Err(ctx.variable(name, "a sample rate must be a positive real scalar")),
+            }
+        }
+        (None, None) => mat_sample_rate(ctx, &mat, u.len())?,
     };
     let x = opts.excitation.as_ref().map(lookup).transpose()?;
     if x.is_none() {

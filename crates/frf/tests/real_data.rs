@@ -494,3 +494,30 @@ fn tue_closed_loop_three_point_matches_scipy() {
         assert!(db > 0.0 && db < 20.0, "{db}");
     }
 }
+
+/// `--fs VAR`: the sample rate from a named .mat variable; a variable
+/// that is no positive scalar, or one that is not there (the fields of the
+/// struct reached are listed), is an error naming it.
+#[test]
+fn sample_rate_from_a_named_variable() {
+    let path = data("tue_motion_2025/motor_side_stationary.mat");
+    let opts = |fs: &str| RecordingOptions {
+        u: Some("Data.signals.u".parse().unwrap()),
+        y: Some("Data.signals.y".parse().unwrap()),
+        fs_variable: Some(fs.into()),
+        ..Default::default()
+    };
+    let rec = read_recording(&path, &opts("Data.settings.fs")).unwrap();
+    assert_eq!(time_domain(&rec.source).0, 4000.0);
+    let e = read_recording(&path, &opts("Data.signals.u"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("'Data.signals.u'") && e.contains("positive real scalar"),
+        "{e}"
+    );
+    let e = read_recording(&path, &opts("Data.settings.rate"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("fields: runtime, fs, samples"), "{e}");
+}
