@@ -1285,7 +1285,36 @@ fn diagnose(
     // sample.
     if n_test > 0 && !kinds.is_empty() {
         problem.held = vec![false; n];
-        let (x, rss) = problem.fit(&kinds, x_base.clone(), &lo_base, &hi_base, o.max_iterations);
+        let (mut x, mut rss) =
+            problem.fit(&kinds, x_base.clone(), &lo_base, &hi_base, o.max_iterations);
+        // Polish a backlash as the search does: its error surface is
+        // rugged (contacts come and go), so the joint fit may stall; a
+        // golden section on the gap (the rest fixed), then a joint fit.
+        // Friction and offset have smooth surfaces and need none.
+        for (i, e) in (np..x.len()).enumerate() {
+            if kinds[i] != EffectKind::Backlash {
+                continue;
+            }
+            let width = (0.05 * (hi_base[e] - lo_base[e])).min(0.4);
+            let at = |v: f64| -> f64 {
+                let mut xv = x.clone();
+                xv[e] = v;
+                problem.residual(&kinds, &xv).1
+            };
+            let c = x[e];
+            let (v, _) = golden(
+                (c - width).max(lo_base[e]),
+                (c + width).min(hi_base[e]),
+                at,
+                12,
+            );
+            let mut xv = x.clone();
+            xv[e] = v;
+            let (xn, rn) = problem.fit(&kinds, xv, &lo_base, &hi_base, o.max_iterations);
+            if rn < rss * (1.0 - 1e-6) {
+                (x, rss) = (xn, rn);
+            }
+        }
         if rss.is_finite() {
             fit_base = problem.time_fit(&kinds, &x, measured_frf)?;
             (x_base, rss_base) = (x, rss * n_fit as f64 / n as f64);
