@@ -629,6 +629,11 @@ fn tue_and_emps_pulses_verdicts() {
         );
         let margin = num(&v["closed_loop"]["modulus_margin"]);
         assert!((0.3..1.0).contains(&margin), "{rec}: {margin}");
+        // The injected noise drives the plant input (d is added to it).
+        assert!(
+            num(&v["closed_loop"]["median_coherence_to_input"]) > 0.9,
+            "{rec}"
+        );
     }
     // Without --excitation the report points at the injected noise.
     let path = real_data("tue_motion_2025/motor_side_1rads.mat");

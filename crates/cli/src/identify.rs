@@ -82,9 +82,12 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
             }
             if let Some(e) = &rec.excitation {
                 let peak = e.peak_sensitivity_db();
+                let (to_u, to_y) = e.median_coherences();
                 v["closed_loop"] = json!({
                     "excitation": e.name,
                     "estimate": "3-point",
+                    "median_coherence_to_input": to_u,
+                    "median_coherence_to_output": to_y,
                     "peak_sensitivity_db": peak.map(|p| p.0),
                     "peak_sensitivity_hz": peak.map(|p| p.1),
                     "modulus_margin": peak.map(|p| 10f64.powf(-p.0 / 20.0)),
@@ -470,6 +473,12 @@ fn closed_loop_section(e: &frf::recording::Excitation) -> String {
             10f64.powf(-db / 20.0)
         );
     }
+    let (to_u, to_y) = e.median_coherences();
+    let _ = write!(
+        s,
+        " Median coherence from the excitation over the excited lines: {to_u:.3} to the \
+         input, {to_y:.3} to the output."
+    );
     s.push('\n');
     s
 }

@@ -272,6 +272,28 @@ pub struct Excitation {
 }
 
 impl Excitation {
+    /// The median coherence from the excitation to the plant input and to
+    /// the output, over the excited lines (finite uncertainty).
+    pub fn median_coherences(&self) -> (f64, f64) {
+        let median = |f: &Frf| -> f64 {
+            let sd = f.std_dev();
+            let mut c: Vec<f64> = f
+                .coherence()
+                .unwrap_or(&[])
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| sd.is_none_or(|s| s[*k].is_finite()))
+                .map(|(_, &g)| g)
+                .collect();
+            if c.is_empty() {
+                return f64::NAN;
+            }
+            c.sort_by(f64::total_cmp);
+            c[c.len() / 2]
+        };
+        (median(&self.sensitivity), median(&self.process_sensitivity))
+    }
+
     /// The modulus margin's reciprocal, `max |S|` in dB, and where, over
     /// the lines with finite uncertainty (excited lines).
     pub fn peak_sensitivity_db(&self) -> Option<(f64, f64)> {
