@@ -596,20 +596,24 @@ fn phase_slope_dead_time(path: &str, ranges: &[(f64, f64)]) -> f64 {
 ///   record.
 #[test]
 fn tue_and_emps_pulses_verdicts() {
-    for rec in ["motor_side_1rads.mat", "motor_side_stationary.mat"] {
+    // `mms identify` on a TU/e 2025 record, with extra flags.
+    let tue = |rec: &str, extra: &[&str]| {
         let path = real_data(&format!("tue_motion_2025/{rec}"));
-        let v = json(&[
+        let mut args = vec![
             "identify",
-            &path,
+            path.as_str(),
             "--u",
             "Data.signals.u",
             "--y",
             "Data.signals.y",
-            "--excitation",
-            "Data.signals.d",
             "--format",
             "json",
-        ]);
+        ];
+        args.extend_from_slice(extra);
+        json(&args)
+    };
+    for rec in ["motor_side_1rads.mat", "motor_side_stationary.mat"] {
+        let v = tue(rec, &["--excitation", "Data.signals.d"]);
         let c = &v["classification"];
         assert_eq!(c["type"], "AR", "{rec}");
         let feats: Vec<f64> = c["features"]
@@ -636,17 +640,7 @@ fn tue_and_emps_pulses_verdicts() {
         );
     }
     // Without --excitation the report points at the injected noise.
-    let path = real_data("tue_motion_2025/motor_side_1rads.mat");
-    let v = json(&[
-        "identify",
-        &path,
-        "--u",
-        "Data.signals.u",
-        "--y",
-        "Data.signals.y",
-        "--format",
-        "json",
-    ]);
+    let v = tue("motor_side_1rads.mat", &[]);
     let hints = v["possible_excitations"].as_array().unwrap();
     assert!(hints.iter().any(|h| h == "Data.signals.d"), "{hints:?}");
     for y in ["Data.y1", "Data.y2"] {
