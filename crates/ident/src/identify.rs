@@ -713,8 +713,15 @@ fn fit_candidate(
     // parameters at their start values keeps the fit from creeping along
     // them. A family from the back-solution names its free parameters;
     // otherwise the first masses are held.
-    let surplus =
-        model.undamped_parameters().len() - mms::identifiability(model).determinable_parameters;
+    // The rank at random points is what a fit meets (the generic rank
+    // with probability one); the exact symbolic proof is for the tables
+    // and can take a second per structure of five masses.
+    let sampled = mms::RankOptions {
+        symbolic_work_limit: 0,
+        ..mms::RankOptions::default()
+    };
+    let surplus = model.undamped_parameters().len()
+        - mms::identifiability_with(model, &sampled).determinable_parameters;
     let mut default_fixed: Vec<String> = model
         .masses()
         .into_iter()
