@@ -266,18 +266,43 @@ pub fn identify(
         );
     }
     let zeta = mean_damping(&classification);
+    // The candidates are independent: fitted on every core, collected in
+    // their order, so the result does not depend on the threads.
+    let workers = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, candidates.len().max(1));
+    let results: Vec<_> = std::thread::scope(|scope| {
+        let chunks: Vec<&[Model]> = candidates
+            .chunks(candidates.len().div_ceil(workers).max(1))
+            .collect();
+        let handles: Vec<_> = chunks
+            .into_iter()
+            .map(|chunk| {
+                let (data, target) = (&data, target.as_ref());
+                scope.spawn(move || {
+                    chunk
+                        .iter()
+                        .map(|m| (*m, fit_candidate(m, output, data, target, zeta, options)))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+            .collect()
+    });
     let mut fits = Vec::new();
-    for model in candidates {
+    for (model, result) in results {
         // One candidate that cannot be fitted (e.g. its model is singular
         // on the grid) does not stop the others.
-        let (fit_result, start, back_solutions, why_not) =
-            match fit_candidate(&model, output, &data, target.as_ref(), zeta, options) {
-                Ok(r) => r,
-                Err(e) => {
-                    notes.push(format!("{}: not fitted: {e}", model.name()));
-                    continue;
-                }
-            };
+        let (fit_result, start, back_solutions, why_not) = match result {
+            Ok(r) => r,
+            Err(e) => {
+                notes.push(format!("{}: not fitted: {e}", model.name()));
+                continue;
+            }
+        };
         let score_db = score(&fit_result);
         let mut notes = plausibility(&model, &fit_result);
         notes.extend(why_not);
