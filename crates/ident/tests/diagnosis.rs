@@ -5,13 +5,13 @@
 //! standard deviation per line.
 
 mod common;
-use common::{chain_parameters, log_uniform};
+use common::{chain_parameters, log_uniform, model_file};
 use frf::welch::{h1, WelchOptions};
 use frf::{Complex64, Frf, Samples};
 use ident::diagnose::EffectKind;
 use ident::diagnosis::{diagnose_recording, DiagnosisOptions, Domain, Reason};
-use mms::model_file::{ModelFile, Motion};
-use mms::response::{ChainResponse, Effects, Parameters};
+use mms::model_file::ModelFile;
+use mms::response::{ChainResponse, Parameters};
 use mms::simulate::simulate;
 use mms::xorshift::XorShift;
 use mms::{Model, Output};
@@ -32,14 +32,7 @@ fn chain(rng: &mut XorShift, n: usize) -> (Model, Vec<f64>) {
 /// The truth and a nominal model with every parameter off by up to ±8 %.
 fn models(rng: &mut XorShift, n: usize, output: Output) -> (ModelFile, ModelFile) {
     let (model, values) = chain(rng, n);
-    let truth = ModelFile {
-        model,
-        output,
-        parameters: Parameters::from_values(&model, values.clone()).unwrap(),
-        gain: 1.0,
-        motion: Motion::Translational,
-        effects: Effects::default(),
-    };
+    let truth = model_file(model, output, values.clone());
     let off: Vec<f64> = values
         .iter()
         .map(|v| v * (1.0 + 0.08 * (2.0 * rng.uniform() - 1.0)))

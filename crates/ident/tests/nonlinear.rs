@@ -7,10 +7,10 @@
 //! its size.
 
 mod common;
-use common::{chain_parameters, log_uniform};
+use common::{chain_parameters, log_uniform, model_file};
 use ident::diagnose::EffectKind;
 use ident::nonlinear::{diagnose_time, TimeOptions};
-use mms::model_file::{ModelFile, Motion};
+use mms::model_file::ModelFile;
 use mms::response::{Effects, Parameters};
 use mms::simulate::{default_backlash_link, simulate, SimOptions, Simulator};
 use mms::xorshift::XorShift;
@@ -85,14 +85,7 @@ fn case(seed: u64, kind: EffectKind) -> Case {
     };
     let level = log_uniform(&mut rng, 0.5, 5.0);
     let u = excitation(&mut rng, level);
-    let mut truth = ModelFile {
-        model,
-        output,
-        parameters: Parameters::from_values(&model, values.clone()).unwrap(),
-        gain: 1.0,
-        motion: Motion::Translational,
-        effects: Effects::default(),
-    };
+    let mut truth = model_file(model, output, values.clone());
     let value = match kind {
         // Friction force 5-60 % of the low level's RMS force.
         EffectKind::CoulombFriction => {

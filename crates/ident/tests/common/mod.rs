@@ -31,3 +31,19 @@ pub fn chain_parameters(rng: &mut XorShift, model: &Model, modes_hz: (f64, f64))
     values.extend(dampers);
     values
 }
+
+/// A model file of `model` with `values`, unit gain, no effects.
+pub fn model_file(
+    model: Model,
+    output: mms::Output,
+    values: Vec<f64>,
+) -> mms::model_file::ModelFile {
+    mms::model_file::ModelFile {
+        model,
+        output,
+        parameters: mms::response::Parameters::from_values(&model, values).unwrap(),
+        gain: 1.0,
+        motion: mms::model_file::Motion::Translational,
+        effects: mms::response::Effects::default(),
+    }
+}
