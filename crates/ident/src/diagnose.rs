@@ -381,15 +381,10 @@ pub struct HeldOut {
 }
 
 impl HeldOut {
-    /// The share of the held-out misfit beyond the noise that the kept
-    /// effects remove: `(before - after) / (before - 2 lines)`, in `[0,
-    /// 1]`; 0 when the calibrated model already fits within the noise.
-    pub fn explained(&self) -> f64 {
-        let excess = self.before - 2.0 * self.lines as f64;
-        if excess <= 0.0 || !excess.is_finite() {
-            return 0.0;
-        }
-        ((self.before - self.after) / excess).clamp(0.0, 1.0)
+    /// The drop of the held-out prediction error in noise units, `-2 ln`
+    /// of the likelihood ratio with each line's measured uncertainty.
+    pub fn evidence(&self) -> f64 {
+        self.before - self.after
     }
 }
 

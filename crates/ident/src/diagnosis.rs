@@ -383,10 +383,10 @@ fn frequency_part(
         .band(lo.max(f64::MIN_POSITIVE), hi)
         .ok_or(DiagnosisError::EmptyBand(lo, hi))?;
     // The FRF knows nothing of the nonlinear effects.
-    let mut linear = model.clone();
-    linear.effects.coulomb_friction = None;
-    linear.effects.backlash_gap = None;
-    linear.effects.offset_force = None;
+    let linear = ModelFile {
+        effects: model.effects.linear(),
+        ..model.clone()
+    };
     let fd_options = DiagnoseOptions {
         tolerance: o.tolerance,
         selection: o.selection,
@@ -418,18 +418,21 @@ fn time_part(
 ) -> Result<TimeDiagnosis, DiagnosisError> {
     let to = time_options(o, corner);
     let w = time_window(s.u.len() - start, closed_loop.is_some(), o);
-    let (u, y) = (&s.u[start..start + w], &s.y[start..start + w]);
+    let range = start..start + w;
+    let (u, y) = (&s.u[range.clone()], &s.y[range.clone()]);
     Ok(match closed_loop {
         None => diagnose_time(u, y, s.fs, model, &to)?,
-        Some(l) => {
-            let window = LoopRecord {
-                controller: l.controller,
-                reference: &l.reference[start..start + w],
-                disturbance: l.disturbance.map(|d| &d[start..start + w]),
-            };
-            diagnose_closed_loop(u, y, s.fs, model, &window, &to)?
-        }
+        Some(l) => diagnose_closed_loop(u, y, s.fs, model, &loop_window(l, range), &to)?,
     })
+}
+
+/// The loop `l` over the samples in `range`.
+fn loop_window<'a>(l: &LoopRecord<'a>, range: std::ops::Range<usize>) -> LoopRecord<'a> {
+    LoopRecord {
+        controller: l.controller,
+        reference: &l.reference[range.clone()],
+        disturbance: l.disturbance.map(|d| &d[range]),
+    }
 }
 
 /// How the frequency domain's model does on the held-out samples, next to
@@ -448,15 +451,16 @@ fn cross_check(
     let w = t.samples;
     // The frequency domain's model with the input's nonlinear effects
     // back, which the FRF could not see.
-    let mut m = f.model_after.clone();
-    m.effects.coulomb_friction = model.effects.coulomb_friction;
-    m.effects.backlash_gap = model.effects.backlash_gap;
-    m.effects.offset_force = model.effects.offset_force;
-    let loop_window = closed_loop.map(|l| LoopRecord {
-        controller: l.controller,
-        reference: &l.reference[..w],
-        disturbance: l.disturbance.map(|d| &d[..w]),
-    });
+    let m = ModelFile {
+        effects: Effects {
+            coulomb_friction: model.effects.coulomb_friction,
+            backlash_gap: model.effects.backlash_gap,
+            offset_force: model.effects.offset_force,
+            ..f.model_after.effects
+        },
+        ..f.model_after.clone()
+    };
+    let loop_window = closed_loop.map(|l| loop_window(l, 0..w));
     Some(HeldOutErrors {
         linear: (h.before / h.samples as f64).sqrt(),
         frequency_model: held_out_error(
@@ -650,7 +654,7 @@ fn reconcile(
             step: 0,
         }]
     };
-    let frequency_evidence = fd.map(|d| d.held_out.map_or(0.0, |h| h.before - h.after));
+    let frequency_evidence = fd.map(|d| d.held_out.map_or(0.0, |h| h.evidence()));
     let time_evidence = td.map(|d| d.held_out.map_or(0.0, |h| h.evidence()));
     let verdict = |domain: Option<Domain>, reason: Reason| {
         let effects = match domain {
@@ -732,11 +736,7 @@ fn curves(
     closed_loop: Option<&LoopRecord>,
     welch: &WelchOptions,
 ) -> Result<Curves, DiagnosisError> {
-    let nonlinear = |m: &ModelFile| {
-        m.effects.coulomb_friction.is_some()
-            || m.effects.backlash_gap.is_some()
-            || m.effects.offset_force.is_some()
-    };
+    let nonlinear = |m: &ModelFile| m.effects.linear() != m.effects;
     let simulated = samples.is_some() && (nonlinear(nominal) || nonlinear(after));
     let curve = |m: &ModelFile| -> Result<Vec<Complex64>, DiagnosisError> {
         match (samples, simulated) {
@@ -756,13 +756,7 @@ fn curves(
 /// The model's transfer function (its linear effects) on `f`; NaN where it
 /// cannot be evaluated (a plot leaves such points out).
 fn transfer_function(m: &ModelFile, f: &[f64]) -> Vec<Complex64> {
-    let linear = Effects {
-        coulomb_friction: None,
-        backlash_gap: None,
-        offset_force: None,
-        ..m.effects
-    };
-    let g = ChainResponse::with_effects(&m.model, m.output, &linear);
+    let g = ChainResponse::with_effects(&m.model, m.output, &m.effects.linear());
     f.iter()
         .map(|&f| {
             g.eval(m.parameters.values(), f)

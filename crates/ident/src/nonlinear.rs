@@ -82,14 +82,14 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use crate::diagnose::{Band, BeforeAfter, Diagnosis, EffectKind, EffectVerdict};
+use crate::diagnose::{BeforeAfter, EffectKind, EffectVerdict};
 use crate::fit::solve_spd;
 use crate::idim::{idim_ls, IdimOptions, InverseDynamics};
 use crate::selection::{forward_select, none, Trial};
 use frf::welch::{h1, WelchOptions};
 use frf::Frf;
 use mms::model_file::ModelFile;
-use mms::response::{Effects, Parameters};
+use mms::response::Parameters;
 use mms::simulate::{
     default_backlash_link, ClosedLoop, Controller, SimOptions, SimulateError, Simulator,
 };
@@ -119,9 +119,6 @@ pub struct TimeOptions {
     pub adequate: f64,
     /// Iteration limit of each Levenberg-Marquardt fit.
     pub max_iterations: usize,
-    /// Also run the frequency-domain diagnosis ([`crate::diagnose`]) on
-    /// the record's H1 estimate (its verdict is reported, not merged).
-    pub frequency_domain: bool,
     /// How the H1 estimates behind the FRF figures (`rms_db`, `rms_deg`)
     /// and the evidence are made: the user's segment length or period, so
     /// that they describe the lines the user looks at.
@@ -155,7 +152,6 @@ impl Default for TimeOptions {
             min_share: 0.1,
             adequate: 0.05,
             max_iterations: 30,
-            frequency_domain: false,
             welch: WelchOptions::default(),
             holdout: true,
             informative: 0.5,
@@ -183,15 +179,12 @@ pub struct TimeFit {
     pub rms_time_rel: f64,
 }
 
-/// The result of [`diagnose_time`]: the JSON of the frequency-domain
-/// [`Diagnosis`] (`mismatch`, `effects`, `rejected`, `fit`, `calibration`,
-/// `noise`, `model_after`) plus `evidence`, `samples`, `fs` and, if asked
-/// for, the frequency-domain diagnosis of the H1 estimate.
+/// The result of [`diagnose_time`]: `effects`, `rejected`, `fit`,
+/// `calibration`, `noise` and `model_after` as in the frequency-domain
+/// [`crate::diagnose::Diagnosis`], plus `evidence`, `samples`, `fs`, the
+/// loop, the inverse dynamics and the held-out figures.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TimeDiagnosis {
-    /// Mismatch bands of the frequency-domain diagnosis of the H1
-    /// estimate (empty unless [`TimeOptions::frequency_domain`]).
-    pub mismatch: Vec<Band>,
     /// Kept effects, best first; `[none]` if nothing is missing.
     pub effects: Vec<EffectVerdict>,
     /// Hypotheses that did not earn their parameter, best first.
@@ -212,9 +205,6 @@ pub struct TimeDiagnosis {
     pub samples: usize,
     /// Sample rate, Hz.
     pub fs: f64,
-    /// The frequency-domain diagnosis of the H1 estimate (linear effects),
-    /// if asked for and possible.
-    pub frequency_domain: Option<Diagnosis>,
     /// Whether the model was simulated inside the recorded position loop
     /// ([`diagnose_closed_loop`]).
     pub closed_loop: bool,
@@ -255,15 +245,6 @@ impl TimeHeldOut {
         } else {
             0.0
         }
-    }
-
-    /// The share of the held-out error energy the kept effects remove,
-    /// `1 - after / before`, in `[0, 1]`.
-    pub fn explained(&self) -> f64 {
-        if self.before.is_nan() || self.before <= 0.0 {
-            return 0.0;
-        }
-        (1.0 - self.after / self.before).clamp(0.0, 1.0)
     }
 }
 
@@ -1352,15 +1333,7 @@ fn diagnose(
         _ => None,
     };
 
-    let frequency_domain = match (&measured, o.frequency_domain) {
-        (Some(est), true) => linear_diagnosis(&est.frf, model),
-        _ => None,
-    };
     Ok(TimeDiagnosis {
-        mismatch: frequency_domain
-            .as_ref()
-            .map(|d| d.mismatch.clone())
-            .unwrap_or_default(),
         effects,
         rejected,
         fit: BeforeAfter { before, after },
@@ -1370,7 +1343,6 @@ fn diagnose(
         model_after,
         samples: n,
         fs,
-        frequency_domain,
         closed_loop: record.is_some(),
         inverse_dynamics,
         held_out: (n_test > 0).then_some(TimeHeldOut {
@@ -1399,22 +1371,6 @@ pub fn percent(x: f64) -> String {
         (2 - p.abs().log10().floor() as i64).max(2) as usize
     };
     format!("{p:.digits$}")
-}
-
-/// The frequency-domain diagnosis on the band of the H1 estimate.
-fn linear_diagnosis(frf: &Frf, model: &ModelFile) -> Option<Diagnosis> {
-    let (lo, hi) = crate::classify(frf, model.output, &crate::ClassifyOptions::default())
-        .map(|c| c.band_hz)
-        .ok()?;
-    let data = frf.band(lo.max(f64::MIN_POSITIVE), hi)?;
-    let mut m = model.clone();
-    // The FRF knows nothing of the nonlinear effects.
-    m.effects = Effects {
-        coulomb_friction: None,
-        backlash_gap: None,
-        ..m.effects
-    };
-    crate::diagnose::diagnose(&data, &m, &crate::diagnose::DiagnoseOptions::default()).ok()
 }
 
 /// Lines worth comparing: coherence of at least 0.5 (all lines if the

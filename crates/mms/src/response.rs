@@ -230,6 +230,24 @@ impl Effects {
         *self == Effects::default()
     }
 
+    /// The effects an FRF can show: these without Coulomb friction,
+    /// backlash and offset, which only the time-domain simulation has.
+    ///
+    /// ```
+    /// use mms::response::Effects;
+    /// let e = Effects { time_delay_s: Some(1e-3), coulomb_friction: Some(2.0), ..Effects::default() };
+    /// assert_eq!(e.linear(), Effects { time_delay_s: Some(1e-3), ..Effects::default() });
+    /// assert!(Effects::default().linear().is_empty());
+    /// ```
+    pub fn linear(&self) -> Effects {
+        Effects {
+            coulomb_friction: None,
+            backlash_gap: None,
+            offset_force: None,
+            ..*self
+        }
+    }
+
     /// The factor the chain's response is multiplied by at `omega` (rad/s):
     /// gain, delay and lag.
     fn output_factor(&self, omega: f64) -> Complex64 {
