@@ -484,8 +484,9 @@ fn read_matrix(
         variable: Some(name.clone()),
         message,
     };
+    let dims = dimensions(&dims_el, big).map_err(&with_name)?;
     if class == 2 {
-        return read_struct(&mut c, &dims_el, big, out, &name, depth)
+        return read_struct(&mut c, &dims, big, out, &name, depth)
             .map_err(|e| with_name(e.message));
     }
     let numeric = match class {
@@ -508,19 +509,6 @@ fn read_matrix(
             return Ok(());
         }
     };
-    let mut dims = Vec::with_capacity(dims_el.data.len() / 4);
-    for chunk in dims_el.data.chunks_exact(4) {
-        let b: [u8; 4] = chunk.try_into().unwrap_or_default();
-        let d = if big {
-            i32::from_be_bytes(b)
-        } else {
-            i32::from_le_bytes(b)
-        };
-        if d < 0 {
-            return Err(with_name(format!("negative dimension {d}")));
-        }
-        dims.push(d as usize);
-    }
     let numel = dims
         .iter()
         .try_fold(1usize, |acc, &d| acc.checked_mul(d))
@@ -548,21 +536,13 @@ fn read_matrix(
 /// are read).
 fn read_struct(
     c: &mut Cursor<'_>,
-    dims_el: &Element<'_>,
+    dims: &[usize],
     big: bool,
     out: &mut MatFile,
     name: &str,
     depth: usize,
 ) -> Result<(), MatError> {
-    let numel = dims_el.data.chunks_exact(4).try_fold(1usize, |acc, b| {
-        let b: [u8; 4] = b.try_into().unwrap_or_default();
-        let d = if big {
-            i32::from_be_bytes(b)
-        } else {
-            i32::from_le_bytes(b)
-        };
-        usize::try_from(d).ok().and_then(|d| acc.checked_mul(d))
-    });
+    let numel = dims.iter().try_fold(1usize, |acc, &d| acc.checked_mul(d));
     if numel != Some(1) {
         out.skipped.push(SkippedVariable {
             name: name.to_string(),
@@ -608,6 +588,22 @@ fn read_struct(
         read_matrix(el.data, big, out, Some(&path), depth + 1)?;
     }
     Ok(())
+}
+
+/// The dimensions of an array from its int32 dimensions element.
+fn dimensions(el: &Element<'_>, big: bool) -> Result<Vec<usize>, String> {
+    el.data
+        .chunks_exact(4)
+        .map(|chunk| {
+            let b: [u8; 4] = chunk.try_into().unwrap_or_default();
+            let d = if big {
+                i32::from_be_bytes(b)
+            } else {
+                i32::from_le_bytes(b)
+            };
+            usize::try_from(d).map_err(|_| format!("negative dimension {d}"))
+        })
+        .collect()
 }
 
 fn text(data: &[u8]) -> String {
