@@ -301,45 +301,68 @@ pub fn diagnose_recording(
         Some(s) if o.stability && closed_loop.is_none() => cuts(s, frf, &o.welch),
         _ => Vec::new(),
     };
-    // The reruns on other cuts run beside the whole record's diagnosis
-    // (two cores: the time-domain halves dominate); the results do not
-    // depend on the order.
-    let (main, reruns) = std::thread::scope(|scope| {
-        let reruns = scope.spawn(|| {
-            cuts.iter()
-                .map(|cut| rerun(cut, samples, model, corner, o))
-                .collect::<Vec<_>>()
-        });
-        let main = (|| -> Result<_, DiagnosisError> {
-            let fd = frequency_part(frf, band, model, o)?;
-            let td = match (samples, &fd) {
-                (Some(s), Some(_)) => Some(time_part(s, 0, model, closed_loop, corner, o)?),
-                _ => None,
-            };
-            let errors = cross_check(
-                samples,
-                model,
-                closed_loop,
-                fd.as_ref(),
-                td.as_ref(),
-                corner,
-                o,
-            );
-            Ok((fd, td, errors))
-        })();
-        (main, reruns.join())
+    // The whole record's diagnosis and the reruns on other cuts are jobs
+    // that two workers take in turn (two cores; the time-domain parts
+    // dominate): the whole record first, then the cuts, the second half
+    // (its own time-domain window) before the others. Each job's result
+    // does not depend on which worker ran it.
+    let whole = || -> Result<_, DiagnosisError> {
+        let fd = frequency_part(frf, band, model, o)?;
+        let td = match (samples, &fd) {
+            (Some(s), Some(_)) => Some(time_part(s, 0, model, closed_loop, corner, o)?),
+            _ => None,
+        };
+        let errors = cross_check(
+            samples,
+            model,
+            closed_loop,
+            fd.as_ref(),
+            td.as_ref(),
+            corner,
+            o,
+        );
+        Ok((fd, td, errors))
+    };
+    // Job 0 is the whole record, job k the cut `order[k - 1]`.
+    let mut order: Vec<usize> = (0..cuts.len()).collect();
+    order.sort_by_key(|&i| cuts[i].cut != Cut::SecondHalf);
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let work = || {
+        let (mut main, mut reruns) = (None, Vec::new());
+        loop {
+            match next.fetch_add(1, std::sync::atomic::Ordering::Relaxed) {
+                0 => main = Some(whole()),
+                job => match order.get(job - 1) {
+                    Some(&i) => reruns.push((i, rerun(&cuts[i], samples, model, corner, o))),
+                    None => return (main, reruns),
+                },
+            }
+        }
+    };
+    let (mine, helpers) = std::thread::scope(|scope| {
+        let helper = scope.spawn(work);
+        let mine = work();
+        // A panic in the helper is a bug: it goes on here.
+        let theirs = helper
+            .join()
+            .unwrap_or_else(|p| std::panic::resume_unwind(p));
+        (mine, theirs)
     });
+    let (theirs_main, theirs) = helpers;
+    let main = mine
+        .0
+        .or(theirs_main)
+        .unwrap_or_else(|| Err(DiagnosisError::Options("the diagnosis did not run".into())));
+    let mut reruns: Vec<(usize, RerunResult)> = mine.1.into_iter().chain(theirs).collect();
+    reruns.sort_by_key(|r| r.0);
     let (fd, td, errors) = main?;
     let verdict = reconcile(fd.as_ref(), td.as_ref(), errors);
-    let stability = match reruns {
-        Ok(runs) if !cuts.is_empty() => Some(DiagnosisStability {
-            runs: runs
-                .into_iter()
-                .map(|r| r.verdict(&verdict, td.as_ref()))
-                .collect(),
-        }),
-        _ => None,
-    };
+    let stability = (!cuts.is_empty()).then(|| DiagnosisStability {
+        runs: reruns
+            .into_iter()
+            .map(|(_, r)| r.verdict(&verdict, td.as_ref()))
+            .collect(),
+    });
     let model_after = match (verdict.decided_by, &fd, &td) {
         (Some(Domain::Time), _, Some(t)) => t.model_after.clone(),
         (_, Some(f), _) => f.model_after.clone(),

@@ -198,19 +198,26 @@ pub(crate) fn butterworth(order: usize, fc: f64, fs: f64) -> Vec<[f64; 5]> {
 /// One pass of the sections over `x`, each started in the steady state of
 /// its first input (so a constant offset gives no transient).
 fn filter(sections: &[[f64; 5]], x: &mut [f64]) {
-    for &[b0, b1, b2, a1, a2] in sections {
-        let Some(&x0) = x.first() else { return };
-        // Direct form II transposed, steady state for the input x0 (unit
-        // DC gain).
-        let mut z2 = (b2 - a2) * x0;
-        let mut z1 = (b1 - a1) * x0 + z2;
-        for v in x.iter_mut() {
-            let u = *v;
-            let y = b0 * u + z1;
-            z1 = b1 * u - a1 * y + z2;
-            z2 = b2 * u - a2 * y;
-            *v = y;
-        }
+    for s in sections {
+        section(s, x.iter_mut());
+    }
+}
+
+/// One section over `x` in the order given (direct form II transposed),
+/// started in the steady state of its first input (unit DC gain).
+fn section<'a>(&[b0, b1, b2, a1, a2]: &[f64; 5], x: impl Iterator<Item = &'a mut f64>) {
+    let mut x = x.peekable();
+    let Some(x0) = x.peek().map(|v| **v) else {
+        return;
+    };
+    let mut z2 = (b2 - a2) * x0;
+    let mut z1 = (b1 - a1) * x0 + z2;
+    for v in x {
+        let u = *v;
+        let y = b0 * u + z1;
+        z1 = b1 * u - a1 * y + z2;
+        z2 = b2 * u - a2 * y;
+        *v = y;
     }
 }
 
@@ -224,10 +231,12 @@ pub(crate) fn filtfilt(sections: &[[f64; 5]], x: &[f64], pad: usize) -> Vec<f64>
     v.extend_from_slice(x);
     v.extend((1..=pad).map(|i| 2.0 * x[n - 1] - x[n - 1 - i]));
     filter(sections, &mut v);
-    v.reverse();
-    filter(sections, &mut v);
-    v.reverse();
-    v[pad..pad + n].to_vec()
+    for s in sections {
+        section(s, v.iter_mut().rev());
+    }
+    v.truncate(pad + n);
+    v.drain(..pad);
+    v
 }
 
 /// The decimated regressor columns named in `names` and the decimated

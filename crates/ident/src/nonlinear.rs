@@ -771,6 +771,9 @@ pub fn held_out_error(
     (rss.is_finite() && n_test > 0).then(|| (rss / n_test as f64).sqrt())
 }
 
+/// The most terms [`trend_terms`] asks for (a quadratic).
+const MAX_TREND_TERMS: usize = 3;
+
 /// The least-squares polynomial of degree `terms - 1` in time through `d`
 /// on the samples not `held`, evaluated on every sample (zero for
 /// `terms == 0`).
@@ -780,14 +783,20 @@ fn trend(d: &[f64], held: &[bool], terms: usize) -> Vec<f64> {
         return vec![0.0; n];
     }
     // Time scaled to [-1, 1] keeps the normal equations well conditioned.
-    let t = |k: usize| 2.0 * k as f64 / (n.max(2) - 1) as f64 - 1.0;
-    let mut a = vec![0.0; terms * terms];
-    let mut b = vec![0.0; terms];
-    for k in (0..n).filter(|&k| !held[k]) {
-        let mut p = vec![1.0; terms];
+    // Powers on the stack: this runs once per simulation of a search.
+    let terms = terms.min(MAX_TREND_TERMS);
+    let powers = |k: usize| {
+        let t = 2.0 * k as f64 / (n.max(2) - 1) as f64 - 1.0;
+        let mut p = [1.0; MAX_TREND_TERMS];
         for i in 1..terms {
-            p[i] = p[i - 1] * t(k);
+            p[i] = p[i - 1] * t;
         }
+        p
+    };
+    let mut a = [0.0; MAX_TREND_TERMS * MAX_TREND_TERMS];
+    let mut b = [0.0; MAX_TREND_TERMS];
+    for k in (0..n).filter(|&k| !held[k]) {
+        let p = powers(k);
         for i in 0..terms {
             b[i] += p[i] * d[k];
             for j in 0..terms {
@@ -795,18 +804,13 @@ fn trend(d: &[f64], held: &[bool], terms: usize) -> Vec<f64> {
             }
         }
     }
-    let Some(c) = solve_spd(&a, &b, terms) else {
+    let Some(c) = solve_spd(&a[..terms * terms], &b[..terms], terms) else {
         return vec![0.0; n];
     };
     (0..n)
         .map(|k| {
-            let mut p = 1.0;
-            let mut v = 0.0;
-            for ci in &c {
-                v += ci * p;
-                p *= t(k);
-            }
-            v
+            let p = powers(k);
+            c.iter().zip(&p).map(|(c, p)| c * p).sum()
         })
         .collect()
 }
