@@ -1110,20 +1110,29 @@ fn read_uff_frf(
         }
     };
     let frf = chosen.to_frf().map_err(|e| ctx.uff(e))?;
-    // Attach a coherence measured for the same DOFs on the same lines.
-    for other in &sets {
-        if let Some(c) = chosen.coherence_for(other) {
-            return Frf::new(frf.freq_hz().to_vec(), frf.response().to_vec(), Some(c)).map_err(
-                |e| RecordingError::Dataset {
-                    path: ctx.path.to_path_buf(),
-                    dataset: other.position,
-                    line: other.line,
-                    message: one_line(e.to_string()),
-                },
-            );
-        }
+    // Attach a coherence and a standard deviation measured for the same
+    // DOFs on the same lines.
+    let coherence = sets
+        .iter()
+        .find_map(|o| chosen.coherence_for(o).map(|c| (o, c)));
+    let std_dev = sets
+        .iter()
+        .find_map(|o| chosen.std_dev_for(o).map(|c| (o, c)));
+    let in_dataset = |other: &uff::Uff58, e: crate::FrfError| RecordingError::Dataset {
+        path: ctx.path.to_path_buf(),
+        dataset: other.position,
+        line: other.line,
+        message: one_line(e.to_string()),
+    };
+    let frf = match coherence {
+        Some((other, c)) => Frf::new(frf.freq_hz().to_vec(), frf.response().to_vec(), Some(c))
+            .map_err(|e| in_dataset(other, e))?,
+        None => frf,
+    };
+    match std_dev {
+        Some((other, sd)) => frf.with_std_dev(sd).map_err(|e| in_dataset(other, e)),
+        None => Ok(frf),
     }
-    Ok(frf)
 }
 
 #[cfg(test)]
@@ -1568,6 +1577,57 @@ mod tests {
             e.to_string().contains("too few for a MAT-file header"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn uff_standard_deviation_per_line() {
+        let dir = Scratch::new("uff-sd");
+        let freq: Vec<f64> = (1..=20).map(|k| k as f64).collect();
+        let resp: Vec<Complex64> = freq.iter().map(|&f| Complex64::new(2.0 / f, 0.0)).collect();
+        let mut sd: Vec<f64> = freq.iter().map(|f| 0.01 * f).collect();
+        sd[4] = f64::INFINITY;
+        let frf = Frf::new(freq.clone(), resp.clone(), None)
+            .unwrap()
+            .with_std_dev(sd.clone())
+            .unwrap();
+        let text = uff::write_frf_uff(&frf, uff::Spacing::Uneven).unwrap();
+        let p = dir.write("sd.uff", &text);
+        let back = read_recording(&p, &RecordingOptions::default())
+            .unwrap()
+            .frf;
+        let got = back.std_dev().expect("the standard deviation is read back");
+        assert_eq!(got[4], f64::INFINITY);
+        for k in (0..20).filter(|&k| k != 4) {
+            assert!((got[k] - sd[k]).abs() <= 1e-12 * sd[k], "line {k}");
+        }
+        // It weighs the lines: relative to |H| = 2 / f, 0.01 f / (2 / f),
+        // 0.5 nepers at 10 Hz.
+        let u = crate::uncertainty::line_uncertainty(&back, None);
+        assert_eq!(u.source, crate::uncertainty::Source::Given);
+        assert!((u.relative[9] - 0.5).abs() < 1e-12, "{}", u.relative[9]);
+        // Another writer's dataset named "Standard Deviation", written as
+        // records by hand: the same values.
+        let named = text.replace("std_dev", "Standard Deviation");
+        let p = dir.write("named.uff", &named);
+        let other = read_recording(&p, &RecordingOptions::default())
+            .unwrap()
+            .frf;
+        assert_eq!(other.std_dev(), back.std_dev());
+        // On other DOFs it describes another function: not attached.
+        let foreign: Vec<uff::Uff58> = uff::parse_uff(text.as_bytes())
+            .unwrap()
+            .into_iter()
+            .enumerate()
+            .map(|(i, mut d)| {
+                if i == 1 {
+                    d.response.node = 7;
+                }
+                d
+            })
+            .collect();
+        let p = dir.write("foreign.uff", uff::write_uff58(&foreign));
+        let rec = read_recording(&p, &RecordingOptions::default()).unwrap();
+        assert!(rec.frf.std_dev().is_none());
     }
 
     #[test]

@@ -263,6 +263,34 @@ impl Uff58 {
     /// dataset's abscissa, if `other` is one for the same response and
     /// reference DOFs and the same abscissa.
     pub fn coherence_for(&self, other: &Uff58) -> Option<Vec<f64>> {
+        (other.function_type == 6)
+            .then(|| self.companion(other))
+            .flatten()
+    }
+
+    /// The standard deviation of each line of this dataset, if `other`
+    /// holds it: a real dataset of function type 0 (general) whose first ID
+    /// line is `std_dev` (or `standard deviation`), for the same DOFs and
+    /// abscissa, in the units of this dataset's ordinate. The dataset type
+    /// has no code for it, hence the name. A negative value marks a line
+    /// without information (`+inf` in [`Frf::std_dev`]), as a universal
+    /// file holds only finite numbers.
+    pub fn std_dev_for(&self, other: &Uff58) -> Option<Vec<f64>> {
+        let name = other.id_lines[0].trim().to_ascii_lowercase();
+        let named = name == STD_DEV_ID || name == "standard deviation";
+        (other.function_type == 0 && named)
+            .then(|| self.companion(other))
+            .flatten()
+            .map(|v| {
+                v.into_iter()
+                    .map(|s| if s < 0.0 { f64::INFINITY } else { s })
+                    .collect()
+            })
+    }
+
+    /// The real values of `other` if it describes this dataset's DOFs on
+    /// its abscissa.
+    fn companion(&self, other: &Uff58) -> Option<Vec<f64>> {
         let Ordinate::Real(c) = &other.values else {
             return None;
         };
@@ -272,10 +300,7 @@ impl Uff58 {
                 .iter()
                 .zip(&self.x)
                 .all(|(a, b)| (a - b).abs() <= 1e-6 * b.abs().max(1e-12));
-        (other.function_type == 6
-            && other.response == self.response
-            && other.reference == self.reference
-            && same_x)
+        (other.response == self.response && other.reference == self.reference && same_x)
             .then(|| c.clone())
     }
 
@@ -912,14 +937,20 @@ pub fn write_uff58(datasets: &[Uff58]) -> String {
     out
 }
 
+/// The first ID line of the dataset that holds the standard deviation of
+/// an FRF's lines ([`Uff58::std_dev_for`]).
+pub const STD_DEV_ID: &str = "std_dev";
+
 /// Writes an FRF as a universal file: one dataset 58 with the response
-/// (function type 4) and, if the FRF has a coherence, a second one with it
-/// (function type 6, real), both on the same abscissa.
+/// (function type 4); if the FRF has a coherence, a second one with it
+/// (function type 6, real); if it has a standard deviation per line, a
+/// dataset of function type 0 named [`STD_DEV_ID`] (see
+/// [`Uff58::std_dev_for`]); all on the same abscissa.
 pub fn write_frf_uff(frf: &Frf, spacing: Spacing) -> Result<String, UffError> {
     let main = Uff58::from_frf(frf, spacing)?;
     let mut sets = vec![main.clone()];
     if let Some(c) = frf.coherence() {
-        let mut coh = main;
+        let mut coh = main.clone();
         coh.function_type = 6;
         coh.function_id = 2;
         coh.id_lines[0] = "coherence".into();
@@ -936,6 +967,18 @@ pub fn write_frf_uff(frf: &Frf, spacing: Spacing) -> Result<String, UffError> {
         };
         coh.values = Ordinate::Real(c.to_vec());
         sets.push(coh);
+    }
+    if let Some(sd) = frf.std_dev() {
+        let mut set = main;
+        set.function_type = 0;
+        set.function_id = 3;
+        set.id_lines[0] = STD_DEV_ID.into();
+        set.values = Ordinate::Real(
+            sd.iter()
+                .map(|&s| if s.is_finite() { s } else { -1.0 })
+                .collect(),
+        );
+        sets.push(set);
     }
     Ok(write_uff58(&sets))
 }
