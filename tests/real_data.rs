@@ -505,6 +505,9 @@ fn sperte_motor_side_diagnosis_leads_with_the_dead_time() {
     let lag = val["phase_lag_s"].as_array().unwrap();
     let (here, there) = (num(&lag[0]), num(&lag[1]));
     assert!((there / here - 1.0).abs() < 0.1, "{here} vs {there}");
+    // The other record's headline is checked on its own cuts too.
+    let other_runs = val["other"]["stability"]["runs"].as_array().unwrap();
+    assert_eq!(other_runs.len(), 3, "{val}");
     let on = &val["fit_on_other"];
     assert!(
         num(&on["first_model"]["rms_deg"]) < 0.5 * num(&on["nominal"]["rms_deg"]),

@@ -371,17 +371,10 @@ fn markdown(name: &str, source: &str, d: &RecordingDiagnosis, plot: Option<&str>
     let mut s = String::new();
     let _ = writeln!(s, "# Diagnosis of `{name}`\n");
     let _ = writeln!(s, "{source}\n");
-    if let Some(st) = d.stability.as_ref().filter(|st| !st.stable()) {
-        let flipped: Vec<String> = st
-            .runs
-            .iter()
-            .filter(|r| !r.same_headline)
-            .map(|r| crate::identify::cut_name(r.cut))
-            .collect();
+    if let Some(flipped) = flipped_cuts(d) {
         let _ = writeln!(
             s,
-            "**Uncertain:** the headline changes on {} of the record (see Stability).\n",
-            flipped.join(", ")
+            "**Uncertain:** the headline changes on {flipped} of the record (see Stability).\n"
         );
     }
     let _ = writeln!(s, "{}\n", verdict_text(d));
@@ -439,6 +432,27 @@ fn markdown(name: &str, source: &str, d: &RecordingDiagnosis, plot: Option<&str>
     s
 }
 
+/// The cuts of the record on which the headline changes, if any.
+fn flipped_cuts(d: &RecordingDiagnosis) -> Option<String> {
+    let st = d.stability.as_ref().filter(|st| !st.stable())?;
+    let flipped: Vec<String> = st
+        .runs
+        .iter()
+        .filter(|r| !r.same_headline)
+        .map(|r| crate::identify::cut_name(r.cut))
+        .collect();
+    Some(spoken_list(&flipped))
+}
+
+/// `a`, `a and b`, `a, b and c`.
+fn spoken_list(items: &[String]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
+    }
+}
+
 /// The validation on another recording: what carries over, how the model
 /// fits there.
 fn validation_markdown(other: &str, v: &Validation) -> String {
@@ -461,6 +475,27 @@ fn validation_markdown(other: &str, v: &Validation) -> String {
         v.structure,
         v.other_structure
     );
+    match (&v.other.stability, flipped_cuts(&v.other)) {
+        (_, Some(flipped)) => {
+            let _ = writeln!(
+                s,
+                "There the headline is uncertain: it changes on {flipped} of that record.\n"
+            );
+        }
+        (Some(st), None) => {
+            let cuts: Vec<String> = st
+                .runs
+                .iter()
+                .map(|r| crate::identify::cut_name(r.cut))
+                .collect();
+            let _ = writeln!(
+                s,
+                "There the headline holds on {} of that record.\n",
+                spoken_list(&cuts)
+            );
+        }
+        (None, None) => {}
+    }
     s.push_str("| effect | parameter | here | there | change |\n|---|---|---:|---:|---:|\n");
     for e in &v.effects {
         let _ = writeln!(
