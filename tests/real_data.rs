@@ -686,3 +686,57 @@ fn tue_and_emps_pulses_verdicts() {
     assert!((fc / 20.39 - 1.0).abs() < 0.05, "{fc}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The TU/e 2025 standstill run as a fine 3-point FRF (0.4 Hz lines, 5000
+/// lines) identified over 1-400 Hz as a user would ask: above about 150
+/// Hz the loop lets almost nothing of the plant through (coherence with
+/// the injected noise under 0.1, each line's uncertainty near its
+/// magnitude), so no feature may be claimed there. The features are the
+/// low-band resonance of the rotor resting in friction, and the
+/// antiresonance below the resonance that the students' analysis shows
+/// (40.5 and 54.1 Hz); the candidates have at most 3 masses (it read
+/// `RARR^3` with 6 masses before, from a random walk of the noisy phase).
+#[test]
+fn tue_standstill_fine_frf_claims_no_feature_in_the_noise() {
+    let dir = temp_dir("tue-fine");
+    let path = real_data("tue_motion_2025/motor_side_stationary.mat");
+    let (code, csv, err) = mms(&[
+        "frf",
+        &path,
+        "--u",
+        "Data.signals.u",
+        "--y",
+        "Data.signals.y",
+        "--excitation",
+        "Data.signals.d",
+        "--nfft",
+        "10000",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let frf = dir.join("stationary.csv");
+    std::fs::write(&frf, csv).unwrap();
+    let v = json(&[
+        "identify",
+        frf.to_str().unwrap(),
+        "--band",
+        "1:400",
+        "--format",
+        "json",
+    ]);
+    let feats: Vec<f64> = v["classification"]["features"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|f| f["in_type"] == true)
+        .map(|f| num(&f["freq_hz"]))
+        .collect();
+    assert!(feats.iter().all(|&f| f < 150.0), "{feats:?}");
+    assert!(
+        feats.iter().any(|f| (f - 40.5).abs() < 1.5)
+            && feats.iter().any(|f| (f - 54.1).abs() < 1.5),
+        "{feats:?}"
+    );
+    let masses = v["candidates"][0]["masses"].as_u64();
+    assert!(masses.is_some_and(|n| n <= 3), "{}", v["candidates"][0]);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -78,7 +78,10 @@
 //!    are capped at 0.4. Of two features of one kind within half their
 //!    half-power bandwidths (a peak split by noise) the weaker goes.
 //!    Features under [`ClassifyOptions::min_confidence`] are listed but not
-//!    in the type.
+//!    in the type. No feature is claimed where the lines' own uncertainty,
+//!    as a running median over 41 lines, exceeds 0.5 rad: there the phase
+//!    unwraps by random turns (a closed loop's 3-point estimate far above
+//!    its bandwidth), and its steps are noise.
 //!    On a grid coarser than 16 % between lines (median), a resonance and
 //!    an antiresonance can hide between two lines: every confidence is
 //!    then scaled by `0.15 / spacing` in `ln w` (at least 0.3).
@@ -172,6 +175,19 @@ const DEFLATION_ROUNDS: usize = 3;
 const PHASE_STEP_HALF: f64 = 0.15;
 /// Smallest phase step (radians) of a feature without a magnitude extremum.
 const PHASE_STEP_MIN: f64 = 0.35 * PI;
+/// The smoothed uncertainty of the lines (radians of phase) above which a
+/// feature is not claimed. The phase difference of two neighbouring lines
+/// of noise `s` exceeds `pi`, and unwrapping then steps by a whole turn,
+/// with probability `2 Phi(-pi / (s sqrt 2))`: 1e-5 per line at 0.5 rad,
+/// 0.5 % at 0.8. Above this level a random walk of turns, not the system,
+/// makes the phase steps a feature is read from.
+const PHASE_UNDETERMINED: f64 = 0.5;
+/// Half the window (lines) of the running median of the lines' own
+/// uncertainty for [`PHASE_UNDETERMINED`]: wide enough that the few lines
+/// of low coherence at an antiresonance (where a collocated sensor sees
+/// little motion) do not count as a region without phase.
+const PHASE_WINDOW_HALF: usize = 20;
+
 /// Cap of the type's confidence when the bottom of the band is not flat.
 const UNFLAT_BOTTOM_CAP: f64 = 0.5;
 /// Confidence cap of nm evidence from the level budget alone.
@@ -594,6 +610,7 @@ pub fn classify(
 
     let cands = candidates(&data, options.detection_sigma);
     let mut found = find_features(&data, &cands, &mut notes);
+    drop_where_phase_undetermined(&data, &mut found, &mut notes);
     mark_near_cancellations(&mut found, options.near_cancellation, &mut notes);
     let resid = without_features(&data, &found);
     let nm_dips = nm_dips(&resid, &found, options.detection_sigma);
@@ -755,6 +772,32 @@ fn running_median(v: &[f64], half: usize) -> Vec<f64> {
     (0..v.len())
         .map(|i| median(&v[i.saturating_sub(half)..(i + half + 1).min(v.len())]))
         .collect()
+}
+
+/// Drops the features that lie where the phase is not determined (see
+/// [`PHASE_UNDETERMINED`]) and notes how many.
+fn drop_where_phase_undetermined(d: &Data, found: &mut Vec<Eval>, notes: &mut Vec<String>) {
+    let smooth = running_median(&d.given, PHASE_WINDOW_HALF);
+    let before = found.len();
+    let mut dropped_hz = Vec::new();
+    found.retain(|e| {
+        let i = d.x.partition_point(|&x| x < e.x0).min(d.len() - 1);
+        let keep = smooth[i] <= PHASE_UNDETERMINED;
+        if !keep {
+            dropped_hz.push(e.x0.exp() / (2.0 * PI));
+        }
+        keep
+    });
+    if found.len() < before {
+        let list: Vec<String> = dropped_hz.iter().map(|f| format!("{f:.4}")).collect();
+        notes.push(format!(
+            "{} feature candidate(s) at {} Hz not claimed: the lines there are too uncertain \
+             for their phase (smoothed uncertainty above {PHASE_UNDETERMINED} rad), so a phase \
+             step there can be a turn of noise",
+            before - found.len(),
+            list.join(", ")
+        ));
+    }
 }
 
 /// Step 1: the indices of the lines in the band; `sigma` is the relative

@@ -1007,6 +1007,14 @@ fn model_hash(m: &Model) -> u64 {
 /// Remarks an engineer would make about a fitted parameter set.
 fn plausibility(model: &Model, f: &Fit) -> Vec<String> {
     let mut notes = Vec::new();
+    // A degenerate fit gives ratios of 1e300: three significant digits.
+    let readable = |x: f64, decimals: usize| {
+        if x.is_finite() && x >= 1e4 {
+            format!("{x:.2e}")
+        } else {
+            format!("{x:.decimals$}")
+        }
+    };
     let n = model.n_masses();
     let v = f.parameters.values();
     let masses = &v[..n];
@@ -1014,7 +1022,7 @@ fn plausibility(model: &Model, f: &Fit) -> Vec<String> {
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(a, b), &m| (a.min(m), b.max(m)));
     if mx / mn > 1e3 {
-        notes.push(format!("masses span a factor {:.0}", mx / mn));
+        notes.push(format!("masses span a factor {}", readable(mx / mn, 0)));
     }
     let m = mn;
     let names = model.parameters();
@@ -1027,8 +1035,9 @@ fn plausibility(model: &Model, f: &Fit) -> Vec<String> {
         let zeta = d / (2.0 * (c * m).sqrt());
         if zeta > 0.5 {
             notes.push(format!(
-                "{} is heavily damped (link damping ratio {zeta:.2})",
-                names[n + n_links + k]
+                "{} is heavily damped (link damping ratio {})",
+                names[n + n_links + k],
+                readable(zeta, 2)
             ));
         }
     }
