@@ -740,3 +740,47 @@ fn tue_standstill_fine_frf_claims_no_feature_in_the_noise() {
     assert!(masses.is_some_and(|n| n <= 3), "{}", v["candidates"][0]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The TU/e 2025 runs as two operating points of one rig (`identify
+/// standstill --operating-point moving`, 0.4 Hz lines over 1-150 Hz): the
+/// antiresonance and the resonance hold for both (the students read 40.5
+/// and 54.1 Hz on the moving run), and the 5.4 Hz resonance that only
+/// standstill shows, below every feature of the moving run whose low band
+/// is the rigid body's, is named as pre-sliding friction with a positive
+/// stiffness to ground.
+#[test]
+fn tue_standstill_against_moving_names_pre_sliding_friction() {
+    let still = real_data("tue_motion_2025/motor_side_stationary.mat");
+    let moving = real_data("tue_motion_2025/motor_side_1rads.mat");
+    let v = json(&[
+        "identify",
+        &still,
+        "--u",
+        "Data.signals.u",
+        "--y",
+        "Data.signals.y",
+        "--excitation",
+        "Data.signals.d",
+        "--nfft",
+        "10000",
+        "--band",
+        "1:150",
+        "--operating-point",
+        &moving,
+        "--format",
+        "json",
+    ]);
+    let c = &v["operating_points"][0]["comparison"];
+    let finding = &c["findings"][0];
+    assert_eq!(finding["kind"], "pre_sliding_friction", "{c}");
+    assert_eq!(finding["recording"], "first", "{c}");
+    let f = num(&finding["freq_hz"]);
+    assert!((4.5..6.5).contains(&f), "{f}");
+    assert!(num(&finding["stiffness"]) > 0.0, "{c}");
+    let paired = c["paired"].as_array().unwrap();
+    assert_eq!(paired.len(), 2, "{c}");
+    for (p, reference) in paired.iter().zip([40.5, 54.1]) {
+        assert_eq!(p["shifted"], false, "{p}");
+        assert!((num(&p["freq_hz"][1]) - reference).abs() < 1.5, "{p}");
+    }
+}

@@ -6,14 +6,18 @@ use crate::output::write_atomic_bytes;
 use crate::recording::RecordingArgs;
 use frf::Frf;
 use ident::identify::{identify, CandidateFit, Identification, IdentifyOptions};
+use ident::operating::{
+    compare_operating_points, Finding, OperatingPointComparison, Recording as OperatingRecording,
+};
 use ident::stability::{verdict_stability, Cut, Stability};
+use mms::analysis::Feature;
 use mms::model_file::{ModelFile, Motion};
 use mms::response::{ChainResponse, Effects};
 use mms::Output;
 use plot::{Bode, Style};
 use serde_json::{json, Value};
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Report formats of `mms identify`.
 #[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
@@ -32,6 +36,8 @@ pub struct IdentifyArgs<'a> {
     pub masses: Option<usize>,
     pub fit_gain: bool,
     pub band: Option<(f64, f64)>,
+    /// Recordings of the same rig at other operating points.
+    pub operating_points: &'a [PathBuf],
     pub format: IdentifyFormat,
     pub out: Option<&'a Path>,
 }
@@ -68,6 +74,7 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
         )),
         _ => None,
     };
+    let operating = operating_points(args, &rec.frf, output, &options, &id)?;
     let plots = bode(&rec.frf, output, &id);
     let closed = match (&rec.excitation, rec.possible_excitations.is_empty()) {
         (Some(e), _) => Some(closed_loop_section(e)),
@@ -93,6 +100,14 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
                     "modulus_margin": peak.map(|p| 10f64.powf(-p.0 / 20.0)),
                 });
             }
+            if !operating.is_empty() {
+                v["operating_points"] = Value::Array(
+                    operating
+                        .iter()
+                        .map(|(name, c)| json!({ "recording": name, "comparison": c }))
+                        .collect(),
+                );
+            }
             let mut s = serde_json::to_string_pretty(&v).map_err(|e| format!("JSON: {e}"))?;
             s.push('\n');
             s
@@ -100,11 +115,13 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
         IdentifyFormat::Md => {
             let mut m = markdown(&name, &id, stability.as_ref(), args.out.map(|_| "bode.svg"));
             m.push_str(closed.as_deref().unwrap_or(""));
+            m.push_str(&operating_markdown(&name, &operating));
             m
         }
         IdentifyFormat::Html => {
             let mut m = markdown(&name, &id, stability.as_ref(), None);
             m.push_str(closed.as_deref().unwrap_or(""));
+            m.push_str(&operating_markdown(&name, &operating));
             html_page("mms identify", &m, &plots.to_svg())
         }
     };
@@ -125,6 +142,125 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
     let files: Vec<(&str, String)> = model_file.into_iter().map(|t| ("model.toml", t)).collect();
     write_report_dir(dir, args.format, &plots, &files, &report)?;
     Ok(None)
+}
+
+/// The `--operating-point` recordings, each read with the options of the
+/// main one, classified as it was and compared with it.
+fn operating_points(
+    args: &IdentifyArgs,
+    frf: &Frf,
+    output: Output,
+    options: &IdentifyOptions,
+    id: &Identification,
+) -> Result<Vec<(String, OperatingPointComparison)>, String> {
+    let mut out = Vec::new();
+    for path in args.operating_points {
+        let name = path.display().to_string();
+        let other = args.recording.read_file(path)?;
+        let c = ident::classify(&other.frf, output, &options.classify)
+            .map_err(|e| format!("{name}: {e}"))?;
+        out.push((
+            name,
+            compare_operating_points(&id.classification, frf, &c, &other.frf),
+        ));
+    }
+    Ok(out)
+}
+
+/// The report section of the operating-point comparisons.
+fn operating_markdown(name: &str, comparisons: &[(String, OperatingPointComparison)]) -> String {
+    let mut s = String::new();
+    for (other, c) in comparisons {
+        let _ = writeln!(
+            s,
+            "\n## Operating points: `{name}` (first) and `{other}` (second)\n"
+        );
+        let kind = |k: Feature| match k {
+            Feature::Resonance => "resonance",
+            Feature::Antiresonance => "antiresonance",
+        };
+        let which = |r: OperatingRecording| match r {
+            OperatingRecording::First => "first",
+            OperatingRecording::Second => "second",
+        };
+        if c.findings.is_empty() {
+            s.push_str(
+                "Every feature of the type holds for both recordings within the resolution: \
+                 nothing differs between the operating points.\n",
+            );
+        }
+        for f in &c.findings {
+            let _ = match f {
+                Finding::PreSlidingFriction {
+                    recording,
+                    freq_hz,
+                    stiffness,
+                } => writeln!(
+                    s,
+                    "- **Pre-sliding friction** in the {} recording only: a resonance at {:.4} Hz \
+                     below every feature of the other, whose low band moves as a rigid body: a \
+                     stiffness to ground{}, the friction on which the axis rests at standstill.",
+                    which(*recording),
+                    freq_hz,
+                    stiffness.map_or(String::new(), |k| format!(
+                        " of {k:.4e} (input units per output unit, from the other recording's \
+                         rigid-body inertia)"
+                    ))
+                ),
+                Finding::ModeShift { feature, freq_hz } => writeln!(
+                    s,
+                    "- **Mode shift:** the {} moves from {:.4} Hz to {:.4} Hz ({:+.1} %), beyond \
+                     the resolution.",
+                    kind(*feature),
+                    freq_hz.0,
+                    freq_hz.1,
+                    100.0 * (freq_hz.1 / freq_hz.0 - 1.0)
+                ),
+            };
+        }
+        s.push_str(
+            "\n| feature | first (Hz) | second (Hz) | shift | resolution | holds for |\n\
+             |---|---:|---:|---:|---:|---|\n",
+        );
+        let mut rows: Vec<(f64, String)> = c
+            .paired
+            .iter()
+            .map(|p| {
+                (
+                    p.freq_hz.0,
+                    format!(
+                        "| {} | {:.4} | {:.4} | {:+.2} % | {:.2} % | {} |",
+                        kind(p.kind),
+                        p.freq_hz.0,
+                        p.freq_hz.1,
+                        100.0 * p.shift,
+                        100.0 * p.resolution,
+                        if p.shifted { "each its own" } else { "both" }
+                    ),
+                )
+            })
+            .collect();
+        rows.extend(c.lone.iter().map(|l| {
+            let (a, b) = match l.recording {
+                OperatingRecording::First => (format!("{:.4}", l.freq_hz), "-".to_string()),
+                OperatingRecording::Second => ("-".to_string(), format!("{:.4}", l.freq_hz)),
+            };
+            (
+                l.freq_hz,
+                format!(
+                    "| {} | {a} | {b} | - | - | the {} only |",
+                    kind(l.kind),
+                    which(l.recording)
+                ),
+            )
+        }));
+        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (_, r) in rows {
+            s.push_str(&r);
+            s.push('\n');
+        }
+    }
+    s
 }
 
 fn candidate_json(c: &CandidateFit) -> Value {

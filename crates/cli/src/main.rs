@@ -148,6 +148,13 @@ enum Command {
         /// multisine), as LO:HI in Hz.
         #[arg(long, value_name = "LO:HI")]
         band: Option<String>,
+        /// A recording of the same rig at another operating point
+        /// (standstill and moving, another speed or level), read with the
+        /// same options: its features are compared with this one's, and a
+        /// stiffness to ground that one operating point alone shows is
+        /// named as pre-sliding friction. May be given more than once.
+        #[arg(long = "operating-point", value_name = "FILE")]
+        operating_points: Vec<PathBuf>,
         #[arg(long, value_enum, default_value_t = identify::IdentifyFormat::Md)]
         format: identify::IdentifyFormat,
         /// Write report, Bode plots (SVG, PNG) and the best model
@@ -406,6 +413,7 @@ fn run(cli: Cli) -> Result<(), String> {
             masses,
             fit_gain,
             band,
+            operating_points,
             format,
             out,
         } => {
@@ -414,6 +422,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 masses,
                 fit_gain,
                 band: band.as_deref().map(parse_band).transpose()?,
+                operating_points: &operating_points,
                 format,
                 out: out.as_deref(),
             };

@@ -15,6 +15,7 @@ pub mod fit;
 pub mod identify;
 pub mod idim;
 pub mod nonlinear;
+pub mod operating;
 mod selection;
 pub mod stability;
 pub mod start;
