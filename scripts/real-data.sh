@@ -64,3 +64,5 @@ for y in y1 y2; do
         --u Data.u --y "Data.$y" --band 1:40
 done
 echo "reports in $out"
+run tue2025-operating-points identify "$real/tue_motion_2025/motor_side_stationary.mat" "${tue[@]}" \
+    --nfft 10000 --band 1:150 --operating-point "$real/tue_motion_2025/motor_side_1rads.mat"
