@@ -687,6 +687,18 @@ fn tue_and_emps_pulses_verdicts() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The TU/e 2025 signals and the 3-point estimate at 0.4 Hz lines.
+const TUE_FINE: [&str; 8] = [
+    "--u",
+    "Data.signals.u",
+    "--y",
+    "Data.signals.y",
+    "--excitation",
+    "Data.signals.d",
+    "--nfft",
+    "10000",
+];
+
 /// The TU/e 2025 standstill run as a fine 3-point FRF (0.4 Hz lines, 5000
 /// lines) identified over 1-400 Hz as a user would ask: above about 150
 /// Hz the loop lets almost nothing of the plant through (coherence with
@@ -700,18 +712,9 @@ fn tue_and_emps_pulses_verdicts() {
 fn tue_standstill_fine_frf_claims_no_feature_in_the_noise() {
     let dir = temp_dir("tue-fine");
     let path = real_data("tue_motion_2025/motor_side_stationary.mat");
-    let (code, csv, err) = mms(&[
-        "frf",
-        &path,
-        "--u",
-        "Data.signals.u",
-        "--y",
-        "Data.signals.y",
-        "--excitation",
-        "Data.signals.d",
-        "--nfft",
-        "10000",
-    ]);
+    let mut args = vec!["frf", path.as_str()];
+    args.extend_from_slice(&TUE_FINE);
+    let (code, csv, err) = mms(&args);
     assert_eq!(code, 0, "{err}");
     let frf = dir.join("stationary.csv");
     std::fs::write(&frf, csv).unwrap();
@@ -752,17 +755,9 @@ fn tue_standstill_fine_frf_claims_no_feature_in_the_noise() {
 fn tue_standstill_against_moving_names_pre_sliding_friction() {
     let still = real_data("tue_motion_2025/motor_side_stationary.mat");
     let moving = real_data("tue_motion_2025/motor_side_1rads.mat");
-    let v = json(&[
-        "identify",
-        &still,
-        "--u",
-        "Data.signals.u",
-        "--y",
-        "Data.signals.y",
-        "--excitation",
-        "Data.signals.d",
-        "--nfft",
-        "10000",
+    let mut args = vec!["identify", still.as_str()];
+    args.extend_from_slice(&TUE_FINE);
+    args.extend_from_slice(&[
         "--band",
         "1:150",
         "--operating-point",
@@ -770,6 +765,7 @@ fn tue_standstill_against_moving_names_pre_sliding_friction() {
         "--format",
         "json",
     ]);
+    let v = json(&args);
     let c = &v["operating_points"][0]["comparison"];
     let finding = &c["findings"][0];
     assert_eq!(finding["kind"], "pre_sliding_friction", "{c}");
