@@ -687,17 +687,22 @@ fn tue_and_emps_pulses_verdicts() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The TU/e 2025 signals and the 3-point estimate at 0.4 Hz lines.
-const TUE_FINE: [&str; 8] = [
-    "--u",
-    "Data.signals.u",
-    "--y",
-    "Data.signals.y",
-    "--excitation",
-    "Data.signals.d",
-    "--nfft",
-    "10000",
-];
+/// `command path` with the TU/e 2025 signals and the 3-point estimate at
+/// 0.4 Hz lines.
+fn tue_fine<'a>(command: &'a str, path: &'a str) -> Vec<&'a str> {
+    let mut args = vec![command, path];
+    args.extend_from_slice(&[
+        "--u",
+        "Data.signals.u",
+        "--y",
+        "Data.signals.y",
+        "--excitation",
+        "Data.signals.d",
+        "--nfft",
+        "10000",
+    ]);
+    args
+}
 
 /// The TU/e 2025 standstill run as a fine 3-point FRF (0.4 Hz lines, 5000
 /// lines) identified over 1-400 Hz as a user would ask: above about 150
@@ -712,9 +717,7 @@ const TUE_FINE: [&str; 8] = [
 fn tue_standstill_fine_frf_claims_no_feature_in_the_noise() {
     let dir = temp_dir("tue-fine");
     let path = real_data("tue_motion_2025/motor_side_stationary.mat");
-    let mut args = vec!["frf", path.as_str()];
-    args.extend_from_slice(&TUE_FINE);
-    let (code, csv, err) = mms(&args);
+    let (code, csv, err) = mms(&tue_fine("frf", &path));
     assert_eq!(code, 0, "{err}");
     let frf = dir.join("stationary.csv");
     std::fs::write(&frf, csv).unwrap();
@@ -755,8 +758,7 @@ fn tue_standstill_fine_frf_claims_no_feature_in_the_noise() {
 fn tue_standstill_against_moving_names_pre_sliding_friction() {
     let still = real_data("tue_motion_2025/motor_side_stationary.mat");
     let moving = real_data("tue_motion_2025/motor_side_1rads.mat");
-    let mut args = vec!["identify", still.as_str()];
-    args.extend_from_slice(&TUE_FINE);
+    let mut args = tue_fine("identify", &still);
     args.extend_from_slice(&[
         "--band",
         "1:150",
