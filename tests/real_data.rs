@@ -619,13 +619,7 @@ fn tue_and_emps_pulses_verdicts() {
         let v = tue(rec, &["--excitation", "Data.signals.d"]);
         let c = &v["classification"];
         assert_eq!(c["type"], "AR", "{rec}");
-        let feats: Vec<f64> = c["features"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .filter(|f| f["in_type"] == true)
-            .map(|f| num(&f["freq_hz"]))
-            .collect();
+        let feats = type_features(c);
         assert!(
             (feats[0] - 40.5).abs() < 1.5 && (feats[1] - 54.1).abs() < 1.5,
             "{rec}: {feats:?}"
@@ -687,6 +681,17 @@ fn tue_and_emps_pulses_verdicts() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The frequencies of the features in the type of a classification (JSON).
+fn type_features(classification: &Value) -> Vec<f64> {
+    classification["features"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|f| f["in_type"] == true)
+        .map(|f| num(&f["freq_hz"]))
+        .collect()
+}
+
 /// `command path` with the TU/e 2025 signals and the 3-point estimate at
 /// 0.4 Hz lines.
 fn tue_fine<'a>(command: &'a str, path: &'a str) -> Vec<&'a str> {
@@ -729,13 +734,7 @@ fn tue_standstill_fine_frf_claims_no_feature_in_the_noise() {
         "--format",
         "json",
     ]);
-    let feats: Vec<f64> = v["classification"]["features"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|f| f["in_type"] == true)
-        .map(|f| num(&f["freq_hz"]))
-        .collect();
+    let feats = type_features(&v["classification"]);
     assert!(feats.iter().all(|&f| f < 150.0), "{feats:?}");
     assert!(
         feats.iter().any(|f| (f - 40.5).abs() < 1.5)
