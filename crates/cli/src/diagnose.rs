@@ -435,13 +435,13 @@ fn markdown(name: &str, source: &str, d: &RecordingDiagnosis, plot: Option<&str>
 /// The cuts of the record on which the headline changes, if any.
 fn flipped_cuts(d: &RecordingDiagnosis) -> Option<String> {
     let st = d.stability.as_ref().filter(|st| !st.stable())?;
-    let flipped: Vec<String> = st
-        .runs
-        .iter()
-        .filter(|r| !r.same_headline)
-        .map(|r| crate::identify::cut_name(r.cut))
-        .collect();
-    Some(spoken_list(&flipped))
+    Some(cut_names(st.runs.iter().filter(|r| !r.same_headline)))
+}
+
+/// The cuts of `runs`, as a list in words.
+fn cut_names<'a>(runs: impl Iterator<Item = &'a ident::diagnosis::DiagnosisRerun>) -> String {
+    let names: Vec<String> = runs.map(|r| crate::identify::cut_name(r.cut)).collect();
+    spoken_list(&names)
 }
 
 /// `a`, `a and b`, `a, b and c`.
@@ -483,15 +483,10 @@ fn validation_markdown(other: &str, v: &Validation) -> String {
             );
         }
         (Some(st), None) => {
-            let cuts: Vec<String> = st
-                .runs
-                .iter()
-                .map(|r| crate::identify::cut_name(r.cut))
-                .collect();
             let _ = writeln!(
                 s,
                 "There the headline holds on {} of that record.\n",
-                spoken_list(&cuts)
+                cut_names(st.runs.iter())
             );
         }
         (None, None) => {}

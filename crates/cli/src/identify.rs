@@ -5,12 +5,12 @@
 use crate::output::write_atomic_bytes;
 use crate::recording::RecordingArgs;
 use frf::Frf;
+use ident::classify::feature_name;
 use ident::identify::{identify, CandidateFit, Identification, IdentifyOptions};
 use ident::operating::{
     compare_operating_points, Finding, OperatingPointComparison, Recording as OperatingRecording,
 };
 use ident::stability::{verdict_stability, Cut, Stability};
-use mms::analysis::Feature;
 use mms::model_file::{ModelFile, Motion};
 use mms::response::{ChainResponse, Effects};
 use mms::Output;
@@ -175,10 +175,6 @@ fn operating_markdown(name: &str, comparisons: &[(String, OperatingPointComparis
             s,
             "\n## Operating points: `{name}` (first) and `{other}` (second)\n"
         );
-        let kind = |k: Feature| match k {
-            Feature::Resonance => "resonance",
-            Feature::Antiresonance => "antiresonance",
-        };
         let which = |r: OperatingRecording| match r {
             OperatingRecording::First => "first",
             OperatingRecording::Second => "second",
@@ -211,7 +207,7 @@ fn operating_markdown(name: &str, comparisons: &[(String, OperatingPointComparis
                     s,
                     "- **Mode shift:** the {} moves from {:.4} Hz to {:.4} Hz ({:+.1} %), beyond \
                      the resolution.",
-                    kind(*feature),
+                    feature_name(*feature),
                     freq_hz.0,
                     freq_hz.1,
                     100.0 * (freq_hz.1 / freq_hz.0 - 1.0)
@@ -230,7 +226,7 @@ fn operating_markdown(name: &str, comparisons: &[(String, OperatingPointComparis
                     p.freq_hz.0,
                     format!(
                         "| {} | {:.4} | {:.4} | {:+.2} % | {:.2} % | {} |",
-                        kind(p.kind),
+                        feature_name(p.kind),
                         p.freq_hz.0,
                         p.freq_hz.1,
                         100.0 * p.shift,
@@ -249,7 +245,7 @@ fn operating_markdown(name: &str, comparisons: &[(String, OperatingPointComparis
                 l.freq_hz,
                 format!(
                     "| {} | {a} | {b} | - | - | the {} only |",
-                    kind(l.kind),
+                    feature_name(l.kind),
                     which(l.recording)
                 ),
             )
@@ -322,10 +318,7 @@ fn to_json(id: &Identification, stability: Option<&Stability>) -> Value {
             "uncertainty": c.uncertainty_name(),
             "noise_db": c.noise_db,
             "features": c.features.iter().map(|f| json!({
-                "kind": match f.kind {
-                    mms::analysis::Feature::Resonance => "resonance",
-                    mms::analysis::Feature::Antiresonance => "antiresonance",
-                },
+                "kind": feature_name(f.kind),
                 "freq_hz": f.freq_hz,
                 "multiplicity": f.multiplicity,
                 "confidence": f.confidence,
@@ -467,10 +460,7 @@ fn markdown(
         let _ = writeln!(
             s,
             "| {}{} | {} | {} | {:.2} | {} |",
-            match f.kind {
-                mms::analysis::Feature::Resonance => "resonance",
-                mms::analysis::Feature::Antiresonance => "antiresonance",
-            },
+            feature_name(f.kind),
             if f.multiplicity > 1 {
                 format!(" (x{})", f.multiplicity)
             } else {

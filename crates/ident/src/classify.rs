@@ -528,11 +528,8 @@ fn ser_type<S: Serializer>(t: &FrfType, s: S) -> Result<S::Ok, S::Error> {
     s.collect_str(t)
 }
 
-fn ser_feature<S: Serializer>(f: &Feature, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_str(match f {
-        Feature::Antiresonance => "antiresonance",
-        Feature::Resonance => "resonance",
-    })
+pub(crate) fn ser_feature<S: Serializer>(f: &Feature, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(feature_name(*f))
 }
 
 /// Classify a measured FRF: its type in the paper's vocabulary, every
@@ -724,7 +721,13 @@ pub fn classify(
     })
 }
 
-fn feature_name(f: Feature) -> &'static str {
+/// The name of a feature kind in reports and JSON.
+///
+/// ```
+/// use mms::analysis::Feature;
+/// assert_eq!(ident::classify::feature_name(Feature::Antiresonance), "antiresonance");
+/// ```
+pub fn feature_name(f: Feature) -> &'static str {
     match f {
         Feature::Antiresonance => "antiresonance",
         Feature::Resonance => "resonance",

@@ -301,11 +301,11 @@ pub fn diagnose_recording(
         Some(s) if o.stability && closed_loop.is_none() => cuts(s, frf, &o.welch),
         _ => Vec::new(),
     };
-    // The whole record's diagnosis and the reruns on other cuts are jobs
-    // that two workers take in turn (two cores; the time-domain parts
-    // dominate): the whole record first, then the cuts, the second half
-    // (its own time-domain window) before the others. Each job's result
-    // does not depend on which worker ran it.
+    // Two workers (two cores; the time-domain parts dominate): this thread
+    // diagnoses the whole record, then helps with the reruns on other cuts,
+    // which the helper starts at once, the second half (its own
+    // time-domain window) first. Each rerun's result does not depend on
+    // which worker ran it.
     let whole = || -> Result<_, DiagnosisError> {
         let fd = frequency_part(frf, band, model, o)?;
         let td = match (samples, &fd) {
@@ -323,37 +323,28 @@ pub fn diagnose_recording(
         );
         Ok((fd, td, errors))
     };
-    // Job 0 is the whole record, job k the cut `order[k - 1]`.
     let mut order: Vec<usize> = (0..cuts.len()).collect();
     order.sort_by_key(|&i| cuts[i].cut != Cut::SecondHalf);
     let next = std::sync::atomic::AtomicUsize::new(0);
-    let work = || {
-        let (mut main, mut reruns) = (None, Vec::new());
-        loop {
-            match next.fetch_add(1, std::sync::atomic::Ordering::Relaxed) {
-                0 => main = Some(whole()),
-                job => match order.get(job - 1) {
-                    Some(&i) => reruns.push((i, rerun(&cuts[i], samples, model, corner, o))),
-                    None => return (main, reruns),
-                },
-            }
+    let reruns_taken = || {
+        let mut done = Vec::new();
+        while let Some(&i) = order.get(next.fetch_add(1, std::sync::atomic::Ordering::Relaxed)) {
+            done.push((i, rerun(&cuts[i], samples, model, corner, o)));
         }
+        done
     };
-    let (mine, helpers) = std::thread::scope(|scope| {
-        let helper = scope.spawn(work);
-        let mine = work();
+    let (main, mut reruns) = std::thread::scope(|scope| {
+        let helper = scope.spawn(reruns_taken);
+        let main = whole();
+        let mut reruns = reruns_taken();
         // A panic in the helper is a bug: it goes on here.
-        let theirs = helper
-            .join()
-            .unwrap_or_else(|p| std::panic::resume_unwind(p));
-        (mine, theirs)
+        reruns.extend(
+            helper
+                .join()
+                .unwrap_or_else(|p| std::panic::resume_unwind(p)),
+        );
+        (main, reruns)
     });
-    let (theirs_main, theirs) = helpers;
-    let main = mine
-        .0
-        .or(theirs_main)
-        .unwrap_or_else(|| Err(DiagnosisError::Options("the diagnosis did not run".into())));
-    let mut reruns: Vec<(usize, RerunResult)> = mine.1.into_iter().chain(theirs).collect();
     reruns.sort_by_key(|r| r.0);
     let (fd, td, errors) = main?;
     let verdict = reconcile(fd.as_ref(), td.as_ref(), errors);

@@ -53,6 +53,7 @@
 //! assert!((stiffness.unwrap() / 4.0 - 1.0).abs() < 0.15);
 //! ```
 
+use crate::classify::ser_feature;
 use crate::{Classification, ClassifiedFeature};
 use frf::Frf;
 use mms::analysis::Feature;
@@ -77,7 +78,7 @@ pub enum Recording {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PairedFeature {
     /// Resonance or antiresonance.
-    #[serde(serialize_with = "ser_kind")]
+    #[serde(serialize_with = "ser_feature")]
     pub kind: Feature,
     /// Its frequency in the first and the second recording (Hz).
     pub freq_hz: (f64, f64),
@@ -95,7 +96,7 @@ pub struct LoneFeature {
     /// The recording that shows it.
     pub recording: Recording,
     /// Resonance or antiresonance.
-    #[serde(serialize_with = "ser_kind")]
+    #[serde(serialize_with = "ser_feature")]
     pub kind: Feature,
     /// Its frequency (Hz).
     pub freq_hz: f64,
@@ -118,7 +119,7 @@ pub enum Finding {
     /// A mode that moved between the operating points.
     ModeShift {
         /// Resonance or antiresonance.
-        #[serde(serialize_with = "ser_kind")]
+        #[serde(serialize_with = "ser_feature")]
         feature: Feature,
         /// From the first recording to the second (Hz).
         freq_hz: (f64, f64),
@@ -134,13 +135,6 @@ pub struct OperatingPointComparison {
     pub lone: Vec<LoneFeature>,
     /// What differs beyond the resolution, named.
     pub findings: Vec<Finding>,
-}
-
-fn ser_kind<S: serde::Serializer>(k: &Feature, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_str(match k {
-        Feature::Resonance => "resonance",
-        Feature::Antiresonance => "antiresonance",
-    })
 }
 
 /// Compares the classifications `first` (of `first_frf`) and `second` (of
@@ -263,7 +257,7 @@ fn line_spacing(frf: &Frf, f_hz: f64) -> f64 {
 /// for a position output, `1 / (|H| w)` for a velocity, `1 / |H|` for an
 /// acceleration); `None` without such lines.
 fn rigid_inertia(frf: &Frf, output: Output, lo: f64, first: f64) -> Option<f64> {
-    let hi = 0.5 * first.min(f64::MAX);
+    let hi = 0.5 * first;
     let mut j: Vec<f64> = frf
         .freq_hz()
         .iter()
