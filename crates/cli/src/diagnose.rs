@@ -8,7 +8,7 @@ use ident::amplitude::{
     amplitude_dependence, AmplitudeDependence, AmplitudeOptions, DampingTrend, Level,
     StiffnessTrend,
 };
-use ident::diagnose::{model_from_simulation, Diagnosis, EffectVerdict, Selection};
+use ident::diagnose::{model_from_simulation, Diagnosis, EffectVerdict, Selection, Unresolved};
 use ident::diagnosis::{
     diagnose_recording, validate, DiagnosisOptions, Domain, Reason, RecordingDiagnosis, Validation,
 };
@@ -635,9 +635,19 @@ fn effects_and_calibration(
             .iter()
             .map(|(k, v)| format!("{k} = {v:.4e}"))
             .collect();
+        let unresolved = match e.unresolved {
+            None => String::new(),
+            Some(Unresolved::LikeKept(k)) => format!(
+                "; not kept: within the band it cannot be told from {}",
+                k.as_str()
+            ),
+            Some(Unresolved::OutsideBand(hz)) => {
+                format!("; not kept: the mode it adds ({hz:.1} Hz) lies outside the band")
+            }
+        };
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {:.1} | {} |",
+            "| {} | {} | {} | {:.1} | {}{unresolved} |",
             e.kind.as_str(),
             params.join(", "),
             e.step,

@@ -312,6 +312,26 @@ pub struct EffectVerdict {
     /// `model_after`. For a rejected hypothesis, the step at which it
     /// failed; 0 for `none`.
     pub step: usize,
+    /// Not kept although its score may be positive: the band cannot
+    /// resolve it (see [`Unresolved`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unresolved: Option<Unresolved>,
+}
+
+/// Why the band cannot resolve a hypothesis that lowers the cost.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Unresolved {
+    /// Within the band it cannot be told apart from this kept effect. A
+    /// first-order lag whose corner lies above the band shows there as a
+    /// dead time of `1 / (2 pi f_c)` plus a droop at the band's top that
+    /// a chain's parameter error also makes, so the data cannot split the
+    /// phase lag between the two.
+    LikeKept(EffectKind),
+    /// The mode an extra mass adds lies outside the band (its resonance,
+    /// Hz): the band sees only its quasi-static tail, which a chain's
+    /// parameter error also makes.
+    OutsideBand(f64),
 }
 
 /// RMS errors of a model against the recording.
@@ -1047,6 +1067,7 @@ pub fn diagnose(
                 let with: Vec<&str> = kept.iter().map(|k| k.as_str()).collect();
                 evidence = format!("added to {}: {evidence}", with.join(" + "));
             }
+            let unresolved = unresolved(kind, kept, &fitted, &ctx);
             tried.push(Trial {
                 verdict: EffectVerdict {
                     kind,
@@ -1054,6 +1075,7 @@ pub fn diagnose(
                     evidence,
                     score,
                     step,
+                    unresolved,
                 },
                 state: fitted,
             });
@@ -1105,6 +1127,32 @@ pub fn diagnose(
         before,
         after,
     })
+}
+
+/// Why the band cannot resolve hypothesis `kind` fitted in `fitted` on
+/// top of `kept`, if it cannot: a dead time and a first-order lag whose
+/// corner lies above the band (either added to the other), or an extra
+/// mass whose added resonance lies outside the band.
+fn unresolved(
+    kind: EffectKind,
+    kept: &[EffectKind],
+    fitted: &Fitted,
+    ctx: &Context,
+) -> Option<Unresolved> {
+    let other = match kind {
+        EffectKind::Lowpass => EffectKind::TimeDelay,
+        EffectKind::TimeDelay => EffectKind::Lowpass,
+        EffectKind::ExtraMode => {
+            let mode = fitted.added_mode(ctx)?;
+            return (!mode.in_band).then_some(Unresolved::OutsideBand(mode.resonance_hz));
+        }
+        _ => return None,
+    };
+    if !kept.contains(&other) {
+        return None;
+    }
+    let corner = fitted.parameters(EffectKind::Lowpass, ctx)["corner_hz"];
+    (corner > ctx.f_hi).then_some(Unresolved::LikeKept(other))
 }
 
 /// What every hypothesis needs to know besides its base.
@@ -1182,18 +1230,33 @@ impl Fitted<'_> {
         ) {
             out.insert(name.to_string(), self.state.x[np + i].exp());
         }
-        if kind == EffectKind::ExtraMode && self.extended {
-            let (m, x) = ctx.original;
-            let old: Vec<f64> = x.iter().map(|v| v.exp()).collect();
-            let new: Vec<f64> = self.state.x[..np].iter().map(|v| v.exp()).collect();
-            if let Some((r, a)) = added_features(m, &old, &self.problem.file.model, &new) {
-                out.insert("resonance_hz".to_string(), r);
-                if let Some(a) = a {
+        if kind == EffectKind::ExtraMode {
+            if let Some(mode) = self.added_mode(ctx) {
+                out.insert("resonance_hz".to_string(), mode.resonance_hz);
+                if let Some(a) = mode.antiresonance_hz {
                     out.insert("antiresonance_hz".to_string(), a);
                 }
             }
         }
         out
+    }
+
+    /// The mode the extra mass of this state adds, if it has one.
+    fn added_mode(&self, ctx: &Context) -> Option<AddedMode> {
+        if !self.extended {
+            return None;
+        }
+        let (m, x) = ctx.original;
+        let old: Vec<f64> = x.iter().map(|v| v.exp()).collect();
+        let np = self.problem.np();
+        let new: Vec<f64> = self.state.x[..np].iter().map(|v| v.exp()).collect();
+        added_features(
+            m,
+            &old,
+            &self.problem.file.model,
+            &new,
+            (ctx.f_lo, ctx.f_hi),
+        )
     }
 
     /// The model file of this state.
@@ -1398,8 +1461,8 @@ fn extra_mode<'a>(
     let sub_inv: Vec<f64> = sub.iter().map(|&k| problem.inv_sigma[k]).collect();
     let sub_test = vec![0.0; sub.len()];
     // (screened cost, placement, its start values, screened state).
-    type Best = (f64, mms::Model, Vec<Source>, Vec<f64>, Vec<f64>);
-    let mut best: Option<Best> = None;
+    type Screened = (f64, mms::Model, Vec<Source>, Vec<f64>, Vec<f64>);
+    let mut screened: Vec<Screened> = Vec::new();
     if let Some((ext, map, fitted)) = reuse {
         // A later step: the placement and the new parameters of the first
         // step's fit, the old parameters of the base (no screening).
@@ -1413,7 +1476,7 @@ fn extra_mode<'a>(
             .collect();
         let mut x: Vec<f64> = values.iter().map(|v| v.ln()).collect();
         x.extend_from_slice(effect_x);
-        best = Some((0.0, *ext, map.clone(), values, x));
+        screened.push((0.0, *ext, map.clone(), values, x));
     }
     let placements = if reuse.is_some() {
         Vec::new()
@@ -1461,17 +1524,45 @@ fn extra_mode<'a>(
             else {
                 continue;
             };
-            if best.as_ref().is_none_or(|b| state.cost < b.0) {
-                best = Some((state.cost, ext, map.clone(), values, state.x));
-            }
+            screened.push((state.cost, ext, map.clone(), values, state.x));
         }
     }
-    let (_, ext, map, values, x) = best?;
+    // Stable: equal costs keep the order of placements and peaks.
+    screened.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // The best screens are finished in turn until one adds its mode within
+    // the band (a fit can also spend the extra mass on a mode far outside
+    // it, which the band cannot resolve); else the first finished.
+    let mut first: Option<(Fitted<'a>, Placement)> = None;
+    for (_, ext, map, values, x) in screened.into_iter().take(FINISHED_SCREENS) {
+        let Some(done) = finish_extra_mode(base, ctx, ext, map, &values, x) else {
+            continue;
+        };
+        if done.0.added_mode(ctx).is_some_and(|m| m.in_band) {
+            return Some(done);
+        }
+        first.get_or_insert(done);
+    }
+    first
+}
+
+/// How many screened placements [`extra_mode`] finishes at most.
+const FINISHED_SCREENS: usize = 3;
+
+/// The full fit of one extra-mass placement from its screened state `x`.
+fn finish_extra_mode<'a>(
+    base: &Fitted<'a>,
+    ctx: &Context,
+    ext: mms::Model,
+    map: Vec<Source>,
+    values: &[f64],
+    x: Vec<f64>,
+) -> Option<(Fitted<'a>, Placement)> {
+    let problem = &base.problem;
     let ext_problem = extended_problem(
         problem,
         ext,
         &map,
-        &values,
+        values,
         (
             problem.freq,
             problem.data,
@@ -1545,15 +1636,18 @@ fn extended_problem<'b>(
     })
 }
 
-/// The resonance (and antiresonance, if any) the extended model has beyond
-/// the original's: the undamped features of each, matched by proximity,
-/// the unmatched ones reported (Hz).
+/// The mode an extra mass adds: the undamped resonance of `ext` (values
+/// `q`) farthest in log frequency from every resonance of `m` (values
+/// `p`), preferring those within `band` (Hz) when the extra mass puts
+/// more resonances there, and the same for the antiresonance if it adds
+/// one. `None` if the extended model has no resonance.
 fn added_features(
     m: &mms::Model,
     p: &[f64],
     ext: &mms::Model,
     q: &[f64],
-) -> Option<(f64, Option<f64>)> {
+    band: (f64, f64),
+) -> Option<AddedMode> {
     let features = |model: &mms::Model, values: &[f64]| -> (Vec<f64>, Vec<f64>) {
         let nu = model.undamped_parameters().len();
         let (num, den) = crate::start::UndampedCoefficients::new(model).eval(&values[..nu]);
@@ -1568,10 +1662,16 @@ fn added_features(
     };
     let (za, pa) = features(m, p);
     let (zb, pb) = features(ext, q);
+    let inside = |f: &f64| *f >= band.0 && *f <= band.1;
     // The new feature is the one of the extended list farthest (in log
-    // frequency) from every feature of the original.
-    let extra = |old: &[f64], new: &[f64]| -> Option<f64> {
-        new.iter()
+    // frequency) from every feature of the original, among those in the
+    // band if the band gained one.
+    let extra = |old: &[f64], new: &[f64]| -> (Option<f64>, bool) {
+        let gained =
+            new.iter().filter(|f| inside(f)).count() > old.iter().filter(|f| inside(f)).count();
+        let farthest = new
+            .iter()
+            .filter(|f| !gained || inside(f))
             .map(|&f| {
                 let d = old
                     .iter()
@@ -1580,15 +1680,25 @@ fn added_features(
                 (d, f)
             })
             .max_by(|a, b| a.0.total_cmp(&b.0))
-            .map(|(_, f)| f)
+            .map(|(_, f)| f);
+        (farthest, gained)
     };
-    let r = extra(&pa, &pb)?;
-    Some((
-        r,
-        if zb.len() > za.len() {
-            extra(&za, &zb)
+    let (resonance_hz, in_band) = extra(&pa, &pb);
+    Some(AddedMode {
+        resonance_hz: resonance_hz?,
+        antiresonance_hz: if zb.len() > za.len() {
+            extra(&za, &zb).0
         } else {
             None
         },
-    ))
+        in_band,
+    })
+}
+
+/// What [`added_features`] finds.
+struct AddedMode {
+    resonance_hz: f64,
+    antiresonance_hz: Option<f64>,
+    /// The extra mass puts one more resonance into the band.
+    in_band: bool,
 }

@@ -666,6 +666,7 @@ fn reconcile(
             evidence: String::new(),
             score: 0.0,
             step: 0,
+            unresolved: None,
         }]
     };
     let frequency_evidence = fd.map(|d| d.held_out.map_or(0.0, |h| h.evidence()));

@@ -457,6 +457,7 @@ pub fn idim_ls(
                         ),
                             score,
                             step,
+                            unresolved: None,
                         },
                         state: (idx, rss),
                     })

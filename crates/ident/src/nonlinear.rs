@@ -1220,6 +1220,7 @@ fn diagnose(
                     evidence,
                     score,
                     step,
+                    unresolved: None,
                 },
                 state: Fit {
                     x,

@@ -43,14 +43,15 @@ pub(crate) fn none(rejected: &[EffectVerdict]) -> EffectVerdict {
         },
         score: 0.0,
         step: 0,
+        unresolved: None,
     }
 }
 
 /// Forward selection from `base`: `try_step(current, kept, step)` fits
 /// every remaining hypothesis added to `current` (whose kept effects are
-/// `kept`) and returns the trials; the best one (ties keep the order of
-/// the trials) is kept if its score is positive, and the next step starts
-/// from its state. An error of `try_step` ends the selection.
+/// `kept`) and returns the trials; the best one the band resolves (ties
+/// keep the order of the trials) is kept if its score is positive, and
+/// the next step starts from its state. An error of `try_step` ends the selection.
 pub(crate) fn forward_select<S, E>(
     base: S,
     mut try_step: impl FnMut(&S, &[EffectKind], usize) -> Result<Vec<Trial<S>>, E>,
@@ -63,8 +64,12 @@ pub(crate) fn forward_select<S, E>(
         let mut tried = try_step(&state, &kinds, step)?;
         // Stable: equal scores keep the caller's order.
         tried.sort_by(|a, b| b.verdict.score.total_cmp(&a.verdict.score));
-        if tried.first().is_some_and(|t| t.verdict.score > 0.0) {
-            let best = tried.remove(0);
+        let best = tried
+            .iter()
+            .position(|t| t.verdict.unresolved.is_none())
+            .filter(|&i| tried[i].verdict.score > 0.0);
+        if let Some(i) = best {
+            let best = tried.remove(i);
             kinds.push(best.verdict.kind);
             kept.push(best.verdict);
             state = best.state;
