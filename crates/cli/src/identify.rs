@@ -45,8 +45,6 @@ pub struct IdentifyArgs<'a> {
 /// Runs the identification; returns the report text for stdout when no
 /// `--out` directory is given.
 pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
-    let rec = args.recording.read()?;
-    let output: Output = args.recording.output.into();
     let options = IdentifyOptions {
         masses: args.masses,
         gain: if args.fit_gain {
@@ -60,6 +58,13 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
         },
         ..IdentifyOptions::default()
     };
+    // Several outputs, or one with its sensor's place: the chain read by
+    // those sensors.
+    if args.recording.y.len() > 1 || args.recording.y.iter().any(|y| y.contains('@')) {
+        return crate::sensors::run(args, &options);
+    }
+    let rec = args.recording.read()?;
+    let output: Output = args.recording.output.into();
     let name = args.recording.path()?.display().to_string();
     let id = identify(&rec.frf, output, &options).map_err(|e| format!("{name}: {e}"))?;
     // A time-domain recording is identified again on other cuts of it.
@@ -393,7 +398,7 @@ fn bode(frf: &Frf, output: Output, id: &Identification) -> Bode {
     b.view(lo.max(f[0]), hi.min(f[f.len() - 1])).residual()
 }
 
-fn fmt_sig(x: f64) -> String {
+pub fn fmt_sig(x: f64) -> String {
     // Four significant digits, deterministic.
     if x == 0.0 || !x.is_finite() {
         return format!("{x}");

@@ -11,6 +11,7 @@ mod enumerate;
 mod identify;
 mod output;
 mod recording;
+mod sensors;
 mod study;
 mod tables;
 

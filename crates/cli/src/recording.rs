@@ -4,6 +4,7 @@
 
 use crate::OutputArg;
 use frf::{read_recording, Recording, RecordingOptions, SignalRef, WelchOptions};
+use ident::joint::SensorLocation;
 use std::path::{Path, PathBuf};
 
 /// Where the data come from and what they measure.
@@ -23,9 +24,14 @@ pub struct RecordingArgs {
     /// column number for headerless matrices).
     #[arg(long, value_name = "VAR[:COL]")]
     pub u: Option<String>,
-    /// Output signal of a time-domain recording, as for --u.
-    #[arg(long, value_name = "VAR[:COL]")]
-    pub y: Option<String>,
+    /// Output signal of a time-domain recording, as for --u. `mms
+    /// identify` takes it more than once (one output per sensor, the same
+    /// input), each with its sensor's place in the chain after `@`: PLUS[.MINUS]
+    /// with PLUS a mass counted from the ground side or N for the last
+    /// mass, MINUS the reference mass (default 0, the ground); e.g. `--y
+    /// y1@1 --y y2@N` for a motor and a load encoder.
+    #[arg(long, value_name = "VAR[:COL][@SENSOR]")]
+    pub y: Vec<String>,
     /// Sample rate in Hz where the file has none (overrides the file's),
     /// or the .mat variable that holds it (e.g. Data.settings.fs).
     #[arg(long, value_name = "HZ|VAR")]
@@ -92,9 +98,19 @@ impl RecordingArgs {
                 })
                 .transpose()
         };
+        if self.y.len() > 1 {
+            return Err(format!(
+                "--y is given {} times: only `mms identify` reads several outputs",
+                self.y.len()
+            ));
+        }
+        let y = match self.y.first() {
+            None => None,
+            Some(v) => Some(split_sensor(v)?.0),
+        };
         let opts = RecordingOptions {
             u: signal("u", &self.u)?,
-            y: signal("y", &self.y)?,
+            y: signal("y", &y)?,
             fs: self.fs.as_deref().and_then(|v| v.trim().parse().ok()),
             fs_variable: self
                 .fs
@@ -106,6 +122,50 @@ impl RecordingArgs {
             excitation: signal("excitation", &self.excitation)?,
         };
         read_recording(path, &opts).map_err(|e| e.to_string())
+    }
+}
+
+/// `VAR[:COL][@SENSOR]` as the signal and its sensor's location.
+fn split_sensor(v: &str) -> Result<(String, Option<SensorLocation>), String> {
+    match v.rsplit_once('@') {
+        None => Ok((v.to_string(), None)),
+        Some((signal, place)) => {
+            let location = place.parse().map_err(|e| format!("--y {v}: {e}"))?;
+            Ok((signal.to_string(), Some(location)))
+        }
+    }
+}
+
+/// One output of a recording read with several `--y`.
+pub struct SensorRecording {
+    /// The signal as given (without the location).
+    pub signal: String,
+    /// Where its sensor sits (`None`: not given).
+    pub location: Option<SensorLocation>,
+    /// The recording read with this output.
+    pub recording: Recording,
+}
+
+impl RecordingArgs {
+    /// Each `--y` read as its own recording with the same input and
+    /// options, with its sensor's location; an error names the output.
+    pub fn read_outputs(&self) -> Result<Vec<SensorRecording>, String> {
+        let path = self.path()?;
+        let mut out = Vec::with_capacity(self.y.len());
+        for v in &self.y {
+            let (signal, location) = split_sensor(v)?;
+            let one = RecordingArgs {
+                y: vec![signal.clone()],
+                ..self.clone()
+            };
+            let recording = one.read_file(path).map_err(|e| format!("--y {v}: {e}"))?;
+            out.push(SensorRecording {
+                signal,
+                location,
+                recording,
+            });
+        }
+        Ok(out)
     }
 }
 

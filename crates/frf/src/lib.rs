@@ -283,6 +283,24 @@ impl Frf {
         Ok(self)
     }
 
+    /// The same FRF with the sign of the response turned (a sensor that
+    /// counts the other way); coherence and standard deviation unchanged.
+    ///
+    /// ```
+    /// use frf::{Complex64, Frf};
+    /// let frf = Frf::new(vec![1.0], vec![Complex64::new(2.0, -1.0)], Some(vec![0.9]))?;
+    /// let turned = frf.negated();
+    /// assert_eq!(turned.response()[0], Complex64::new(-2.0, 1.0));
+    /// assert_eq!(turned.coherence(), frf.coherence());
+    /// # Ok::<(), frf::FrfError>(())
+    /// ```
+    pub fn negated(&self) -> Frf {
+        Frf {
+            response: self.response.iter().map(|z| -z).collect(),
+            ..self.clone()
+        }
+    }
+
     /// The standard deviation of each line, if the FRF was estimated or
     /// read with one (see [`Frf::with_std_dev`]).
     pub fn std_dev(&self) -> Option<&[f64]> {

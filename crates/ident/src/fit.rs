@@ -136,6 +136,9 @@ pub enum FitError {
     /// Weights of the wrong length or with bad values.
     #[error("weights: {0}")]
     Weights(String),
+    /// Outputs that are not one chain read by several sensors.
+    #[error("outputs: {0}")]
+    Outputs(String),
     /// A line where the measured response is zero (its logarithm is
     /// undefined).
     #[error("the measured response is zero at {0} Hz")]
@@ -154,58 +157,67 @@ pub enum FitError {
 /// dampers below `1e-9` of their start are numerically zero.
 const LOG_DAMPER_FLOOR: f64 = -20.7;
 
-struct Problem<'a> {
+/// One output of a fit: its response and the lines it is fitted to.
+struct Channel<'a> {
     response: ChainResponse,
     freq: &'a [f64],
     data: &'a [Complex64],
     weights: Vec<f64>,
+}
+
+struct Problem<'a> {
+    channels: Vec<Channel<'a>>,
     /// Index into the full parameter vector of each free parameter.
     free: Vec<usize>,
     fit_gain: bool,
 }
 
 impl Problem<'_> {
-    /// Residuals (2 per line) at full parameters `p` and `gain`, and, if
-    /// asked, the Jacobian with respect to `ln p_free` (and `ln gain`),
-    /// row-major with `free.len() + fit_gain` columns.
+    /// Residuals (2 per line, the outputs one after the other) at full
+    /// parameters `p` and `gain`, and, if asked, the Jacobian with respect
+    /// to `ln p_free` (and `ln gain`), row-major with `free.len() +
+    /// fit_gain` columns.
     fn eval(
         &self,
         p: &[f64],
         gain: f64,
         jac: Option<&mut Vec<f64>>,
     ) -> Result<Vec<f64>, ResponseError> {
-        let np = self.response.n_parameters();
+        let np = self.channels[0].response.n_parameters();
         let nc = self.free.len() + usize::from(self.fit_gain);
-        let mut r = Vec::with_capacity(2 * self.freq.len());
+        let lines: usize = self.channels.iter().map(|c| c.freq.len()).sum();
+        let mut r = Vec::with_capacity(2 * lines);
         let mut grad = vec![Complex64::new(0.0, 0.0); np];
         let want_jac = jac.is_some();
         let mut j = Vec::new();
         if want_jac {
-            j.reserve(2 * self.freq.len() * nc);
+            j.reserve(2 * lines * nc);
         }
-        for ((&f, &h), &w) in self.freq.iter().zip(self.data).zip(&self.weights) {
-            let g = if want_jac {
-                self.response.eval_with_gradient(p, f, &mut grad)?
-            } else {
-                self.response.eval(p, f)?
-            } * gain;
-            let e = (g / h).ln();
-            r.push(w * e.re);
-            r.push(w * e.im);
-            if want_jac {
-                // d ln G / d ln p = p (dG/dp) / G; the gain scales G and
-                // its derivatives alike.
-                // Two rows: real parts, then imaginary parts.
-                let base = j.len();
-                j.resize(base + 2 * nc, 0.0);
-                let inv = gain / g;
-                for (k, &i) in self.free.iter().enumerate() {
-                    let d = grad[i] * inv * p[i];
-                    j[base + k] = w * d.re;
-                    j[base + nc + k] = w * d.im;
-                }
-                if self.fit_gain {
-                    j[base + nc - 1] = w;
+        for c in &self.channels {
+            for ((&f, &h), &w) in c.freq.iter().zip(c.data).zip(&c.weights) {
+                let g = if want_jac {
+                    c.response.eval_with_gradient(p, f, &mut grad)?
+                } else {
+                    c.response.eval(p, f)?
+                } * gain;
+                let e = (g / h).ln();
+                r.push(w * e.re);
+                r.push(w * e.im);
+                if want_jac {
+                    // d ln G / d ln p = p (dG/dp) / G; the gain scales G and
+                    // its derivatives alike.
+                    // Two rows: real parts, then imaginary parts.
+                    let base = j.len();
+                    j.resize(base + 2 * nc, 0.0);
+                    let inv = gain / g;
+                    for (k, &i) in self.free.iter().enumerate() {
+                        let d = grad[i] * inv * p[i];
+                        j[base + k] = w * d.re;
+                        j[base + nc + k] = w * d.im;
+                    }
+                    if self.fit_gain {
+                        j[base + nc - 1] = w;
+                    }
                 }
             }
         }
@@ -225,25 +237,106 @@ pub fn fit(
     start: &Parameters,
     options: &FitOptions,
 ) -> Result<Fit, FitError> {
-    let names = model.parameters();
-    let n_lines = data.len();
-    let weights = match &options.weights {
-        None => uncertainty_weights(data).unwrap_or_else(|| vec![1.0; n_lines]),
-        Some(w) => {
-            if w.len() != n_lines {
-                return Err(FitError::Weights(format!(
-                    "{} weights for {n_lines} lines",
-                    w.len()
-                )));
-            }
-            if let Some(x) = w.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
-                return Err(FitError::Weights(format!("bad weight {x}")));
-            }
-            w.clone()
-        }
+    Ok(fit_outputs(&[(*model, data)], output, start, options)?.fit)
+}
+
+/// The result of [`fit_outputs`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct OutputsFit {
+    /// The one parameter set and gain; its RMS errors are over the lines
+    /// of every output together.
+    pub fit: Fit,
+    /// RMS errors of each output in its order: `(dB, degrees)`.
+    pub per_output: Vec<(f64, f64)>,
+}
+
+/// Fits one parameter set to several outputs of the same chain at once:
+/// each `(model, data)` is the chain read by one sensor (the models share
+/// their masses, gap and actuator and differ in the sensor) and its
+/// measured FRF. The cost is the sum of every output's cost; one gain
+/// serves all (the sensors count in the same units). `options.weights`
+/// apply to a single output only; several outputs are weighted by their
+/// own uncertainty ([`uncertainty_weights`]) or alike.
+///
+/// ```
+/// use frf::Frf;
+/// use ident::fit::{fit_outputs, FitOptions};
+/// use mms::response::{ChainResponse, Parameters};
+/// use mms::{Model, Output, Port};
+///
+/// // A free two-mass chain driven at mass 1, read at both masses.
+/// let motor = Model::new(2, 0, Port::new(1, 0), Port::new(1, 0))?;
+/// let load = Model::new(2, 0, Port::new(1, 0), Port::new(2, 0))?;
+/// let truth = [0.02, 0.05, 3000.0, 0.4];
+/// let f: Vec<f64> = (1..=300).map(|k| 0.5 * k as f64).collect();
+/// let frf = |m: &Model| -> Result<Frf, Box<dyn std::error::Error>> {
+///     let h = ChainResponse::new(m, Output::Position).eval_many(&truth, &f)?;
+///     Ok(Frf::new(f.clone(), h, None)?)
+/// };
+/// let (h1, h2) = (frf(&motor)?, frf(&load)?);
+/// let start = Parameters::from_values(&motor, truth.iter().map(|p| p * 1.2).collect())?;
+/// let both = fit_outputs(&[(motor, &h1), (load, &h2)], Output::Position, &start, &FitOptions::default())?;
+/// assert!(both.fit.rms_db < 1e-6 && both.per_output.len() == 2);
+/// for (got, want) in both.fit.parameters.values().iter().zip(truth) {
+///     assert!((got / want - 1.0).abs() < 1e-6);
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn fit_outputs(
+    outputs: &[(Model, &Frf)],
+    output: Output,
+    start: &Parameters,
+    options: &FitOptions,
+) -> Result<OutputsFit, FitError> {
+    let Some(&(model, _)) = outputs.first() else {
+        return Err(FitError::Outputs("no output to fit".into()));
     };
-    if let Some(k) = data.response().iter().position(|h| h.norm() == 0.0) {
-        return Err(FitError::ZeroResponse(data.freq_hz()[k]));
+    let model = &model;
+    for (m, _) in &outputs[1..] {
+        if m.n_masses() != model.n_masses()
+            || m.gap() != model.gap()
+            || m.actuator() != model.actuator()
+        {
+            return Err(FitError::Outputs(format!(
+                "{} and {} are not one chain read by two sensors",
+                model.id(),
+                m.id()
+            )));
+        }
+    }
+    let names = model.parameters();
+    let mut channels = Vec::with_capacity(outputs.len());
+    for (m, data) in outputs {
+        let n_lines = data.len();
+        let weights = match &options.weights {
+            None => uncertainty_weights(data).unwrap_or_else(|| vec![1.0; n_lines]),
+            Some(_) if outputs.len() > 1 => {
+                return Err(FitError::Weights(
+                    "per-line weights apply to a single output".into(),
+                ))
+            }
+            Some(w) => {
+                if w.len() != n_lines {
+                    return Err(FitError::Weights(format!(
+                        "{} weights for {n_lines} lines",
+                        w.len()
+                    )));
+                }
+                if let Some(x) = w.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
+                    return Err(FitError::Weights(format!("bad weight {x}")));
+                }
+                w.clone()
+            }
+        };
+        if let Some(k) = data.response().iter().position(|h| h.norm() == 0.0) {
+            return Err(FitError::ZeroResponse(data.freq_hz()[k]));
+        }
+        channels.push(Channel {
+            response: ChainResponse::with_effects(m, output, &options.effects),
+            freq: data.freq_hz(),
+            data: data.response(),
+            weights,
+        });
     }
     let mut held: Vec<usize> = Vec::new();
     for name in &options.fixed {
@@ -270,7 +363,10 @@ pub fn fit(
     };
     let free: Vec<usize> = (0..names.len()).filter(|i| !held.contains(i)).collect();
     let nc = free.len() + usize::from(fit_gain);
-    let usable = weights.iter().filter(|&&w| w > 0.0).count();
+    let usable: usize = channels
+        .iter()
+        .map(|c| c.weights.iter().filter(|&&w| w > 0.0).count())
+        .sum();
     if 2 * usable < nc {
         return Err(FitError::TooFewLines {
             lines: usable,
@@ -278,10 +374,7 @@ pub fn fit(
         });
     }
     let problem = Problem {
-        response: ChainResponse::with_effects(model, output, &options.effects),
-        freq: data.freq_hz(),
-        data: data.response(),
-        weights,
+        channels,
         free,
         fit_gain,
     };
@@ -386,27 +479,57 @@ pub fn fit(
         }
     }
     // With unit weights the residuals are the log errors themselves.
-    let (rms_db, rms_deg) = if problem.weights.iter().all(|&w| w == 1.0) {
-        let n = (r.len() / 2) as f64;
-        let (mut sm, mut sp) = (0.0, 0.0);
-        for pair in r.chunks_exact(2) {
-            sm += pair[0] * pair[0];
-            sp += pair[1] * pair[1];
-        }
-        (
-            (sm / n).sqrt() * 20.0 / std::f64::consts::LN_10,
-            (sp / n).sqrt().to_degrees(),
-        )
-    } else {
-        rms_errors(&problem.response, &p, gain, data)?
+    let mut per_output = Vec::with_capacity(problem.channels.len());
+    let mut offset = 0;
+    for (c, (_, data)) in problem.channels.iter().zip(outputs) {
+        let rows = 2 * c.freq.len();
+        per_output.push(if c.weights.iter().all(|&w| w == 1.0) {
+            let n = c.freq.len() as f64;
+            let (mut sm, mut sp) = (0.0, 0.0);
+            for pair in r[offset..offset + rows].chunks_exact(2) {
+                sm += pair[0] * pair[0];
+                sp += pair[1] * pair[1];
+            }
+            (
+                (sm / n).sqrt() * 20.0 / std::f64::consts::LN_10,
+                (sp / n).sqrt().to_degrees(),
+            )
+        } else {
+            rms_errors(&c.response, &p, gain, data)?
+        });
+        offset += rows;
+    }
+    // Over every line of every output.
+    let lines: Vec<f64> = problem
+        .channels
+        .iter()
+        .map(|c| c.freq.len() as f64)
+        .collect();
+    let total: f64 = lines.iter().sum();
+    let pooled = |pick: fn(&(f64, f64)) -> f64| {
+        (per_output
+            .iter()
+            .zip(&lines)
+            .map(|(e, n)| pick(e).powi(2) * n)
+            .sum::<f64>()
+            / total)
+            .sqrt()
     };
-    Ok(Fit {
-        parameters: Parameters::from_values(model, p)?,
-        gain,
-        rms_db,
-        rms_deg,
-        iterations,
-        converged,
+    let (rms_db, rms_deg) = if per_output.len() == 1 {
+        per_output[0]
+    } else {
+        (pooled(|e| e.0), pooled(|e| e.1))
+    };
+    Ok(OutputsFit {
+        fit: Fit {
+            parameters: Parameters::from_values(model, p)?,
+            gain,
+            rms_db,
+            rms_deg,
+            iterations,
+            converged,
+        },
+        per_output,
     })
 }
 

@@ -188,6 +188,9 @@ pub enum IdentifyError {
     /// Evaluating a model failed.
     #[error(transparent)]
     Response(#[from] mms::response::ResponseError),
+    /// Outputs of several sensors that cannot be identified together.
+    #[error("{0}")]
+    Outputs(String),
 }
 
 /// Identifies the structure and parameters behind `frf` (see the module
@@ -429,20 +432,20 @@ fn equivalents(best: &CandidateFit, all: &[CandidateFit]) -> Vec<Equivalent> {
 
 /// What [`identify`] and [`fit_structure`] take from the measurement
 /// before any fit.
-struct Measured {
-    classification: Classification,
+pub(crate) struct Measured {
+    pub classification: Classification,
     /// The informative lines of the band.
-    data: Frf,
+    pub data: Frf,
     /// The undamped target from the features and level, made positive
     /// below the features.
-    target: Option<(Vec<f64>, Vec<f64>)>,
+    pub target: Option<(Vec<f64>, Vec<f64>)>,
     /// The caller's options, with the gain's sign turned for a reversed
     /// sensor.
-    options: IdentifyOptions,
-    sensor_reversed: bool,
+    pub options: IdentifyOptions,
+    pub sensor_reversed: bool,
 }
 
-fn measured(
+pub(crate) fn measured(
     frf: &Frf,
     output: Output,
     options: &IdentifyOptions,
@@ -529,13 +532,13 @@ pub fn fit_structure(
 
 /// RMS of `ln(G/H)` over the lines, in dB-equivalent: magnitude (dB) and
 /// phase (one radian counts as one neper, 8.69 dB) together.
-fn score(f: &Fit) -> f64 {
+pub(crate) fn score(f: &Fit) -> f64 {
     let db_per_rad = 20.0 / std::f64::consts::LN_10;
     (f.rms_db.powi(2) + (f.rms_deg.to_radians() * db_per_rad).powi(2)).sqrt()
 }
 
 /// Mean damping ratio of the classified resonances (2 % if none known).
-fn mean_damping(c: &Classification) -> f64 {
+pub(crate) fn mean_damping(c: &Classification) -> f64 {
     let z: Vec<f64> = c
         .features
         .iter()
@@ -716,7 +719,7 @@ fn fit_two_phase(
     })
 }
 
-fn fit_options(options: &IdentifyOptions, max_iterations: usize) -> FitOptions {
+pub(crate) fn fit_options(options: &IdentifyOptions, max_iterations: usize) -> FitOptions {
     FitOptions {
         gain: options.gain,
         max_iterations,
@@ -725,7 +728,7 @@ fn fit_options(options: &IdentifyOptions, max_iterations: usize) -> FitOptions {
 }
 
 /// The best fit of one candidate over its starts.
-fn fit_candidate(
+pub(crate) fn fit_candidate(
     model: &Model,
     output: Output,
     data: &Frf,

@@ -14,6 +14,7 @@ pub mod diagnosis;
 pub mod fit;
 pub mod identify;
 pub mod idim;
+pub mod joint;
 pub mod nonlinear;
 pub mod operating;
 mod selection;

@@ -1,0 +1,316 @@
+//! `mms identify` with several `--y`: one chain read by several sensors,
+//! identified by `ident::joint::identify_sensors`, formatted here.
+
+use crate::identify::{
+    fmt_sig, html_page, model_curve, write_report_dir, IdentifyArgs, IdentifyFormat,
+};
+use crate::recording::SensorRecording;
+use ident::classify::feature_name;
+use ident::identify::IdentifyOptions;
+use ident::joint::{identify_sensors, RuledOutBy, SensorOutput, SensorsIdentification};
+use mms::model_file::{ModelFile, Motion};
+use mms::response::{ChainResponse, Effects};
+use mms::Output;
+use plot::{Bode, Style};
+use serde_json::{json, Value};
+use std::fmt::Write as _;
+
+/// Identifies the chain from every output of the recording; the report
+/// text for stdout when no `--out` directory is given.
+pub fn run(args: &IdentifyArgs, options: &IdentifyOptions) -> Result<Option<String>, String> {
+    let name = args.recording.path()?.display().to_string();
+    if !args.operating_points.is_empty() {
+        return Err(format!(
+            "{name}: --operating-point compares one output; give a single --y with it"
+        ));
+    }
+    let outputs: Vec<SensorRecording> = args.recording.read_outputs()?;
+    // The first output may leave its place free (any the structure
+    // allows, as for a single recording); each further one names it.
+    if let Some(o) = outputs.iter().skip(1).find(|o| o.location.is_none()) {
+        return Err(format!(
+            "{name}: --y {} has no sensor location: with several outputs, each after the first \
+             names where its sensor sits (e.g. --y {}@N)",
+            o.signal, o.signal
+        ));
+    }
+    let output: Output = args.recording.output.into();
+    let inputs: Vec<SensorOutput> = outputs
+        .iter()
+        .map(|o| SensorOutput {
+            name: o.signal.clone(),
+            frf: &o.recording.frf,
+            location: o.location,
+        })
+        .collect();
+    let id = identify_sensors(&inputs, output, options).map_err(|e| format!("{name}: {e}"))?;
+    let plots = bode(&outputs, output, &id);
+    let report = match args.format {
+        IdentifyFormat::Json => {
+            let mut s =
+                serde_json::to_string_pretty(&to_json(&id)).map_err(|e| format!("JSON: {e}"))?;
+            s.push('\n');
+            s
+        }
+        IdentifyFormat::Md => markdown(&name, &id, args.out.map(|_| "bode.svg")),
+        IdentifyFormat::Html => {
+            html_page("mms identify", &markdown(&name, &id, None), &plots.to_svg())
+        }
+    };
+    let Some(dir) = args.out else {
+        return Ok(Some(report));
+    };
+    // The model file of the best candidate, read by the first output's
+    // sensor; the others' places are in the report.
+    let model_file = id.candidates.first().map(|best| {
+        ModelFile {
+            model: best.models[0],
+            output,
+            parameters: best.fit.parameters.clone(),
+            gain: best.fit.gain,
+            motion: Motion::Translational,
+            effects: Effects::default(),
+        }
+        .to_toml()
+    });
+    let files: Vec<(&str, String)> = model_file.into_iter().map(|t| ("model.toml", t)).collect();
+    write_report_dir(dir, args.format, &plots, &files, &report)?;
+    Ok(None)
+}
+
+/// Each output's measurement and the best candidate's curve for it.
+fn bode(outputs: &[SensorRecording], output: Output, id: &SensorsIdentification) -> Bode {
+    let mut b = Bode::new(format!(
+        "Measured FRFs of {} sensors and the joint fit",
+        outputs.len()
+    ));
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for (k, o) in outputs.iter().enumerate() {
+        let frf = &o.recording.frf;
+        let f = frf.freq_hz();
+        let c = &id.outputs[k].classification;
+        lo = lo.min(c.band_hz.0.max(f[0]));
+        hi = hi.max(c.band_hz.1.min(f[f.len() - 1]));
+        b = b.trace(
+            format!("{} ({})", o.signal, c.frf_type),
+            f,
+            frf.response(),
+            Style::points(),
+        );
+        if let Some(best) = id.candidates.first() {
+            let sign = if id.outputs[k].sensor_reversed {
+                -1.0
+            } else {
+                1.0
+            };
+            let h = model_curve(
+                &ChainResponse::new(&best.models[k], output),
+                best.fit.parameters.values(),
+                sign * best.fit.gain,
+                f,
+            );
+            b = b.trace(
+                format!(
+                    "{} at {}, joint fit ({:.2} dB)",
+                    o.signal,
+                    location_name(best.models[k].sensor()),
+                    best.per_output[k].0
+                ),
+                f,
+                &h,
+                Style::line(),
+            );
+        }
+    }
+    if lo < hi {
+        b = b.view(lo, hi);
+    }
+    b
+}
+
+/// A port as the report names it: `mass 2`, `mass 3 - mass 1`.
+fn location_name(p: mms::Port) -> String {
+    if p.minus == 0 {
+        format!("mass {}", p.plus)
+    } else {
+        format!("mass {} - mass {}", p.plus, p.minus)
+    }
+}
+
+fn to_json(id: &SensorsIdentification) -> Value {
+    json!({
+        "masses": id.masses,
+        "outputs": id.outputs.iter().map(|o| {
+            let c = &o.classification;
+            json!({
+                "name": o.name,
+                "location": o.location,
+                "type": c.frf_type.to_string(),
+                "band_hz": [c.band_hz.0, c.band_hz.1],
+                "noise_db": c.noise_db,
+                "sensor_reversed": o.sensor_reversed,
+                "features": c.features.iter().filter(|f| f.in_type).map(|f| json!({
+                    "kind": feature_name(f.kind),
+                    "freq_hz": f.freq_hz,
+                    "damping_ratio": f.damping_ratio,
+                })).collect::<Vec<_>>(),
+            })
+        }).collect::<Vec<_>>(),
+        "candidates": id.candidates.iter().map(|c| {
+            let params: serde_json::Map<String, Value> = c
+                .fit
+                .parameters
+                .iter()
+                .map(|(k, v)| (k.to_string(), json!(v)))
+                .collect();
+            json!({
+                "id": c.id,
+                "rank": c.rank,
+                "sensors": c.models.iter().map(|m| [m.sensor().plus, m.sensor().minus]).collect::<Vec<_>>(),
+                "actuator": [c.models[0].actuator().plus, c.models[0].actuator().minus],
+                "gap": c.models[0].gap(),
+                "parameters": params,
+                "gain": c.fit.gain,
+                "fit": {"rms_db": c.fit.rms_db, "rms_deg": c.fit.rms_deg},
+                "per_output": c.per_output.iter().map(|e| json!({"rms_db": e.0, "rms_deg": e.1})).collect::<Vec<_>>(),
+                "score_db": c.score_db,
+                "first_output_score_db": c.first_output_score_db,
+            })
+        }).collect::<Vec<_>>(),
+        "indistinguishable": id.indistinguishable,
+        "first_output_alone": id.first_output_alone,
+        "ruled_out": id.ruled_out,
+        "notes": id.notes,
+    })
+}
+
+fn markdown(name: &str, id: &SensorsIdentification, plot: Option<&str>) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# Identification of `{name}` from {} outputs\n",
+        id.outputs.len()
+    );
+    let group = id.indistinguishable.first().cloned().unwrap_or_default();
+    match id.candidates.first() {
+        None => s.push_str("No candidate could be fitted.\n\n"),
+        Some(b) => {
+            let _ = write!(
+                s,
+                "{} candidate structures of {} masses, each fitted to every output at once with \
+                 one parameter set. Best joint fit: **{}** ({:.3} dB, {:.2} deg RMS over all \
+                 outputs)",
+                id.candidates.len(),
+                id.masses,
+                b.id,
+                b.fit.rms_db,
+                b.fit.rms_deg
+            );
+            if group.len() > 1 {
+                let _ = write!(
+                    s,
+                    "; {} structures fit all outputs equally well: {}",
+                    group.len(),
+                    group.join(", ")
+                );
+            }
+            s.push_str(".\n\n");
+        }
+    }
+    if id.first_output_alone.len() > 1 || !id.ruled_out.is_empty() {
+        let _ = writeln!(
+            s,
+            "The first output alone fits {} structures equally well ({}). {}\n",
+            id.first_output_alone.len(),
+            id.first_output_alone.join(", "),
+            if id.ruled_out.is_empty() {
+                "The other outputs rule none of them out.".to_string()
+            } else {
+                let each: Vec<String> = id
+                    .ruled_out
+                    .iter()
+                    .map(|r| match r.by {
+                        RuledOutBy::Type { output } => format!(
+                            "{} (its sensor for {} cannot show the type {} at all)",
+                            r.id,
+                            id.outputs[output].name,
+                            id.outputs[output].classification.frf_type
+                        ),
+                        RuledOutBy::Fit { excess_db } => {
+                            format!("{} (its joint fit is {excess_db:.2} dB worse)", r.id)
+                        }
+                    })
+                    .collect();
+                format!("The other outputs rule out {}.", each.join("; "))
+            }
+        );
+    }
+    if let Some(p) = plot {
+        let _ = writeln!(s, "![Bode plot: every output, measured and fitted]({p})\n");
+    }
+    s.push_str(
+        "## Outputs\n\n| output | sensor | type | band (Hz) | features |\n|---|---|---|---|---|\n",
+    );
+    for o in &id.outputs {
+        let c = &o.classification;
+        let features: Vec<String> = c
+            .features
+            .iter()
+            .filter(|f| f.in_type)
+            .map(|f| format!("{} {} Hz", feature_name(f.kind), fmt_sig(f.freq_hz)))
+            .collect();
+        let _ = writeln!(
+            s,
+            "| {} | {}{} | {} | {}-{} | {} |",
+            o.name,
+            o.location.map_or("any".to_string(), |l| format!("at {l}")),
+            if o.sensor_reversed {
+                " (counts the other way)"
+            } else {
+                ""
+            },
+            c.frf_type,
+            fmt_sig(c.band_hz.0),
+            fmt_sig(c.band_hz.1),
+            if features.is_empty() {
+                "-".to_string()
+            } else {
+                features.join(", ")
+            }
+        );
+    }
+    s.push_str("\n## Candidates\n\n| rank | structure | joint fit (dB / deg) |");
+    for o in &id.outputs {
+        let _ = write!(s, " {} (dB / deg) |", o.name);
+    }
+    s.push_str(" first output alone (score dB) |\n|---:|---|---:|");
+    for _ in &id.outputs {
+        s.push_str("---:|");
+    }
+    s.push_str("---:|\n");
+    for c in &id.candidates {
+        let _ = write!(
+            s,
+            "| {} | {} | {:.3} / {:.2} |",
+            c.rank, c.id, c.fit.rms_db, c.fit.rms_deg
+        );
+        for e in &c.per_output {
+            let _ = write!(s, " {:.3} / {:.2} |", e.0, e.1);
+        }
+        let _ = writeln!(s, " {:.3} |", c.first_output_score_db);
+    }
+    if let Some(b) = id.candidates.first() {
+        s.push_str("\n## Parameters of the best joint fit\n\n| parameter | value |\n|---|---:|\n");
+        for (k, v) in b.fit.parameters.iter() {
+            let _ = writeln!(s, "| {k} | {} |", fmt_sig(v));
+        }
+        let _ = writeln!(s, "| gain | {} |", fmt_sig(b.fit.gain));
+    }
+    if !id.notes.is_empty() {
+        s.push_str("\n## Notes\n\n");
+        for n in &id.notes {
+            let _ = writeln!(s, "- {n}");
+        }
+    }
+    s
+}
