@@ -396,13 +396,13 @@ impl Problem<'_> {
         measured: Option<&Frf>,
     ) -> Result<TimeFit, TimeDiagnoseError> {
         let (y_sim, u_sim) = self.run(kinds, x)?;
-        let start = self.initial_state(&y_sim);
+        let start = self.initial_state(kinds, &y_sim);
         let u = u_sim.as_deref().unwrap_or(self.u);
         let mut fit = time_fit(u, self.y, (&y_sim, &start), self.fs, self.welch, measured);
         // Relative to the output's own motion about the trend of its
         // initial state: an axis that turns at a constant speed has an
         // output RMS that says nothing of how well its dynamics are met.
-        let t = self.slow(self.y);
+        let t = self.slow(&[], self.y);
         let n = self.y.len().max(1) as f64;
         let rms_y = (self
             .y
@@ -422,16 +422,23 @@ impl Problem<'_> {
 
     /// The trend of the initial rigid-body states that best fits the
     /// record's difference from the simulation `sim` on the fitted samples.
-    fn initial_state(&self, sim: &[f64]) -> Vec<f64> {
+    fn initial_state(&self, kinds: &[EffectKind], sim: &[f64]) -> Vec<f64> {
         let d: Vec<f64> = self.y.iter().zip(sim).map(|(a, b)| a - b).collect();
-        self.slow(&d)
+        self.slow(kinds, &d)
     }
 
     /// The part of `d` the comparison leaves out: the trend of the initial
     /// state and, with [`TimeOptions::highpass_hz`], what is slower than
     /// the corner.
-    fn slow(&self, d: &[f64]) -> Vec<f64> {
-        let mut t = trend(d, &self.held, self.trend);
+    fn slow(&self, kinds: &[EffectKind], d: &[f64]) -> Vec<f64> {
+        // A model with a dry force of its own has no unknown constant
+        // force left for the trend to take.
+        let terms = if kinds.contains(&EffectKind::CoulombFriction) {
+            self.trend.min(2)
+        } else {
+            self.trend
+        };
+        let mut t = trend(d, &self.held, terms);
         if let Some((lp, pad)) = &self.highpass {
             let rest: Vec<f64> = d.iter().zip(&t).map(|(a, b)| a - b).collect();
             let slow = crate::idim::filtfilt(lp, &rest, *pad);
@@ -443,8 +450,8 @@ impl Problem<'_> {
     }
 
     /// The simulated output plus [`Problem::initial_state`].
-    fn with_initial_state(&self, sim: &[f64]) -> Vec<f64> {
-        let t = self.initial_state(sim);
+    fn with_initial_state(&self, kinds: &[EffectKind], sim: &[f64]) -> Vec<f64> {
+        let t = self.initial_state(kinds, sim);
         sim.iter().zip(&t).map(|(s, t)| s + t).collect()
     }
 
@@ -452,7 +459,7 @@ impl Problem<'_> {
     /// `None` if the simulation fails.
     fn errors(&self, kinds: &[EffectKind], x: &[f64]) -> Option<Vec<f64>> {
         let s = self.simulate(kinds, x).ok()?;
-        let s = self.with_initial_state(&s);
+        let s = self.with_initial_state(kinds, &s);
         Some(self.y.iter().zip(&s).map(|(a, b)| a - b).collect())
     }
 
