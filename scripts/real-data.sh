@@ -65,6 +65,9 @@ for y in y1 y2; do
 done
 run tue2018-both identify "$real/tue_motion_2018/scan_10hz_with_feedforward.mat" \
     --u Data.u --y Data.y1@1 --y Data.y2@N --excitation Data.r --band 1:100 --masses 2
+run tue2018-both-diagnose diagnose "$real/tue_motion_2018/scan_10hz_with_feedforward.mat" \
+    --u Data.u --y Data.y1@1 --y Data.y2@N --excitation Data.r --band 1:100 \
+    --model "$out/tue2018-both/model.toml"
 run tue2025-operating-points identify "$real/tue_motion_2025/motor_side_stationary.mat" "${tue[@]}" \
     --nfft 10000 --band 1:150 --operating-point "$real/tue_motion_2025/motor_side_1rads.mat"
 echo "reports in $out"

@@ -874,3 +874,66 @@ fn tue2018_both_encoders_read_one_two_mass_drive() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--y"), "{err}");
 }
+
+/// `mms diagnose` with both encoders of the TU/e 2018 rig and the joint
+/// model: each output is compared with the model read at its sensor, and
+/// both name the same missing physics with the same size, a check by two
+/// independent measurements of one drive. The feed-forward the course
+/// designed (`Data.FF`) holds a constant friction compensation of
+/// 0.0076 V against the direction of motion (scipy, between reversals):
+/// the diagnosis finds a friction of the same order.
+#[test]
+fn tue2018_both_encoders_name_the_same_friction() {
+    let dir = temp_dir("tue2018-both");
+    let path = real_data("tue_motion_2018/scan_10hz_with_feedforward.mat");
+    let signals = [
+        "--u",
+        "Data.u",
+        "--y",
+        "Data.y1@1",
+        "--y",
+        "Data.y2@N",
+        "--excitation",
+        "Data.r",
+        "--band",
+        "1:100",
+    ];
+    let out = dir.join("id");
+    let mut args = vec!["identify", path.as_str()];
+    args.extend_from_slice(&signals);
+    args.extend_from_slice(&["--masses", "2", "--out", out.to_str().unwrap()]);
+    let (code, _, err) = mms(&args);
+    assert_eq!(code, 0, "{err}");
+    let model = out.join("model.toml");
+    let mut args = vec!["diagnose", path.as_str()];
+    args.extend_from_slice(&signals);
+    args.extend_from_slice(&["--model", model.to_str().unwrap(), "--format", "json"]);
+    let v = json(&args);
+    let outputs = v["outputs"].as_array().unwrap();
+    assert_eq!(outputs.len(), 2);
+    assert_eq!(outputs[1]["sensor"], serde_json::json!([2, 0]));
+    let common = v["common_effects"].as_array().unwrap();
+    let friction = common
+        .iter()
+        .find(|c| c["kind"] == "coulomb_friction")
+        .unwrap_or_else(|| panic!("{common:?}"));
+    assert!(num(&friction["spread"]) < 0.05, "{friction}");
+    let fc = num(&friction["values"][0]);
+    assert!((0.0076 / 2.0..4.0 * 0.0076).contains(&fc), "{fc}");
+    // A further output without its sensor's place is refused.
+    let (code, _, err) = mms(&[
+        "diagnose",
+        &path,
+        "--u",
+        "Data.u",
+        "--y",
+        "Data.y1",
+        "--y",
+        "Data.y2",
+        "--model",
+        model.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("Data.y2"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -82,6 +82,11 @@ pub struct DiagnoseArgs<'a> {
 /// Runs the diagnosis; returns the report for stdout when no `--out`
 /// directory is given.
 pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
+    // Several outputs, or one with its sensor's place: the model read at
+    // every sensor.
+    if args.recording.y.len() > 1 || args.recording.y.iter().any(|y| y.contains('@')) {
+        return crate::sensors::diagnose(args);
+    }
     let rec = args.recording.read()?;
     let levels = amplitude(args, &rec)?;
     let Some(model_source) = args.model else {
@@ -91,47 +96,8 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         };
     };
     let amplitude = levels.map(|(_, a)| a);
-    let model = match model_source {
-        ModelSource::File(path) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-            ModelFile::parse(&text).map_err(|e| match e.line {
-                Some(l) => format!("{}:{l}: {}", path.display(), e.message),
-                None => format!("{}: {}", path.display(), e.message),
-            })?
-        }
-        ModelSource::Simulation(path) => {
-            let sim = frf::read_recording(path, &frf::RecordingOptions::default())
-                .map_err(|e| e.to_string())?;
-            model_from_simulation(&sim.frf, args.recording.output.into())
-                .map_err(|e| format!("{}: {e}", path.display()))?
-        }
-    };
-    let source = match model_source {
-        ModelSource::File(path) => format!("Model: `{}` ({}).", path.display(), model.model.id()),
-        ModelSource::Simulation(path) => format!(
-            "Model: {} identified from the simulation `{}` (reproduced within {} dB).",
-            model.model.id(),
-            path.display(),
-            ident::diagnose::SIMULATION_TOLERANCE_DB
-        ),
-    };
-    if !(args.tolerance.is_finite() && args.tolerance > 0.0 && args.tolerance < 10.0) {
-        return Err(format!(
-            "--tolerance {}: expected a fraction such as 0.2 (0 < t < 10)",
-            args.tolerance
-        ));
-    }
-    let options = DiagnosisOptions {
-        tolerance: args.tolerance,
-        band_hz: args.band,
-        selection: match args.select {
-            SelectArg::Bic => Selection::Bic,
-            SelectArg::Holdout => Selection::Holdout,
-        },
-        welch: args.recording.welch(),
-        ..DiagnosisOptions::default()
-    };
+    let (model, source) = load_model(args, model_source)?;
+    let options = options(args)?;
     let name = args.recording.path()?.display().to_string();
     let looped = match &args.closed_loop {
         Some(l) => Some(read_loop(args.recording, l, rec.samples.as_ref())?),
@@ -203,9 +169,62 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     finish(args, &plot, &d.model_after, report)
 }
 
+/// The model of `--model` or `--simulation`, and a sentence naming it.
+pub fn load_model(
+    args: &DiagnoseArgs,
+    model_source: &ModelSource,
+) -> Result<(ModelFile, String), String> {
+    let model = match model_source {
+        ModelSource::File(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+            ModelFile::parse(&text).map_err(|e| match e.line {
+                Some(l) => format!("{}:{l}: {}", path.display(), e.message),
+                None => format!("{}: {}", path.display(), e.message),
+            })?
+        }
+        ModelSource::Simulation(path) => {
+            let sim = frf::read_recording(path, &frf::RecordingOptions::default())
+                .map_err(|e| e.to_string())?;
+            model_from_simulation(&sim.frf, args.recording.output.into())
+                .map_err(|e| format!("{}: {e}", path.display()))?
+        }
+    };
+    let source = match model_source {
+        ModelSource::File(path) => format!("Model: `{}` ({}).", path.display(), model.model.id()),
+        ModelSource::Simulation(path) => format!(
+            "Model: {} identified from the simulation `{}` (reproduced within {} dB).",
+            model.model.id(),
+            path.display(),
+            ident::diagnose::SIMULATION_TOLERANCE_DB
+        ),
+    };
+    Ok((model, source))
+}
+
+/// The diagnosis options of the flags.
+pub fn options(args: &DiagnoseArgs) -> Result<DiagnosisOptions, String> {
+    if !(args.tolerance.is_finite() && args.tolerance > 0.0 && args.tolerance < 10.0) {
+        return Err(format!(
+            "--tolerance {}: expected a fraction such as 0.2 (0 < t < 10)",
+            args.tolerance
+        ));
+    }
+    Ok(DiagnosisOptions {
+        tolerance: args.tolerance,
+        band_hz: args.band,
+        selection: match args.select {
+            SelectArg::Bic => Selection::Bic,
+            SelectArg::Holdout => Selection::Holdout,
+        },
+        welch: args.recording.welch(),
+        ..DiagnosisOptions::default()
+    })
+}
+
 /// The JSON report: the verdict, the deciding domain's effects, fit and
 /// model at the top, each domain's diagnosis inside.
-fn json(
+pub fn json(
     d: &RecordingDiagnosis,
     amplitude: Option<&AmplitudeDependence>,
     validation: Option<&Validation>,
@@ -367,7 +386,7 @@ fn verdict_text(d: &RecordingDiagnosis) -> String {
     s
 }
 
-fn markdown(name: &str, source: &str, d: &RecordingDiagnosis, plot: Option<&str>) -> String {
+pub fn markdown(name: &str, source: &str, d: &RecordingDiagnosis, plot: Option<&str>) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Diagnosis of `{name}`\n");
     let _ = writeln!(s, "{source}\n");
@@ -813,7 +832,7 @@ fn parse_controller(spec: &str, path: &Path) -> Result<Controller, String> {
 
 /// The report to stdout, or with the plot and `model_after.toml` into
 /// `--out DIR`.
-fn finish(
+pub fn finish(
     args: &DiagnoseArgs,
     plot: &Bode,
     model_after: &ModelFile,

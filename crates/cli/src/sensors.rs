@@ -1,16 +1,24 @@
-//! `mms identify` with several `--y`: one chain read by several sensors,
-//! identified by `ident::joint::identify_sensors`, formatted here.
+//! `mms identify` and `mms diagnose` with several `--y`: one chain read by
+//! several sensors, identified by `ident::joint::identify_sensors` or
+//! diagnosed output by output with `ident::diagnosis::diagnose_recording`,
+//! formatted here.
 
+use crate::diagnose::{
+    finish, json as diagnosis_json, load_model, markdown as diagnosis_markdown,
+    options as diagnose_options, DiagnoseArgs,
+};
 use crate::identify::{
     fmt_sig, html_page, model_curve, write_report_dir, IdentifyArgs, IdentifyFormat,
 };
 use crate::recording::SensorRecording;
 use ident::classify::feature_name;
+use ident::diagnose::EffectKind;
+use ident::diagnosis::{diagnose_recording, RecordingDiagnosis};
 use ident::identify::IdentifyOptions;
 use ident::joint::{identify_sensors, RuledOutBy, SensorOutput, SensorsIdentification};
 use mms::model_file::{ModelFile, Motion};
 use mms::response::{ChainResponse, Effects};
-use mms::Output;
+use mms::{Model, Output, Port};
 use plot::{Bode, Style};
 use serde_json::{json, Value};
 use std::fmt::Write as _;
@@ -310,6 +318,283 @@ fn markdown(name: &str, id: &SensorsIdentification, plot: Option<&str>) -> Strin
         s.push_str("\n## Notes\n\n");
         for n in &id.notes {
             let _ = writeln!(s, "- {n}");
+        }
+    }
+    s
+}
+
+/// `mms diagnose` with several `--y`: the model read at each output's
+/// sensor, diagnosed against that output; the effects every output names.
+pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
+    let name = args.recording.path()?.display().to_string();
+    if !args.levels.is_empty() || args.validate.is_some() || args.closed_loop.is_some() {
+        return Err(format!(
+            "{name}: --level, --validate and --reference compare one output; give a single --y \
+             with them"
+        ));
+    }
+    let Some(source) = args.model else {
+        return Err("give the model: --model MODEL.toml or --simulation FILE".into());
+    };
+    let (model, source_text) = load_model(args, source)?;
+    let options = diagnose_options(args)?;
+    let outputs = args.recording.read_outputs()?;
+    let chain = model.model;
+    let n = chain.n_masses();
+    let mut runs: Vec<(&SensorRecording, Port, RecordingDiagnosis)> = Vec::new();
+    for (k, o) in outputs.iter().enumerate() {
+        let port = match o.location {
+            Some(l) => l.port(n).ok_or_else(|| {
+                format!(
+                    "{name}: --y {}: sensor location {l} lies outside the model's {n} masses",
+                    o.signal
+                )
+            })?,
+            None if k == 0 => chain.sensor(),
+            None => {
+                return Err(format!(
+                    "{name}: --y {} has no sensor location: with several outputs, each after the \
+                     first names where its sensor sits (e.g. --y {}@N)",
+                    o.signal, o.signal
+                ))
+            }
+        };
+        let m = Model::new(n, chain.gap(), chain.actuator(), port).map_err(|e| {
+            format!(
+                "{name}: --y {}: the model's chain ({}) has no sensor at {}: {e}",
+                o.signal,
+                chain.id(),
+                location_name(port)
+            )
+        })?;
+        let file = ModelFile {
+            model: m,
+            ..model.clone()
+        };
+        let d = diagnose_recording(
+            &o.recording.frf,
+            o.recording.samples.as_ref(),
+            &file,
+            None,
+            &options,
+        )
+        .map_err(|e| format!("{name}: --y {}: {e}", o.signal))?;
+        runs.push((o, port, d));
+    }
+    let common = common_effects(&runs);
+    let mut plot = Bode::new(format!(
+        "{} outputs: recordings and the model after each output's diagnosis",
+        runs.len()
+    ));
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for (o, port, d) in &runs {
+        let c = &d.curves;
+        plot = plot
+            .trace(
+                format!("{} (recording)", o.signal),
+                &c.freq_hz,
+                &c.recording,
+                Style::points(),
+            )
+            .trace(
+                format!("{} at {}, model after", o.signal, location_name(*port)),
+                &c.freq_hz,
+                &c.after,
+                Style::line(),
+            );
+        if let Some((a, b)) = d.band_hz {
+            lo = lo.min(a.max(c.freq_hz.first().copied().unwrap_or(a)));
+            hi = hi.max(b);
+        }
+    }
+    if lo < hi {
+        plot = plot.view(lo, hi);
+    }
+    let report = match args.format {
+        IdentifyFormat::Json => {
+            let mut each = Vec::new();
+            for (o, port, d) in &runs {
+                let v: Value = serde_json::from_str(&diagnosis_json(d, None, None)?)
+                    .map_err(|e| format!("JSON: {e}"))?;
+                each.push(json!({
+                    "name": o.signal,
+                    "location": o.location,
+                    "sensor": [port.plus, port.minus],
+                    "diagnosis": v,
+                }));
+            }
+            let v = json!({
+                "version": crate::diagnose::JSON_VERSION,
+                "outputs": each,
+                "common_effects": common.iter().map(|c| json!({
+                    "kind": c.kind.as_str(),
+                    "parameter": c.parameter,
+                    "values": c.values,
+                    "spread": c.spread,
+                })).collect::<Vec<_>>(),
+            });
+            let mut s = serde_json::to_string_pretty(&v).map_err(|e| format!("JSON: {e}"))?;
+            s.push('\n');
+            s
+        }
+        IdentifyFormat::Md | IdentifyFormat::Html => {
+            let m = diagnose_markdown(
+                &name,
+                &source_text,
+                &runs,
+                &common,
+                (args.format == IdentifyFormat::Md && args.out.is_some()).then_some("bode.svg"),
+            );
+            if args.format == IdentifyFormat::Md {
+                m
+            } else {
+                html_page("mms diagnose", &m, &plot.to_svg())
+            }
+        }
+    };
+    finish(args, &plot, &runs[0].2.model_after, report)
+}
+
+/// An effect every output names, with its value on each.
+struct CommonEffect {
+    kind: EffectKind,
+    parameter: Option<&'static str>,
+    values: Vec<f64>,
+    /// `max / min - 1` of the values (0 without a parameter).
+    spread: f64,
+}
+
+/// The effect kinds in every output's verdict, in the first output's order.
+fn common_effects(runs: &[(&SensorRecording, Port, RecordingDiagnosis)]) -> Vec<CommonEffect> {
+    let Some((_, _, first)) = runs.first() else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for e in &first.verdict.effects {
+        if e.kind == EffectKind::None {
+            continue;
+        }
+        let parameter = e.kind.parameter_name();
+        let mut values = Vec::new();
+        let mut everywhere = true;
+        for (_, _, d) in runs {
+            match d.verdict.effects.iter().find(|x| x.kind == e.kind) {
+                Some(x) => {
+                    if let Some(v) = parameter.and_then(|p| x.parameters.get(p)) {
+                        values.push(*v);
+                    }
+                }
+                None => everywhere = false,
+            }
+        }
+        if !everywhere {
+            continue;
+        }
+        let (lo, hi) = values
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
+        out.push(CommonEffect {
+            kind: e.kind,
+            parameter,
+            spread: if values.is_empty() || lo <= 0.0 {
+                0.0
+            } else {
+                hi / lo - 1.0
+            },
+            values,
+        });
+    }
+    out
+}
+
+fn diagnose_markdown(
+    name: &str,
+    source: &str,
+    runs: &[(&SensorRecording, Port, RecordingDiagnosis)],
+    common: &[CommonEffect],
+    plot: Option<&str>,
+) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Diagnosis of `{name}` from {} outputs\n", runs.len());
+    let _ = writeln!(
+        s,
+        "{source} Each output is compared with the model read at its sensor.\n"
+    );
+    s.push_str("| output | sensor | named | decided by | phase error |\n|---|---|---|---|---|\n");
+    for (o, port, d) in runs {
+        let named: Vec<String> = d
+            .verdict
+            .effects
+            .iter()
+            .map(|e| {
+                let p: Vec<String> = e
+                    .parameters
+                    .iter()
+                    .map(|(k, v)| format!("{k} = {v:.4e}"))
+                    .collect();
+                if p.is_empty() {
+                    e.kind.as_str().to_string()
+                } else {
+                    format!("{} ({})", e.kind.as_str(), p.join(", "))
+                }
+            })
+            .collect();
+        let phase = d.frequency_domain.as_ref().map_or("-".to_string(), |f| {
+            format!(
+                "{:.1} -> {:.1} deg",
+                f.fit.before.rms_deg, f.fit.after.rms_deg
+            )
+        });
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {phase} |",
+            o.signal,
+            location_name(*port),
+            named.join(", "),
+            d.verdict
+                .decided_by
+                .map_or("-".to_string(), |x| format!("{x:?}").to_lowercase())
+        );
+    }
+    s.push('\n');
+    if common.is_empty() {
+        s.push_str("No effect is named by every output.\n\n");
+    } else {
+        for c in common {
+            match c.parameter {
+                Some(p) if !c.values.is_empty() => {
+                    let values: Vec<String> = c.values.iter().map(|v| format!("{v:.4e}")).collect();
+                    let _ = writeln!(
+                        s,
+                        "Every output names **{}** ({p} = {}; spread {:.1} %).\n",
+                        c.kind.as_str(),
+                        values.join(", "),
+                        100.0 * c.spread
+                    );
+                }
+                _ => {
+                    let _ = writeln!(s, "Every output names **{}**.\n", c.kind.as_str());
+                }
+            }
+        }
+    }
+    if let Some(p) = plot {
+        let _ = writeln!(s, "![Bode plot: every output and its model after]({p})\n");
+    }
+    for (o, port, d) in runs {
+        let section = diagnosis_markdown(
+            &format!("{} at {}", o.signal, location_name(*port)),
+            "",
+            d,
+            None,
+        );
+        // One heading level down: each output is a section of this report.
+        for line in section.lines() {
+            if line.starts_with('#') {
+                s.push('#');
+            }
+            s.push_str(line);
+            s.push('\n');
         }
     }
     s
