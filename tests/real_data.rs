@@ -498,7 +498,7 @@ fn sperte_motor_side_diagnosis(record: &str, other: &str) {
         "json",
     ]);
     let v = json(&args);
-    assert_eq!(v["version"], 2);
+    assert_eq!(v["version"], 3);
     let val = &v["validation"];
     assert_eq!(val["structure"], val["other_structure"], "{val}");
     // The dead time itself carries over, not only the low-frequency phase

@@ -12,6 +12,7 @@ use ident::diagnose::{model_from_simulation, Diagnosis, EffectVerdict, Selection
 use ident::diagnosis::{
     diagnose_recording, validate, DiagnosisOptions, Domain, Reason, RecordingDiagnosis, Validation,
 };
+use ident::evidence::{CalibrationNote, Evidence, RecordEvidence};
 use ident::nonlinear::{percent, LoopRecord, TimeDiagnosis};
 use mms::model_file::ModelFile;
 use mms::simulate::Controller;
@@ -231,7 +232,8 @@ pub fn json(
 ) -> Result<String, String> {
     let err = |e: serde_json::Error| format!("JSON: {e}");
     let mut v = serde_json::to_value(d).map_err(err)?;
-    // Kinds split viscous from Coulomb friction from version 2 on.
+    // Kinds split viscous from Coulomb friction from version 2 on; the
+    // evidence is figures, not sentences, from version 3 on.
     v["version"] = serde_json::json!(JSON_VERSION);
     v["effects"] = serde_json::to_value(&d.verdict.effects).map_err(err)?;
     v["fit"] = match (d.verdict.decided_by, &d.frequency_domain, &d.time_domain) {
@@ -255,7 +257,7 @@ pub fn json(
 }
 
 /// The version of the JSON report of `mms diagnose`.
-pub const JSON_VERSION: u32 = 2;
+pub const JSON_VERSION: u32 = 3;
 
 /// The recording, the nominal model and the model after the diagnosis,
 /// with the mismatch bands shaded, and the residual panel.
@@ -621,7 +623,7 @@ fn time_markdown(s: &mut String, d: &TimeDiagnosis) {
         );
     }
     s.push_str("\n### Evidence\n\n");
-    for e in &d.evidence {
+    for e in record_evidence(&d.evidence) {
         let _ = writeln!(s, "- {e}");
     }
     effects_and_calibration(
@@ -642,7 +644,7 @@ fn effects_and_calibration(
     title: &str,
     effects: &[EffectVerdict],
     rejected: &[EffectVerdict],
-    calibration: &[String],
+    calibration: &[CalibrationNote],
 ) {
     let _ = write!(
         s,
@@ -671,15 +673,190 @@ fn effects_and_calibration(
             params.join(", "),
             e.step,
             e.score,
-            e.evidence
+            evidence_text(&e.evidence)
         );
     }
     if !calibration.is_empty() {
         s.push_str("\n#### Calibration\n\n");
         for c in calibration {
-            let _ = writeln!(s, "- {c}");
+            let _ = writeln!(s, "- {}", calibration_text(c));
         }
     }
+}
+
+/// The figures a hypothesis was scored on, in words.
+fn evidence_text(e: &Evidence) -> String {
+    match e {
+        Evidence::Nothing { best: None } => "no hypothesis could be fitted".into(),
+        Evidence::Nothing { best: Some(v) } => format!(
+            "no effect earns its parameter; best was {} ({})",
+            v.kind.as_str(),
+            evidence_text(&v.evidence)
+        ),
+        Evidence::Frequency(f) => {
+            let cost = if f.held_out {
+                format!(
+                    "held-out cost {:.1} -> {:.1} noise units (margin {:.1})",
+                    f.cost_before, f.cost_after, f.price
+                )
+            } else {
+                format!(
+                    "cost {:.1} -> {:.1} noise units (price {:.1})",
+                    f.cost_before, f.cost_after, f.price
+                )
+            };
+            let mut t = format!(
+                "{cost}; {:.3} dB / {:.2} deg -> {:.3} dB / {:.2} deg",
+                f.before.rms_db, f.before.rms_deg, f.after.rms_db, f.after.rms_deg
+            );
+            if let Some(x) = &f.extended {
+                t = format!("one more mass ({} masses, {}): {t}", x.masses, x.id);
+            }
+            if !f.added_to.is_empty() {
+                let with: Vec<&str> = f.added_to.iter().map(|k| k.as_str()).collect();
+                t = format!("added to {}: {t}", with.join(" + "));
+            }
+            t
+        }
+        Evidence::Time(e) => {
+            let mut t = format!(
+                "time-domain error {:.4e} -> {:.4e} ({} % -> {} % of the output RMS); \
+                 BIC gain {:.1} (price {:.1}); FRF {:.3} dB / {:.2} deg -> {:.3} dB / {:.2} deg",
+                e.before.rms_time,
+                e.after.rms_time,
+                percent(e.before.rms_time_rel),
+                percent(e.after.rms_time_rel),
+                e.bic_gain,
+                e.price,
+                e.before.rms_db,
+                e.before.rms_deg,
+                e.after.rms_db,
+                e.after.rms_deg
+            );
+            if let Some(sh) = &e.too_small_share {
+                let _ = write!(
+                    t,
+                    "; removes only {:.1} % of the {} misfit (at least {:.0} % needed {}",
+                    100.0 * sh.share,
+                    if sh.first { "calibrated" } else { "remaining" },
+                    100.0 * sh.needed,
+                    if sh.first {
+                        format!(
+                            "when the model leaves more than {:.0} % of the output RMS): the \
+                             model misses more than this effect explains",
+                            100.0 * sh.adequate
+                        )
+                    } else {
+                        "for a further effect)".to_string()
+                    }
+                );
+            }
+            if let Some(h) = &e.held_out {
+                let _ = write!(
+                    t,
+                    "; held-out error {:.4e} -> {:.4e} RMS ({} samples, gain {:.1}, price {:.1})",
+                    h.before, h.after, h.samples, h.gain, h.price
+                );
+            }
+            if !e.validated {
+                t.push_str(
+                    "; does not lower the error on the held-out samples by its price: not named",
+                );
+            }
+            if let Some(f) = &e.too_small_force {
+                let _ = write!(
+                    t,
+                    "; its force is only {} % of the RMS actuator force (at least {:.0} % \
+                     needed): too small to tell from a drift or the other effects' imperfect fit",
+                    percent(f.share),
+                    100.0 * f.needed
+                );
+            }
+            t
+        }
+        Evidence::InverseDynamics(r) => format!(
+            "force residual {:.2} % -> {:.2} % of the force RMS (removes {:.1} % of the residual \
+             energy); BIC gain {:.1} (price {:.1})",
+            100.0 * r.residual_before,
+            100.0 * r.residual_after,
+            100.0 * r.share,
+            r.bic_gain,
+            r.price
+        ),
+    }
+}
+
+/// A calibration note in words.
+fn calibration_text(c: &CalibrationNote) -> String {
+    match c {
+        CalibrationNote::Pinned {
+            parameter,
+            upper,
+            value,
+            nominal,
+        } => format!(
+            "{parameter} pinned at its {} bound ({value:.4e}, nominal {nominal:.4e}, {:+.1} %)",
+            if *upper { "upper" } else { "lower" },
+            100.0 * (value / nominal - 1.0)
+        ),
+        CalibrationNote::CommonFactor { factor } => format!(
+            "all parameters moved by a common factor {factor:.3} (a gain error looks like this)"
+        ),
+    }
+}
+
+/// What a time record shows before any model, one line each.
+fn record_evidence(r: &RecordEvidence) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some(c) = &r.controller {
+        let mut law = format!(
+            "controller law (kp = {}, kv = {}, position filter {:?}{}) on the recorded output \
+             and reference: reproduces the recorded input within {:.3} % RMS (largest \
+             difference {:.4e}{})",
+            c.kp,
+            c.kv,
+            c.filter,
+            c.saturation
+                .map_or(String::new(), |s| format!(", saturation {s}")),
+            100.0 * c.rms_rel,
+            c.max_abs,
+            if c.saturated > 0 {
+                format!(", saturated in {} samples", c.saturated)
+            } else {
+                String::new()
+            }
+        );
+        if c.rms_rel > c.warning_above {
+            let _ = write!(
+                law,
+                "; more than {:.0} %: the simulated loop differs from the recorded one, and the \
+                 estimates with it (check the gains, the velocity filter, a disturbance)",
+                100.0 * c.warning_above
+            );
+        }
+        out.push(law);
+    }
+    if let Some(c) = &r.coherence {
+        out.push(format!(
+            "coherence: mean {:.3} over {} lines with coherence >= 0.5; {} of {} lines below 0.9",
+            c.mean, c.lines, c.below_0_9, c.total
+        ));
+    }
+    if let Some(a) = &r.amplitude {
+        out.push(format!(
+            "amplitude dependence: input RMS {:.4e} (first half) vs {:.4e} (second half): FRF \
+             magnitudes differ by {:.3} dB RMS over {} lines, noise alone {:.3} dB",
+            a.input_rms_first, a.input_rms_second, a.differ_db, a.lines, a.noise_db
+        ));
+    }
+    if let Some(h) = &r.harmonics {
+        out.push(format!(
+            "harmonics: output at {} unexcited odd lines {:.1} dB and at {} unexcited even lines \
+             {:.1} dB relative to the excited lines",
+            h.odd_lines, h.odd_db, h.even_lines, h.even_db
+        ));
+    }
+    out
 }
 
 /// The IDIM-LS estimates as a Markdown section.

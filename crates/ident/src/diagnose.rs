@@ -72,6 +72,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+use crate::evidence::{CalibrationNote, Evidence, ExtendedChain, FrequencyEvidence};
 use crate::fit::solve_spd;
 use crate::selection::{forward_select, none, Trial};
 use frf::Frf;
@@ -299,8 +300,8 @@ pub struct EffectVerdict {
     pub kind: EffectKind,
     /// Its fitted parameter (empty for `none`).
     pub parameters: BTreeMap<String, f64>,
-    /// Why, in words: the cost drop, the errors before and after.
-    pub evidence: String,
+    /// The figures it was scored on.
+    pub evidence: Evidence,
     /// BIC improvement over the calibrated model without it, less the
     /// margin: positive means kept. For an effect added to others (`step`
     /// 2 and up), the improvement over the model with those others; with
@@ -368,7 +369,7 @@ pub struct Diagnosis {
     pub fit: BeforeAfter,
     /// Evidence from the calibration: parameters pinned at their bounds,
     /// a common scale of all parameters.
-    pub calibration: Vec<String>,
+    pub calibration: Vec<CalibrationNote>,
     /// The noise level per real/imaginary part of the log error (median
     /// over the lines), nepers.
     pub noise: f64,
@@ -943,12 +944,12 @@ pub fn diagnose(
     for i in 0..np {
         let d = calibrated.x[i] - nominal_ln[i];
         if d.abs() > 0.999 * width[i] {
-            calibration.push(format!(
-                "{} pinned at its {} bound ({:+.1} %)",
-                names[i],
-                if d > 0.0 { "upper" } else { "lower" },
-                100.0 * d.exp_m1()
-            ));
+            calibration.push(CalibrationNote::Pinned {
+                parameter: names[i].clone(),
+                upper: d > 0.0,
+                value: calibrated.x[i].exp(),
+                nominal: nominal_ln[i].exp(),
+            });
         }
     }
     let common = (0..np)
@@ -956,10 +957,9 @@ pub fn diagnose(
         .sum::<f64>()
         / np as f64;
     if common.abs() > 0.5 * o.tolerance.ln_1p() {
-        calibration.push(format!(
-            "all parameters moved by a common factor {:.3} (a gain error looks like this)",
-            common.exp()
-        ));
+        calibration.push(CalibrationNote::CommonFactor {
+            factor: common.exp(),
+        });
     }
 
     // Hypotheses, by forward selection: the best single effect, then each
@@ -1038,35 +1038,31 @@ pub fn diagnose(
                     - o.margin
             };
             let after = summary(&fitted.problem.errors(&fitted.kinds, &fitted.state.x)?);
-            let cost_text = if holdout {
-                format!(
-                    "held-out cost {:.1} -> {:.1} noise units (margin {:.1})",
-                    base.test_cost, fitted.test_cost, o.margin
-                )
+            let (cost_before, cost_after, price) = if holdout {
+                (base.test_cost, fitted.test_cost, o.margin)
             } else {
-                format!(
-                    "cost {:.1} -> {:.1} noise units (price {:.1})",
+                (
                     base.state.cost,
                     fitted.state.cost,
-                    n_new as f64 * ctx.rows.ln() + o.margin
+                    n_new as f64 * ctx.rows.ln() + o.margin,
                 )
             };
-            let mut evidence = format!(
-                "{cost_text}; {:.3} dB / {:.2} deg -> {:.3} dB / {:.2} deg",
-                summary_base.rms_db, summary_base.rms_deg, after.rms_db, after.rms_deg
-            );
-            if kind == EffectKind::ExtraMode {
-                let m = &fitted.problem.file.model;
-                evidence = format!(
-                    "one more mass ({} masses, {}): {evidence}",
-                    m.n_masses(),
-                    m.id()
-                );
-            }
-            if step > 1 {
-                let with: Vec<&str> = kept.iter().map(|k| k.as_str()).collect();
-                evidence = format!("added to {}: {evidence}", with.join(" + "));
-            }
+            let evidence = Evidence::Frequency(FrequencyEvidence {
+                added_to: kept.to_vec(),
+                held_out: holdout,
+                cost_before,
+                cost_after,
+                price,
+                before: summary_base,
+                after,
+                extended: (kind == EffectKind::ExtraMode).then(|| {
+                    let m = &fitted.problem.file.model;
+                    ExtendedChain {
+                        masses: m.n_masses(),
+                        id: m.id(),
+                    }
+                }),
+            });
             let unresolved = unresolved(kind, kept, &fitted, &ctx);
             tried.push(Trial {
                 verdict: EffectVerdict {

@@ -62,6 +62,7 @@
 use crate::diagnose::{
     diagnose, DiagnoseError, DiagnoseOptions, Diagnosis, EffectKind, EffectVerdict, Selection,
 };
+use crate::evidence::Evidence;
 use crate::nonlinear::{
     diagnose_closed_loop, diagnose_time, held_out_error, LoopRecord, TimeDiagnoseError,
     TimeDiagnosis, TimeOptions,
@@ -663,7 +664,7 @@ fn reconcile(
         vec![EffectVerdict {
             kind: EffectKind::None,
             parameters: Default::default(),
-            evidence: String::new(),
+            evidence: Evidence::Nothing { best: None },
             score: 0.0,
             step: 0,
             unresolved: None,

@@ -54,6 +54,7 @@
 //! ```
 
 use crate::diagnose::{EffectKind, EffectVerdict};
+use crate::evidence::{Evidence, RegressionEvidence};
 use crate::fit::solve_spd;
 use crate::selection::{forward_select, none, Trial};
 use serde::Serialize;
@@ -448,13 +449,13 @@ pub fn idim_ls(
                         verdict: EffectVerdict {
                             kind,
                             parameters,
-                            evidence: format!(
-                            "force residual {:.2} % -> {:.2} % of the force RMS (removes {:.1} % \
-                             of the residual energy); BIC gain {gain:.1} (price {price:.1})",
-                            100.0 * (rss_base / y_energy).sqrt(),
-                            100.0 * (rss / y_energy).sqrt(),
-                            100.0 * share
-                        ),
+                            evidence: Evidence::InverseDynamics(RegressionEvidence {
+                                residual_before: (rss_base / y_energy).sqrt(),
+                                residual_after: (rss / y_energy).sqrt(),
+                                share,
+                                bic_gain: gain,
+                                price,
+                            }),
                             score,
                             step,
                             unresolved: None,

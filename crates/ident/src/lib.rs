@@ -11,6 +11,7 @@ pub mod amplitude;
 pub mod classify;
 pub mod diagnose;
 pub mod diagnosis;
+pub mod evidence;
 pub mod fit;
 pub mod identify;
 pub mod idim;

@@ -83,6 +83,10 @@
 //! ```
 
 use crate::diagnose::{BeforeAfter, EffectKind, EffectVerdict};
+use crate::evidence::{
+    AmplitudeEvidence, CalibrationNote, CoherenceEvidence, ControllerEvidence, Evidence,
+    ForceShortfall, HarmonicEvidence, HeldOutSamples, RecordEvidence, ShareShortfall, TimeEvidence,
+};
 use crate::fit::solve_spd;
 use crate::idim::{idim_ls, IdimOptions, InverseDynamics};
 use crate::selection::{forward_select, none, Trial};
@@ -192,9 +196,10 @@ pub struct TimeDiagnosis {
     /// Errors before and after.
     pub fit: BeforeAfter<TimeFit>,
     /// Calibration notes: parameters pinned at their bounds.
-    pub calibration: Vec<String>,
-    /// Nonlinearity evidence: coherence, amplitude dependence, harmonics.
-    pub evidence: Vec<String>,
+    pub calibration: Vec<CalibrationNote>,
+    /// What the record shows before any model: the loop's law,
+    /// coherence, amplitude dependence, harmonics.
+    pub evidence: RecordEvidence,
     /// RMS of the time-domain residual of the model after the diagnosis
     /// (output units): the noise plus what no hypothesis explains.
     pub noise: f64,
@@ -941,7 +946,7 @@ fn diagnose(
     Simulator::new(model, fs, &SimOptions::default())?;
 
     // Evidence from the H1 estimates.
-    let mut evidence = Vec::new();
+    let mut evidence = RecordEvidence::default();
     // In a loop: the law must reproduce the recorded input, and the
     // simulation starts in the recorded motion.
     let closed = match record {
@@ -978,17 +983,18 @@ fn diagnose(
                 return Err(TimeDiagnoseError::Controller(law));
             }
             // A law that is close but not right (EMPS with a plain backward
-            // difference: 3.3 %) still moves the estimates.
-            if check.rms_rel > CONTROLLER_WARNING {
-                evidence.push(format!(
-                    "{law}; more than {:.0} %: the simulated loop differs from the recorded \
-                     one, and the estimates with it (check the gains, the velocity filter, a \
-                     disturbance)",
-                    100.0 * CONTROLLER_WARNING
-                ));
-            } else {
-                evidence.push(law);
-            }
+            // difference: 3.3 %) still moves the estimates: the report
+            // warns above CONTROLLER_WARNING.
+            evidence.controller = Some(ControllerEvidence {
+                kp: rec.controller.kp,
+                kv: rec.controller.kv,
+                filter: rec.controller.filter.clone(),
+                saturation: rec.controller.saturation,
+                rms_rel: check.rms_rel,
+                max_abs: check.max_abs,
+                saturated: check.saturated,
+                warning_above: CONTROLLER_WARNING,
+            });
             Some((*rec, y[0], (y[2] - y[0]) * fs / 2.0))
         }
     };
@@ -1019,10 +1025,10 @@ fn diagnose(
     let welch = &o.welch;
     let measured = h1(u, y, fs, welch).ok();
     if let Some(est) = &measured {
-        evidence.extend(coherence_evidence(&est.frf));
+        evidence.coherence = coherence_evidence(&est.frf);
     }
-    evidence.extend(amplitude_evidence(u, y, fs, welch));
-    evidence.extend(harmonic_evidence(u, y));
+    evidence.amplitude = amplitude_evidence(u, y, fs, welch);
+    evidence.harmonics = harmonic_evidence(u, y);
 
     // Calibration of the linear chain (with the model's own effects).
     let x_nominal = x0.clone();
@@ -1039,12 +1045,12 @@ fn diagnose(
         };
         let at = |b: f64| (x_cal[k] - b).abs() < 1e-6;
         if at(lo[k]) || at(hi[k]) {
-            calibration.push(format!(
-                "{name} pinned at its {} bound ({:.4e}, nominal {:.4e})",
-                if at(lo[k]) { "lower" } else { "upper" },
-                x_cal[k].exp(),
-                (0.5 * (lo[k] + hi[k])).exp()
-            ));
+            calibration.push(CalibrationNote::Pinned {
+                parameter: name.to_string(),
+                upper: !at(lo[k]),
+                value: x_cal[k].exp(),
+                nominal: (0.5 * (lo[k] + hi[k])).exp(),
+            });
         }
     }
     let measured_frf = measured.as_ref().map(|e| &e.frf);
@@ -1155,65 +1161,30 @@ fn diagnose(
                 (gain_bic - price).min(-1.0)
             };
             let after = problem.time_fit(&with, &x, measured_frf)?;
-            let mut evidence = format!(
-                "time-domain error {:.4e} -> {:.4e} ({} % -> {} % of the output RMS); \
-                 BIC gain {:.1} (price {:.1}); FRF {:.3} dB / {:.2} deg -> {:.3} dB / {:.2} deg",
-                fit_base.rms_time,
-                after.rms_time,
-                percent(fit_base.rms_time_rel),
-                percent(after.rms_time_rel),
-                gain_bic,
+            let evidence = Evidence::Time(TimeEvidence {
+                before: fit_base,
+                after,
+                bic_gain: gain_bic,
                 price,
-                fit_base.rms_db,
-                fit_base.rms_deg,
-                after.rms_db,
-                after.rms_deg
-            );
-            if !enough {
-                evidence.push_str(&format!(
-                    "; removes only {:.1} % of the {} misfit (at least {:.0} % needed {}",
-                    100.0 * share,
-                    if kinds.is_empty() {
-                        "calibrated"
-                    } else {
-                        "remaining"
-                    },
-                    100.0 * o.min_share,
-                    if kinds.is_empty() {
-                        format!(
-                            "when the model leaves more than {:.0} % of the output RMS): the \
-                             model misses more than this effect explains",
-                            100.0 * o.adequate
-                        )
-                    } else {
-                        "for a further effect)".to_string()
-                    }
-                ));
-            }
-            if n_test > 0 {
-                evidence.push_str(&format!(
-                    "; held-out error {:.4e} -> {:.4e} RMS ({} samples, gain {:.1}, price {:.1})",
-                    (test_base / n_test as f64).sqrt(),
-                    (test / n_test as f64).sqrt(),
-                    n_test,
-                    gain_test,
-                    (n_test as f64).ln()
-                ));
-            }
-            if !validated {
-                evidence.push_str(
-                    "; does not lower the error on the held-out samples by its price: not \
-                     named",
-                );
-            }
-            if !relevant {
-                evidence.push_str(&format!(
-                    "; its force is only {} % of the RMS actuator force (at least {:.0} % \
-                     needed): too small to tell from a drift or the other effects' imperfect fit",
-                    percent(force / f_rms),
-                    100.0 * MIN_FORCE_SHARE
-                ));
-            }
+                too_small_share: (!enough).then_some(ShareShortfall {
+                    share,
+                    needed: o.min_share,
+                    first: kinds.is_empty(),
+                    adequate: o.adequate,
+                }),
+                held_out: (n_test > 0).then(|| HeldOutSamples {
+                    before: (test_base / n_test as f64).sqrt(),
+                    after: (test / n_test as f64).sqrt(),
+                    samples: n_test,
+                    gain: gain_test,
+                    price: (n_test as f64).ln(),
+                }),
+                validated,
+                too_small_force: (!relevant).then_some(ForceShortfall {
+                    share: force / f_rms,
+                    needed: MIN_FORCE_SHARE,
+                }),
+            });
             let mut parameters = BTreeMap::new();
             let pname = kind.parameter_name().unwrap_or("value");
             parameters.insert(pname.to_string(), value(kind, x[x.len() - 1]));
@@ -1438,21 +1409,26 @@ fn time_fit(
 
 /// Mean and minimum coherence over the lines above 0.5 and the share of
 /// lines below 0.9: a nonlinearity lowers it where the noise does not.
-fn coherence_evidence(frf: &Frf) -> Option<String> {
+fn coherence_evidence(frf: &Frf) -> Option<CoherenceEvidence> {
     let c = frf.coherence()?;
     let lines = good_lines(frf);
     let mean = lines.iter().map(|&k| c[k]).sum::<f64>() / lines.len() as f64;
-    let low = c.iter().filter(|&&g| g < 0.9).count();
-    Some(format!(
-        "coherence: mean {mean:.3} over {} lines with coherence >= 0.5; {low} of {} lines below 0.9",
-        lines.len(),
-        c.len()
-    ))
+    Some(CoherenceEvidence {
+        mean,
+        lines: lines.len(),
+        below_0_9: c.iter().filter(|&&g| g < 0.9).count(),
+        total: c.len(),
+    })
 }
 
 /// The first half's FRF against the second half's, with their input
 /// levels; the difference in noise units of the coherence.
-fn amplitude_evidence(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Option<String> {
+fn amplitude_evidence(
+    u: &[f64],
+    y: &[f64],
+    fs: f64,
+    opts: &WelchOptions,
+) -> Option<AmplitudeEvidence> {
     // A periodic record splits at a period boundary, so that each half is
     // made of whole periods.
     let half = match opts.period {
@@ -1483,19 +1459,20 @@ fn amplitude_evidence(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Opt
         return None;
     }
     let db = |x: f64| (x / count as f64).sqrt() * 20.0 / LN_10;
-    Some(format!(
-        "amplitude dependence: input RMS {ua:.4e} (first half) vs {ub:.4e} (second half): \
-         FRF magnitudes differ by {:.3} dB RMS over {count} lines, noise alone {:.3} dB",
-        db(sum),
-        db(noise)
-    ))
+    Some(AmplitudeEvidence {
+        input_rms_first: ua,
+        input_rms_second: ub,
+        differ_db: db(sum),
+        lines: count,
+        noise_db: db(noise),
+    })
 }
 
 /// For an input whose spectrum leaves lines out (a periodic multisine with
 /// an integer number of periods), the output power at unexcited odd and
 /// even lines relative to the excited ones: odd harmonics mark an odd
 /// nonlinearity (friction, backlash), even ones an even nonlinearity.
-fn harmonic_evidence(u: &[f64], y: &[f64]) -> Option<String> {
+fn harmonic_evidence(u: &[f64], y: &[f64]) -> Option<HarmonicEvidence> {
     let uf = frf::fft::fft_real(u);
     let yf = frf::fft::fft_real(y);
     let half = u.len() / 2;
@@ -1529,10 +1506,10 @@ fn harmonic_evidence(u: &[f64], y: &[f64]) -> Option<String> {
     let (po, no) = mean(&|k| !excited[k] && parity(k) == Some(true));
     let (pv, nv) = mean(&|k| !excited[k] && parity(k) == Some(false));
     let db = |p: f64| 10.0 * (p / pe).log10();
-    Some(format!(
-        "harmonics: output at {no} unexcited odd lines {:.1} dB and at {nv} unexcited even lines \
-         {:.1} dB relative to the excited lines",
-        db(po),
-        db(pv)
-    ))
+    Some(HarmonicEvidence {
+        odd_lines: no,
+        odd_db: db(po),
+        even_lines: nv,
+        even_db: db(pv),
+    })
 }

@@ -8,6 +8,7 @@
 //! here, once.
 
 use crate::diagnose::{EffectKind, EffectVerdict};
+use crate::evidence::Evidence;
 use std::collections::BTreeMap;
 
 /// A hypothesis tried at one step: its verdict (score positive: it earns
@@ -33,13 +34,8 @@ pub(crate) fn none(rejected: &[EffectVerdict]) -> EffectVerdict {
     EffectVerdict {
         kind: EffectKind::None,
         parameters: BTreeMap::new(),
-        evidence: match rejected.first() {
-            Some(v) => format!(
-                "no effect earns its parameter; best was {} ({})",
-                v.kind.as_str(),
-                v.evidence
-            ),
-            None => "no hypothesis could be fitted".into(),
+        evidence: Evidence::Nothing {
+            best: rejected.first().cloned().map(Box::new),
         },
         score: 0.0,
         step: 0,

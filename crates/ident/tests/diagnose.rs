@@ -349,7 +349,7 @@ fn concealed_effects_are_found() {
                 }
             } else {
                 eprintln!(
-                    "miss: {} seed {} -> {} ({}) value {:?}",
+                    "miss: {} seed {} -> {} ({:?}) value {:?}",
                     kind.as_str(),
                     1000 * (k + 1) + i,
                     top.kind.as_str(),
@@ -564,7 +564,7 @@ fn holdout_selection_agrees_with_bic() {
             }
             if held.effects[0].kind != kind {
                 eprintln!(
-                    "holdout miss: {} seed {seed} -> {} ({})",
+                    "holdout miss: {} seed {seed} -> {} ({:?})",
                     kind.as_str(),
                     held.effects[0].kind.as_str(),
                     held.effects[0].evidence
