@@ -832,13 +832,48 @@ pub fn identifiability_with(model: &Model, options: &RankOptions) -> Identifiabi
     let invariants = moment_invariants(&tf);
     let nonconstant: Vec<&MomentInvariant> =
         invariants.iter().filter(|i| !i.is_constant()).collect();
-    let scaling = scaling_symmetries(&parameters, &nonconstant);
+    let rank = invariant_rank(model, &parameters, &nonconstant, options);
+    Identifiability {
+        model: *model,
+        nonconstant_invariants: nonconstant.len(),
+        parameters,
+        invariants,
+        determinable_parameters: rank.determinable,
+        rank_upper_bound: rank.upper_bound,
+        certificate: rank.certificate,
+        scaling_symmetries: rank.scaling,
+    }
+}
+
+/// The generic rank of the Jacobian of some invariants and how it is
+/// established (see [`invariant_rank`]).
+pub(crate) struct InvariantRank {
+    /// Proven lower bound; the rank when the certificate is not `Sampled`.
+    pub(crate) determinable: usize,
+    /// Proven upper bound.
+    pub(crate) upper_bound: usize,
+    pub(crate) certificate: RankCertificate,
+    pub(crate) scaling: Vec<ScalingSymmetry>,
+}
+
+/// The generic rank of the Jacobian of the non-constant invariants
+/// `nonconstant` (of one transfer function or of several sharing the
+/// parameters of `model`) with respect to `parameters`, established as the
+/// module documentation describes: sampled lower bound, counting and
+/// scaling upper bounds, symbolic elimination in between.
+pub(crate) fn invariant_rank(
+    model: &Model,
+    parameters: &[String],
+    nonconstant: &[&MomentInvariant],
+    options: &RankOptions,
+) -> InvariantRank {
+    let scaling = scaling_symmetries(parameters, nonconstant);
     let k = parameters.len();
     let counting = k.min(nonconstant.len());
     let bound = counting.min(k - scaling.len());
-    let l = scaled_jacobian(&parameters, &nonconstant);
-    let hint = sampled_pivots(&l, &parameters, bound, options);
-    let (determinable_parameters, rank_upper_bound, certificate) = if hint.len() == bound {
+    let l = scaled_jacobian(parameters, nonconstant);
+    let hint = sampled_pivots(&l, parameters, bound, options);
+    let (determinable, upper_bound, certificate) = if hint.len() == bound {
         let c = if bound == counting {
             RankCertificate::Counting
         } else {
@@ -852,15 +887,11 @@ pub fn identifiability_with(model: &Model, options: &RankOptions) -> Identifiabi
             None => (hint.len(), bound, RankCertificate::Sampled),
         }
     };
-    Identifiability {
-        model: *model,
-        nonconstant_invariants: nonconstant.len(),
-        parameters,
-        invariants,
-        determinable_parameters,
-        rank_upper_bound,
+    InvariantRank {
+        determinable,
+        upper_bound,
         certificate,
-        scaling_symmetries: scaling,
+        scaling,
     }
 }
 
@@ -944,13 +975,13 @@ pub fn identical_transfer_functions(a: &Model, b: &Model) -> Option<(ParameterRe
 }
 
 /// A model's transfer function and its image under [`mirror_renaming`].
-struct Renamable {
+pub(crate) struct Renamable {
     tf: UndampedTf,
     mirrored: UndampedTf,
 }
 
 impl Renamable {
-    fn new(model: &Model) -> Renamable {
+    pub(crate) fn new(model: &Model) -> Renamable {
         let tf = model.undamped_tf();
         let map = mirror_renaming(model);
         let rename = |p: &Poly| p.rename(|v| map.get(v).cloned().unwrap_or_else(|| v.to_string()));
@@ -964,23 +995,43 @@ impl Renamable {
 
 /// See [`identical_transfer_functions`]; `a` and `b` have the same `N` and gap.
 fn identical_tfs(a: &Renamable, b: &UndampedTf) -> Option<(ParameterRenaming, Rat)> {
-    for (renaming, ta) in [
-        (ParameterRenaming::Identity, &a.tf),
-        (ParameterRenaming::Mirror, &a.mirrored),
-    ] {
-        let lhs = &ta.num * &b.den;
-        let rhs = &b.num * &ta.den;
-        if lhs.is_zero() || rhs.is_zero() {
-            if lhs.is_zero() && rhs.is_zero() {
-                return Some((renaming, Rat::ONE));
+    identical_tf_vectors(std::slice::from_ref(a), std::slice::from_ref(b))
+}
+
+/// The first [`ParameterRenaming`] (identity, then mirror) under which
+/// every `b[i]` is `kappa * renamed(a[i])` with one common constant
+/// `kappa`, and that `kappa`; `a` and `b` have the same length and their
+/// models the same `N` and gap. One common factor because a fitted gain
+/// absorbs one factor for all sensors at once, not one per sensor.
+pub(crate) fn identical_tf_vectors(
+    a: &[Renamable],
+    b: &[UndampedTf],
+) -> Option<(ParameterRenaming, Rat)> {
+    debug_assert_eq!(a.len(), b.len());
+    'renaming: for renaming in [ParameterRenaming::Identity, ParameterRenaming::Mirror] {
+        let mut common: Option<Rat> = None;
+        for (ra, tb) in a.iter().zip(b) {
+            let ta = match renaming {
+                ParameterRenaming::Identity => &ra.tf,
+                ParameterRenaming::Mirror => &ra.mirrored,
+            };
+            let lhs = &ta.num * &tb.den;
+            let rhs = &tb.num * &ta.den;
+            if lhs.is_zero() || rhs.is_zero() {
+                if lhs.is_zero() && rhs.is_zero() {
+                    // Both zero: equal for any factor.
+                    continue;
+                }
+                continue 'renaming;
             }
-            continue;
+            // tb.num / tb.den = kappa * ta.num / ta.den  <=>  lhs = kappa * rhs
+            let kappa = &lhs.leading_coef() / &rhs.leading_coef();
+            if lhs != rhs.scale(&kappa) || common.as_ref().is_some_and(|k| *k != kappa) {
+                continue 'renaming;
+            }
+            common = Some(kappa);
         }
-        // b.num / b.den = kappa * ta.num / ta.den  <=>  lhs = kappa * rhs
-        let kappa = &lhs.leading_coef() / &rhs.leading_coef();
-        if lhs == rhs.scale(&kappa) {
-            return Some((renaming, kappa));
-        }
+        return Some((renaming, common.unwrap_or(Rat::ONE)));
     }
     None
 }

@@ -23,6 +23,8 @@
 //!   ([`response`]), for fitting, and model files in TOML ([`model_file`]);
 //! - a nonlinear time simulation with Coulomb friction and backlash
 //!   ([`simulate`]);
+//! - several sensors on one chain ([`sensors`]): which structures a sensor
+//!   set tells apart, with checkable witnesses;
 //! - analytic back-solving: every positive parameter set of a structure
 //!   reproducing a given undamped inertance, or its families, or why there
 //!   is none ([`backsolve`]);
@@ -62,6 +64,7 @@ pub mod model_file;
 pub mod paper;
 pub mod render;
 pub mod response;
+pub mod sensors;
 pub mod simulate;
 mod tf;
 pub mod xorshift;
@@ -81,6 +84,10 @@ pub use crate::identifiability::{
 };
 pub use crate::model::{
     damper_name, mass_name, spring_name, Model, ModelError, Port, MAX_MASSES, PAPER_IDS,
+};
+pub use crate::sensors::{
+    check_distinguishability_witness, sensor_set_distinguishability, two_sensor_pairs, SensorSet,
+    SensorSetVerdict,
 };
 pub use crate::tf::{
     DampedTf, OmegaTf, Output, ParseOutputError, UndampedCoefficients, UndampedTf, OMEGA, S,

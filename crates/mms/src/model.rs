@@ -445,6 +445,23 @@ impl Model {
         }
     }
 
+    /// The same chain and actuator read by another sensor: same `N`, gap
+    /// and actuator, sensor `sensor`, validated by rule (1) like
+    /// [`Model::new`]. One chain with several sensors is a
+    /// [`SensorSet`](crate::sensors::SensorSet).
+    ///
+    /// ```
+    /// use mms::{Model, Port};
+    /// let a2 = Model::from_id("A2")?; // force on m1, position of m2
+    /// assert_eq!(a2.with_sensor(Port::new(3, 0))?.name(), "A3");
+    /// let b2 = Model::from_id("B2")?; // gap 1
+    /// assert!(b2.with_sensor(Port::new(1, 0)).is_err()); // meas+ = 1 <= gap
+    /// # Ok::<(), mms::ModelError>(())
+    /// ```
+    pub fn with_sensor(&self, sensor: Port) -> Result<Model, ModelError> {
+        Model::new(self.n, self.gap, self.act, sensor)
+    }
+
     /// The renumbered model under the reversal of the free part: mass
     /// `gap + k` becomes mass `N + 1 - k` (for `k = 1 ..= N - gap`), the
     /// grounded part `0 ..= gap` stays. For `gap = 0` this reverses the whole
