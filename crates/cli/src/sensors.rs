@@ -188,6 +188,12 @@ fn to_json(id: &SensorsIdentification) -> Value {
         "indistinguishable": id.indistinguishable,
         "first_output_alone": id.first_output_alone,
         "ruled_out": id.ruled_out,
+        "exact": id.exact.iter().map(|e| json!({
+            "id": e.id,
+            "verdict": e.verdict.kind(),
+            "indistinguishable": e.indistinguishable(),
+            "reason": e.verdict.to_string(),
+        })).collect::<Vec<_>>(),
         "notes": id.notes,
     })
 }
@@ -252,6 +258,33 @@ fn markdown(name: &str, id: &SensorsIdentification, plot: Option<&str>) -> Strin
                 format!("The other outputs rule out {}.", each.join("; "))
             }
         );
+    }
+    if !id.exact.is_empty() {
+        let same: Vec<&str> = id
+            .exact
+            .iter()
+            .filter(|e| e.indistinguishable())
+            .map(|e| e.id.as_str())
+            .collect();
+        let _ = writeln!(
+            s,
+            "Exactly, with these sensors (every parameter set, not only the fitted one): {}\n",
+            if same.is_empty() {
+                "no other candidate reproduces the best one's outputs; the best is determined by \
+                 the structure of the sensors."
+                    .to_string()
+            } else {
+                format!(
+                    "{} reproduce every output of the best one and stay indistinguishable from it.",
+                    same.join(", ")
+                )
+            }
+        );
+        s.push_str("| candidate | against the best, exactly |\n|---|---|\n");
+        for e in &id.exact {
+            let _ = writeln!(s, "| {} | {} |", e.id, e.verdict);
+        }
+        s.push('\n');
     }
     if let Some(p) = plot {
         let _ = writeln!(s, "![Bode plot: every output, measured and fitted]({p})\n");

@@ -620,7 +620,7 @@ fn undamped_target(data: &Frf, output: Output, c: &Classification) -> Option<(Ve
 /// frequencies carry a few significant digits, not 53 bits: each
 /// coefficient becomes the simplest rational within 1e-9 of it (relative),
 /// which keeps the exact back-solving's numbers small and fast.
-fn measured_target(num: &[f64], den: &[f64]) -> Result<Target, mms::BackSolveError> {
+pub(crate) fn measured_target(num: &[f64], den: &[f64]) -> Result<Target, mms::BackSolveError> {
     let r =
         |v: &[f64]| -> Vec<poly::Rat> { v.iter().map(|&x| simplest_rational(x, 1e-9)).collect() };
     Target::new(r(num), r(den))
@@ -673,7 +673,7 @@ fn simplest_rational(x: f64, rel: f64) -> poly::Rat {
 
 /// Dampers for a start: each link with damping ratio `zeta` on its own,
 /// `d = 2 zeta sqrt(c m)` with `m` the reduced mass of the bodies it joins.
-fn with_dampers(model: &Model, undamped: &[f64], zeta: f64) -> Vec<f64> {
+pub(crate) fn with_dampers(model: &Model, undamped: &[f64], zeta: f64) -> Vec<f64> {
     let n = model.n_masses();
     let masses = &undamped[..n];
     let springs = &undamped[n..];
@@ -887,7 +887,7 @@ fn feature_target((num, den): &(Vec<f64>, Vec<f64>)) -> Option<FeatureTarget> {
 /// each family spread over the family's intervals (the damped data often
 /// single out a member near an end of an interval, so the spread is
 /// logistic: dense towards both ends).
-fn undamped_starts(solution: &BackSolution) -> Vec<Vec<f64>> {
+pub(crate) fn undamped_starts(solution: &BackSolution) -> Vec<Vec<f64>> {
     let mut out: Vec<Vec<f64>> = solution.points().iter().map(|s| s.values.clone()).collect();
     for fam in solution.families() {
         let before = out.len();

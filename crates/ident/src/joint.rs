@@ -42,11 +42,14 @@
 use crate::classify::Classification;
 use crate::fit::{fit_outputs, Fit, FitOptions, Gain};
 use crate::identify::{
-    fit_candidate, fit_options, mean_damping, measured, score, IdentifyError, IdentifyOptions,
-    Measured,
+    fit_candidate, fit_options, mean_damping, measured, measured_target, score, undamped_starts,
+    with_dampers, IdentifyError, IdentifyOptions, Measured,
 };
 use frf::Frf;
 use mms::analysis::{analyze, SearchLimits, Status};
+use mms::backsolve::back_solve;
+use mms::response::Parameters;
+use mms::sensors::{sensor_set_distinguishability, SensorSet, SensorSetVerdict};
 use mms::{Model, Output, Port};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -244,9 +247,40 @@ pub struct SensorsIdentification {
     /// Those of `first_output_alone` that the other outputs rule out, and
     /// how.
     pub ruled_out: Vec<RuledOut>,
+    /// The best candidate against each other one that the first output
+    /// alone or the joint fit leaves beside it, decided exactly with every
+    /// output's sensor (`mms::sensors`; up to 3 masses).
+    pub exact: Vec<ExactComparison>,
     /// How the candidates were chosen, what was not fitted, and the like.
     pub notes: Vec<String>,
 }
+
+/// The best candidate against another, decided exactly with the sensors of
+/// every output: whether any parameter set of the other reproduces every
+/// output of the best at once.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ExactComparison {
+    /// The other candidate.
+    pub id: String,
+    /// The exact verdict, with its proof or witness.
+    pub verdict: SensorSetVerdict,
+}
+
+impl ExactComparison {
+    /// The other candidate cannot be told from the best with these
+    /// sensors: proven, or matched exactly at the witness points.
+    pub fn indistinguishable(&self) -> bool {
+        matches!(
+            self.verdict,
+            SensorSetVerdict::Indistinguishable(_)
+                | SensorSetVerdict::MatchedAtWitnessPoints { .. }
+        )
+    }
+}
+
+/// Most masses for which [`identify_sensors`] decides the exact
+/// comparisons (their cost grows fast with the chain).
+pub const EXACT_MAX_MASSES: usize = 3;
 
 /// Identifies one chain from several outputs (see the module docs).
 pub fn identify_sensors(
@@ -370,15 +404,27 @@ pub fn identify_sensors(
         let id = candidate_id(models);
         let channels: Vec<(Model, &Frf)> = models.iter().copied().zip(turned.iter()).collect();
         let mut best: Option<crate::fit::OutputsFit> = None;
+        // Starts: each output's single fit, and every exact parameter set
+        // that reproduces an output's classified features (one output's
+        // fit may have found the other of two such sets, Tab. 7, which
+        // the other outputs tell apart).
+        let mut starts: Vec<(Parameters, f64)> = Vec::new();
         for (i, m) in models.iter().enumerate() {
-            let Some(Some(start)) = single.get(&(i, *m)) else {
-                continue;
-            };
+            if let Some(Some(start)) = single.get(&(i, *m)) {
+                starts.push((start.parameters.clone(), start.gain.abs()));
+            }
+            for undamped in back_solved(m, measured_outputs[i].target.as_ref()) {
+                if let Ok(p) = Parameters::from_values(m, with_dampers(m, &undamped, zetas[i])) {
+                    starts.push((p, 1.0));
+                }
+            }
+        }
+        for (start, gain) in &starts {
             let mut o = fit_opts.clone();
             if let Gain::Fit(_) = o.gain {
-                o.gain = Gain::Fit(start.gain.abs());
+                o.gain = Gain::Fit(*gain);
             }
-            let Ok(f) = fit_outputs(&channels, output, &start.parameters, &o) else {
+            let Ok(f) = fit_outputs(&channels, output, start, &o) else {
                 continue;
             };
             if best.as_ref().is_none_or(|b| score(&f.fit) < score(&b.fit)) {
@@ -468,6 +514,41 @@ pub fn identify_sensors(
         };
         ruled_out.push(RuledOut { id: id.clone(), by });
     }
+    let mut exact = Vec::new();
+    if let Some(best) = fits.first().filter(|_| masses <= EXACT_MAX_MASSES) {
+        let set = |models: &[Model]| SensorSet::from_models(models).ok();
+        let others: Vec<String> = first_output_alone
+            .iter()
+            .chain(&best_group)
+            .filter(|id| **id != best.id)
+            .fold(Vec::new(), |mut v, id| {
+                if !v.contains(id) {
+                    v.push(id.clone());
+                }
+                v
+            });
+        let models_of = |id: &str| -> Option<Vec<Model>> {
+            fits.iter()
+                .find(|f| f.id == id)
+                .map(|f| f.models.clone())
+                .or_else(|| {
+                    first_only
+                        .iter()
+                        .find(|t| candidate_id(&t.models) == id)
+                        .map(|t| t.models.clone())
+                })
+        };
+        if let Some(a) = set(&best.models) {
+            for id in others {
+                let Some(b) = models_of(&id).and_then(|m| set(&m)) else {
+                    continue;
+                };
+                if let Ok(verdict) = sensor_set_distinguishability(&a, &b) {
+                    exact.push(ExactComparison { id, verdict });
+                }
+            }
+        }
+    }
     Ok(SensorsIdentification {
         masses,
         outputs: readings,
@@ -475,8 +556,30 @@ pub fn identify_sensors(
         indistinguishable,
         first_output_alone,
         ruled_out,
+        exact,
         notes,
     })
+}
+
+/// The undamped parameter sets of `model` that reproduce an output's
+/// undamped target exactly (none without a target or a solution).
+fn back_solved(model: &Model, target: Option<&(Vec<f64>, Vec<f64>)>) -> Vec<Vec<f64>> {
+    let Some((num, den)) = target else {
+        return Vec::new();
+    };
+    let tf = model.undamped_tf();
+    if tf.num.degree(mms::OMEGA) as usize + 1 != num.len()
+        || tf.den.degree(mms::OMEGA) as usize + 1 != den.len()
+    {
+        return Vec::new();
+    }
+    let Ok(t) = measured_target(num, den) else {
+        return Vec::new();
+    };
+    match back_solve(model, &t) {
+        Ok(solution) => undamped_starts(&solution),
+        Err(_) => Vec::new(),
+    }
 }
 
 /// The ID of a candidate: the first output's structure, then `+s<port>`
