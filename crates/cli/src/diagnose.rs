@@ -1103,7 +1103,7 @@ fn amplitude_only(
     let plot = plot.residual();
     let report = match args.format {
         IdentifyFormat::Json => {
-            let v = serde_json::json!({ "amplitude_dependence": a });
+            let v = serde_json::json!({ "version": JSON_VERSION, "amplitude_dependence": a });
             let mut s = serde_json::to_string_pretty(&v).map_err(|e| format!("JSON: {e}"))?;
             s.push('\n');
             s
@@ -1134,11 +1134,104 @@ fn amplitude_only(
     }
 }
 
+/// What a mode's trends with the level name.
+fn reading(stiffness: StiffnessTrend, damping: DampingTrend) -> &'static str {
+    match (stiffness, damping) {
+        (StiffnessTrend::None, DampingTrend::None) => "linear within the noise",
+        (StiffnessTrend::Softening, DampingTrend::Increase) => {
+            "softening with more damping: a joint that slips more as the amplitude grows \
+             (friction at an interface the mode deforms)"
+        }
+        (StiffnessTrend::Softening, _) => {
+            "softening: a joint that loosens as the amplitude grows (clearance opening or slip \
+             at an interface the mode deforms)"
+        }
+        (StiffnessTrend::Stiffening, _) => {
+            "stiffening: a clearance that closes into contact as the amplitude grows (hardening \
+             stops at an interface the mode deforms)"
+        }
+        (StiffnessTrend::None, DampingTrend::Increase) => {
+            "more damping: friction at a joint (slip dissipates more per cycle as the amplitude \
+             grows)"
+        }
+        (StiffnessTrend::None, DampingTrend::Decrease) => {
+            "less damping: Coulomb friction in sliding (its equivalent viscous damping falls as \
+             the amplitude grows)"
+        }
+    }
+}
+
+/// The amplitude comparison in words: the changing modes at the highest
+/// level, the most significant first, and the growth of the distortion.
+fn amplitude_verdict(a: &AmplitudeDependence) -> String {
+    let levels = &a.levels;
+    let top = &levels[levels.len() - 1];
+    let head = format!(
+        "From `{}` to `{}` ({:.2} times the input RMS)",
+        levels[0].label, top.label, top.ratio
+    );
+    let mut v = if a.changed.is_empty() {
+        format!(
+            "{head} no mode moves beyond the noise ({} modes tracked; the FRF changes by {:.3} \
+             dB RMS): no amplitude dependence is seen.",
+            a.modes.len(),
+            top.change_db
+        )
+    } else {
+        let parts: Vec<String> = a
+            .changed
+            .iter()
+            .filter_map(|&i| a.modes.get(i))
+            .filter_map(|m| m.shifts.last().map(|s| (m, s)))
+            .map(|(m, s)| {
+                format!(
+                    "the mode at {:.3} Hz moves by {:+.3} Hz ({:+.2} %, z = {:.1}) and its \
+                     damping ratio by {:+.4} (z = {:.1}): {}",
+                    m.f_ref_hz,
+                    s.shift_hz,
+                    100.0 * s.shift_rel,
+                    s.shift_z,
+                    s.damping_change,
+                    s.damping_z,
+                    reading(s.stiffness, s.damping_trend)
+                )
+            })
+            .collect();
+        format!(
+            "{head} {} of {} modes change beyond the noise: {}.",
+            a.changed.len(),
+            a.modes.len(),
+            parts.join("; ")
+        )
+    };
+    if let (Some(a0), Some(b), Some(grows)) =
+        (levels[0].distortion, top.distortion, a.distortion_grows)
+    {
+        let _ = write!(
+            v,
+            " The output at the {} unexcited lines above the excitation (to 3 times its top) \
+             goes from {:.1} dB to {:.1} dB relative to the excited lines (the input's from \
+             {:.1} dB to {:.1} dB): {}",
+            b.lines,
+            a0.output_db,
+            b.output_db,
+            a0.input_db,
+            b.input_db,
+            if grows {
+                "nonlinear distortion grows with the level."
+            } else {
+                "no growth of nonlinear distortion."
+            }
+        );
+    }
+    v
+}
+
 /// The Markdown section of the amplitude dependence: the verdict, the
 /// levels, the bands beyond the noise and the modes.
 fn amplitude_markdown(a: &AmplitudeDependence) -> String {
     let mut s = String::from("\n## Amplitude dependence\n\n");
-    let _ = writeln!(s, "{}\n", a.verdict);
+    let _ = writeln!(s, "{}\n", amplitude_verdict(a));
     let _ = writeln!(
         s,
         "Lines {:.4} to {:.4} Hz. The noise is each level's coherence over its averages; the \
@@ -1220,7 +1313,7 @@ fn amplitude_markdown(a: &AmplitudeDependence) -> String {
                 sh.damping_z,
                 e.peak_db,
                 sh.peak_db_change,
-                sh.reading
+                reading(sh.stiffness, sh.damping_trend)
             );
         }
     }

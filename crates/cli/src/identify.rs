@@ -133,20 +133,33 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
     let Some(dir) = args.out else {
         return Ok(Some(report));
     };
-    let model_file = id.candidates.first().map(|best| {
-        ModelFile {
-            model: best.model,
+    let files = model_files(
+        id.candidates
+            .first()
+            .map(|best| (best.model, &best.fit, output)),
+    );
+    write_report_dir(dir, args.format, &plots, &files, &report)?;
+    Ok(None)
+}
+
+/// `model.toml` of a fitted structure, if any, for the report directory.
+pub fn model_files(
+    best: Option<(mms::Model, &ident::fit::Fit, Output)>,
+) -> Vec<(&'static str, String)> {
+    best.map(|(model, fit, output)| {
+        let text = ModelFile {
+            model,
             output,
-            parameters: best.fit.parameters.clone(),
-            gain: best.fit.gain,
+            parameters: fit.parameters.clone(),
+            gain: fit.gain,
             motion: Motion::Translational,
             effects: Effects::default(),
         }
-        .to_toml()
-    });
-    let files: Vec<(&str, String)> = model_file.into_iter().map(|t| ("model.toml", t)).collect();
-    write_report_dir(dir, args.format, &plots, &files, &report)?;
-    Ok(None)
+        .to_toml();
+        ("model.toml", text)
+    })
+    .into_iter()
+    .collect()
 }
 
 /// The `--operating-point` recordings, each read with the options of the

@@ -8,7 +8,7 @@ use crate::diagnose::{
     options as diagnose_options, DiagnoseArgs,
 };
 use crate::identify::{
-    fmt_sig, html_page, model_curve, write_report_dir, IdentifyArgs, IdentifyFormat,
+    fmt_sig, html_page, model_curve, model_files, write_report_dir, IdentifyArgs, IdentifyFormat,
 };
 use crate::recording::SensorRecording;
 use ident::classify::feature_name;
@@ -16,8 +16,8 @@ use ident::diagnose::EffectKind;
 use ident::diagnosis::{diagnose_recording, RecordingDiagnosis};
 use ident::identify::IdentifyOptions;
 use ident::joint::{identify_sensors, RuledOutBy, SensorOutput, SensorsIdentification};
-use mms::model_file::{ModelFile, Motion};
-use mms::response::{ChainResponse, Effects};
+use mms::model_file::ModelFile;
+use mms::response::ChainResponse;
 use mms::{Model, Output, Port};
 use plot::{Bode, Style};
 use serde_json::{json, Value};
@@ -70,18 +70,11 @@ pub fn run(args: &IdentifyArgs, options: &IdentifyOptions) -> Result<Option<Stri
     };
     // The model file of the best candidate, read by the first output's
     // sensor; the others' places are in the report.
-    let model_file = id.candidates.first().map(|best| {
-        ModelFile {
-            model: best.models[0],
-            output,
-            parameters: best.fit.parameters.clone(),
-            gain: best.fit.gain,
-            motion: Motion::Translational,
-            effects: Effects::default(),
-        }
-        .to_toml()
-    });
-    let files: Vec<(&str, String)> = model_file.into_iter().map(|t| ("model.toml", t)).collect();
+    let files = model_files(
+        id.candidates
+            .first()
+            .map(|best| (best.models[0], &best.fit, output)),
+    );
     write_report_dir(dir, args.format, &plots, &files, &report)?;
     Ok(None)
 }

@@ -350,8 +350,6 @@ pub struct Shift {
     pub stiffness: StiffnessTrend,
     /// The damping's trend.
     pub damping_trend: DampingTrend,
-    /// What the trends name.
-    pub reading: String,
 }
 
 /// One resonance of the reference, tracked over the levels.
@@ -378,8 +376,13 @@ pub struct AmplitudeDependence {
     pub modes: Vec<ModeShift>,
     /// Resonance peaks whose local fit failed at some level (Hz).
     pub unfitted_hz: Vec<f64>,
-    /// One sentence: which modes change with the level and what that names.
-    pub verdict: String,
+    /// The modes (indices into `modes`) whose frequency or damping changes
+    /// beyond the noise at the highest level, the most significant change
+    /// (frequency and damping z-scores together) first.
+    pub changed: Vec<usize>,
+    /// For periodic records: the output's distortion at unexcited lines
+    /// grows with the level by more than 6 dB beyond the input's own.
+    pub distortion_grows: Option<bool>,
 }
 
 /// Per-part variance of `ln H` per line from the coherence, with a floor
@@ -603,13 +606,14 @@ pub fn amplitude_dependence(
             shifts,
         });
     }
-    let verdict = verdict(&summaries, &modes);
+    let (changed, distortion_grows) = verdict(&summaries, &modes);
     Ok(AmplitudeDependence {
         levels: summaries,
         band_hz: (f[0], f[f.len() - 1]),
         modes,
         unfitted_hz,
-        verdict,
+        changed,
+        distortion_grows,
     })
 }
 
@@ -856,34 +860,6 @@ fn shift(label: &str, r: &ModeEstimate, e: &ModeEstimate, z: f64) -> Shift {
     } else {
         DampingTrend::None
     };
-    let reading = match (stiffness, damping_trend) {
-        (StiffnessTrend::None, DampingTrend::None) => "linear within the noise".to_string(),
-        (StiffnessTrend::Softening, DampingTrend::Increase) => {
-            "softening with more damping: a joint that slips more as the amplitude grows \
-             (friction at an interface the mode deforms)"
-                .into()
-        }
-        (StiffnessTrend::Softening, _) => {
-            "softening: a joint that loosens as the amplitude grows (clearance opening or slip \
-             at an interface the mode deforms)"
-                .into()
-        }
-        (StiffnessTrend::Stiffening, _) => {
-            "stiffening: a clearance that closes into contact as the amplitude grows (hardening \
-             stops at an interface the mode deforms)"
-                .into()
-        }
-        (StiffnessTrend::None, DampingTrend::Increase) => {
-            "more damping: friction at a joint (slip dissipates more per cycle as the amplitude \
-             grows)"
-                .into()
-        }
-        (StiffnessTrend::None, DampingTrend::Decrease) => {
-            "less damping: Coulomb friction in sliding (its equivalent viscous damping falls as \
-             the amplitude grows)"
-                .into()
-        }
-    };
     Shift {
         level: label.to_string(),
         shift_hz,
@@ -894,80 +870,33 @@ fn shift(label: &str, r: &ModeEstimate, e: &ModeEstimate, z: f64) -> Shift {
         peak_db_change: e.peak_db - r.peak_db,
         stiffness,
         damping_trend,
-        reading,
     }
 }
 
 /// The summary: the changing modes at the highest level, the most
-/// significant change (frequency and damping together) first, then the
-/// growth of the distortion if the records are periodic.
-fn verdict(levels: &[LevelSummary], modes: &[ModeShift]) -> String {
+/// significant change (frequency and damping together) first, and whether
+/// the distortion grows with the level if the records are periodic.
+fn verdict(levels: &[LevelSummary], modes: &[ModeShift]) -> (Vec<usize>, Option<bool>) {
     let top = &levels[levels.len() - 1];
-    let mut changed: Vec<(&ModeShift, &Shift)> = modes
+    let strength = |s: &Shift| s.shift_z.hypot(s.damping_z);
+    let mut changed: Vec<(usize, f64)> = modes
         .iter()
-        .filter_map(|m| m.shifts.last().map(|s| (m, s)))
+        .enumerate()
+        .filter_map(|(i, m)| m.shifts.last().map(|s| (i, s)))
         .filter(|(_, s)| {
             s.stiffness != StiffnessTrend::None || s.damping_trend != DampingTrend::None
         })
+        .map(|(i, s)| (i, strength(s)))
         .collect();
-    let head = format!(
-        "From `{}` to `{}` ({:.2} times the input RMS)",
-        levels[0].label, top.label, top.ratio
-    );
-    let mut v = if changed.is_empty() {
-        format!(
-            "{head} no mode moves beyond the noise ({} modes tracked; the FRF changes by {:.3} \
-             dB RMS): no amplitude dependence is seen.",
-            modes.len(),
-            top.change_db
-        )
-    } else {
-        // The most significant change first.
-        let strength = |s: &Shift| s.shift_z.hypot(s.damping_z);
-        changed.sort_by(|a, b| strength(b.1).total_cmp(&strength(a.1)));
-        let parts: Vec<String> = changed
-            .iter()
-            .map(|(m, s)| {
-                format!(
-                    "the mode at {:.3} Hz moves by {:+.3} Hz ({:+.2} %, z = {:.1}) and its \
-                     damping ratio by {:+.4} (z = {:.1}): {}",
-                    m.f_ref_hz,
-                    s.shift_hz,
-                    100.0 * s.shift_rel,
-                    s.shift_z,
-                    s.damping_change,
-                    s.damping_z,
-                    s.reading
-                )
-            })
-            .collect();
-        format!(
-            "{head} {} of {} modes change beyond the noise: {}.",
-            changed.len(),
-            modes.len(),
-            parts.join("; ")
-        )
+    changed.sort_by(|a, b| b.1.total_cmp(&a.1));
+    // A linear system's unexcited lines hold noise, which falls relative
+    // to the excited lines as the level rises; growth there beyond the
+    // input's own is the output's nonlinearity.
+    let grows = match (levels[0].distortion, top.distortion) {
+        (Some(a), Some(b)) => {
+            Some(b.output_db - a.output_db - (b.input_db - a.input_db).max(0.0) > 6.0)
+        }
+        _ => None,
     };
-    if let (Some(a), Some(b)) = (levels[0].distortion, top.distortion) {
-        // A linear system's unexcited lines hold noise, which falls
-        // relative to the excited lines as the level rises; growth there
-        // beyond the input's own is the output's nonlinearity.
-        let grows = b.output_db - a.output_db - (b.input_db - a.input_db).max(0.0) > 6.0;
-        v.push_str(&format!(
-            " The output at the {} unexcited lines above the excitation (to 3 times its top) \
-             goes from {:.1} dB to {:.1} dB relative to the excited lines (the input's from \
-             {:.1} dB to {:.1} dB): {}",
-            b.lines,
-            a.output_db,
-            b.output_db,
-            a.input_db,
-            b.input_db,
-            if grows {
-                "nonlinear distortion grows with the level."
-            } else {
-                "no growth of nonlinear distortion."
-            }
-        ));
-    }
-    v
+    (changed.into_iter().map(|(i, _)| i).collect(), grows)
 }

@@ -331,17 +331,7 @@ pub fn identify(
     let tolerance = options
         .indistinguishable_db
         .max(classification.noise_db * 0.5);
-    let mut indistinguishable: Vec<Vec<String>> = Vec::new();
-    let mut group_best = f64::NAN;
-    for f in &fits {
-        match indistinguishable.last_mut() {
-            Some(g) if f.score_db <= group_best + tolerance => g.push(f.id.clone()),
-            _ => {
-                group_best = f.score_db;
-                indistinguishable.push(vec![f.id.clone()]);
-            }
-        }
-    }
+    let indistinguishable = groups(fits.iter().map(|f| (f.id.as_str(), f.score_db)), tolerance);
     let best_group: Vec<Candidate> = fits
         .iter()
         .take(indistinguishable.first().map_or(0, Vec::len))
@@ -371,6 +361,27 @@ pub fn identify(
         sensor_reversed,
         notes,
     })
+}
+
+/// Groups of candidates in ranked order (`(id, score)`, best first) whose
+/// scores lie within `tolerance` of their group's first: what the data
+/// cannot tell apart.
+pub(crate) fn groups<'a>(
+    ranked: impl Iterator<Item = (&'a str, f64)>,
+    tolerance: f64,
+) -> Vec<Vec<String>> {
+    let mut out: Vec<Vec<String>> = Vec::new();
+    let mut group_best = f64::NAN;
+    for (id, score_db) in ranked {
+        match out.last_mut() {
+            Some(g) if score_db <= group_best + tolerance => g.push(id.to_string()),
+            _ => {
+                group_best = score_db;
+                out.push(vec![id.to_string()]);
+            }
+        }
+    }
+    out
 }
 
 /// Back-solves every candidate from the best fit's undamped transfer

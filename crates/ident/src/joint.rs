@@ -42,8 +42,8 @@
 use crate::classify::Classification;
 use crate::fit::{fit_outputs, Fit, FitOptions, Gain};
 use crate::identify::{
-    fit_candidate, fit_options, mean_damping, measured, measured_target, score, undamped_starts,
-    with_dampers, IdentifyError, IdentifyOptions, Measured,
+    fit_candidate, fit_options, groups, mean_damping, measured, measured_target, score,
+    undamped_starts, with_dampers, IdentifyError, IdentifyOptions, Measured,
 };
 use frf::Frf;
 use mms::analysis::{analyze, SearchLimits, Status};
@@ -462,17 +462,7 @@ pub fn identify_sensors(
         .map(|r| r.classification.noise_db)
         .fold(0.0, f64::max);
     let tolerance = options.indistinguishable_db.max(noise * 0.5);
-    let mut indistinguishable: Vec<Vec<String>> = Vec::new();
-    let mut group_best = f64::NAN;
-    for f in &fits {
-        match indistinguishable.last_mut() {
-            Some(g) if f.score_db <= group_best + tolerance => g.push(f.id.clone()),
-            _ => {
-                group_best = f.score_db;
-                indistinguishable.push(vec![f.id.clone()]);
-            }
-        }
-    }
+    let indistinguishable = groups(fits.iter().map(|f| (f.id.as_str(), f.score_db)), tolerance);
     // The first output alone: every tuple whose first structure could
     // show its type, fitted or not jointly.
     let mut first_scores: Vec<(String, f64, Option<usize>)> = fits

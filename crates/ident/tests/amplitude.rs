@@ -92,7 +92,7 @@ fn a_linear_system_shows_no_amplitude_dependence() {
             zs.push(s.shift_z);
             zs.push(s.damping_z);
         }
-        assert!(a.verdict.contains("no mode moves"), "{}", a.verdict);
+        assert!(a.changed.is_empty(), "{:?}", a.changed);
     }
     // The standard deviations are honest: the z-scores of noise alone
     // scatter with a standard deviation near 1.
@@ -135,7 +135,6 @@ fn a_softening_joint_is_found_at_its_mode() {
                     (s.damping_change / 0.01 - 1.0).abs() < 0.05,
                     "seed {seed}: {s:?}"
                 );
-                assert!(s.reading.contains("friction"), "{}", s.reading);
             } else {
                 assert_eq!(s.stiffness, StiffnessTrend::None, "seed {seed}: {s:?}");
                 assert_eq!(s.damping_trend, DampingTrend::None, "seed {seed}: {s:?}");
@@ -147,7 +146,7 @@ fn a_softening_joint_is_found_at_its_mode() {
         let covered = |f: f64| bands.iter().any(|b| b.f_lo_hz <= f && f <= b.f_hi_hz);
         assert!(covered(8.0), "seed {seed}: {bands:?}");
         assert!(!covered(4.0) && !covered(13.0), "seed {seed}: {bands:?}");
-        assert!(a.verdict.contains("1 of 3 modes"), "{}", a.verdict);
+        assert_eq!(a.changed, [1], "seed {seed}");
     }
 }
 

@@ -4,7 +4,7 @@
 use frf::Frf;
 use ident::fit::Gain;
 use ident::identify::IdentifyOptions;
-use ident::joint::{identify_sensors, MassRef, RuledOutBy, SensorLocation, SensorOutput};
+use ident::joint::{identify_sensors, RuledOutBy, SensorOutput};
 use ident::synth::{synthetic, SynthOptions};
 use mms::response::{ChainResponse, Parameters};
 use mms::sensors::{
@@ -50,6 +50,27 @@ pub fn two_sensor_recording(
     (first, second_frf, other, s.parameters)
 }
 
+/// Two outputs named `first` and `second`, each with its sensor's place
+/// (`None`: free).
+fn two_outputs<'a>(
+    first: (&'a Frf, Option<&str>),
+    second: (&'a Frf, Option<&str>),
+) -> [SensorOutput<'a>; 2] {
+    let place = |p: Option<&str>| p.map(|p| p.parse().unwrap());
+    [
+        SensorOutput {
+            name: "first".into(),
+            frf: first.0,
+            location: place(first.1),
+        },
+        SensorOutput {
+            name: "second".into(),
+            frf: second.0,
+            location: place(second.1),
+        },
+    ]
+}
+
 /// The paper's A1 (Tab. 7 structure, collocated at mass 1) read also at
 /// mass 3. With the motor-side sensor alone, A1 and A4 are one equivalence
 /// class (Vajda: same form, independent invariants; `mms` proves it
@@ -64,18 +85,7 @@ fn a_load_encoder_separates_what_the_motor_encoder_cannot() {
     assert_eq!(groups.len(), 1, "A1 and A4 are one class with one sensor");
     let mut rng = XorShift::new(3);
     let (h1, h2, _, truth) = two_sensor_recording(&mut rng, a1, Port::new(3, 0), 0.01);
-    let outputs = [
-        SensorOutput {
-            name: "motor".into(),
-            frf: &h1,
-            location: None,
-        },
-        SensorOutput {
-            name: "load".into(),
-            frf: &h2,
-            location: Some("3".parse().unwrap()),
-        },
-    ];
+    let outputs = two_outputs((&h1, None), (&h2, Some("3")));
     let id = identify_sensors(&outputs, Output::Position, &IdentifyOptions::default()).unwrap();
     let best = &id.candidates[0];
     assert_eq!(best.id, "A1+s3.0", "{:?}", id.indistinguishable);
@@ -129,18 +139,7 @@ fn the_joint_fit_separates_the_drive_side() {
     let motor_driven = Model::new(2, 0, Port::new(1, 0), Port::new(1, 0)).unwrap();
     let mut rng = XorShift::new(11);
     let (h1, h2, _, _) = two_sensor_recording(&mut rng, motor_driven, Port::new(2, 0), 0.01);
-    let outputs = [
-        SensorOutput {
-            name: "motor".into(),
-            frf: &h1,
-            location: Some("1".parse().unwrap()),
-        },
-        SensorOutput {
-            name: "load".into(),
-            frf: &h2,
-            location: Some("N".parse().unwrap()),
-        },
-    ];
+    let outputs = two_outputs((&h1, Some("1")), (&h2, Some("N")));
     let options = IdentifyOptions {
         gain: Gain::Fit(1.0),
         ..IdentifyOptions::default()
@@ -167,18 +166,7 @@ fn a_pair_two_sensors_cannot_separate_is_reported_as_such() {
     let c2 = Model::from_id("C2").unwrap();
     let mut rng = XorShift::new(5);
     let (h1, h2, _, _) = two_sensor_recording(&mut rng, c2, Port::new(3, 0), 0.01);
-    let outputs = [
-        SensorOutput {
-            name: "first".into(),
-            frf: &h1,
-            location: None,
-        },
-        SensorOutput {
-            name: "m3".into(),
-            frf: &h2,
-            location: Some("3".parse().unwrap()),
-        },
-    ];
+    let outputs = two_outputs((&h1, None), (&h2, Some("3")));
     let id = identify_sensors(&outputs, Output::Position, &IdentifyOptions::default()).unwrap();
     let best = &id.candidates[0].id;
     assert!(best == "C2+s3.0" || best == "C4+s3.0", "{best}");
@@ -206,22 +194,11 @@ fn a_sensor_outside_the_chain_is_an_error() {
     let m = Model::new(2, 0, Port::new(1, 0), Port::new(1, 0)).unwrap();
     let mut rng = XorShift::new(2);
     let (h1, h2, _, _) = two_sensor_recording(&mut rng, m, Port::new(2, 0), 0.01);
-    let outputs = [
-        SensorOutput {
-            name: "motor".into(),
-            frf: &h1,
-            location: None,
-        },
-        SensorOutput {
-            name: "load".into(),
-            frf: &h2,
-            location: Some("5".parse().unwrap()),
-        },
-    ];
+    let outputs = two_outputs((&h1, None), (&h2, Some("5")));
     let e = identify_sensors(&outputs, Output::Position, &IdentifyOptions::default())
         .unwrap_err()
         .to_string();
-    assert!(e.contains("load") && e.contains("outside"), "{e}");
+    assert!(e.contains("second") && e.contains("outside"), "{e}");
     assert!(identify_sensors(&[], Output::Position, &IdentifyOptions::default()).is_err());
 }
 
@@ -251,22 +228,8 @@ fn one_sensor_cases() -> Vec<(Model, Port)> {
 fn joint_case(truth: Model, second: Port, seed: u64) -> (String, bool) {
     let mut rng = XorShift::new(seed);
     let (h1, h2, other, _) = two_sensor_recording(&mut rng, truth, second, 0.01);
-    let location = SensorLocation {
-        plus: MassRef::Mass(second.plus),
-        minus: second.minus,
-    };
-    let outputs = [
-        SensorOutput {
-            name: "first".into(),
-            frf: &h1,
-            location: None,
-        },
-        SensorOutput {
-            name: "second".into(),
-            frf: &h2,
-            location: Some(location),
-        },
-    ];
+    let place = format!("{}.{}", second.plus, second.minus);
+    let outputs = two_outputs((&h1, None), (&h2, Some(&place)));
     let id = identify_sensors(&outputs, Output::Position, &IdentifyOptions::default()).unwrap();
     let best = &id.candidates[0];
     let ok = best.models == [truth, other] || {
