@@ -6,11 +6,14 @@ use crate::output::write_atomic_bytes;
 use crate::recording::RecordingArgs;
 use frf::Frf;
 use ident::classify::feature_name;
-use ident::identify::{identify, CandidateFit, Identification, IdentifyOptions};
+use ident::identify::{
+    identify_with_progress, CandidateFit, Identification, IdentifyOptions, Progress,
+};
 use ident::operating::{
     compare_operating_points, Finding, OperatingPointComparison, Recording as OperatingRecording,
 };
 use ident::stability::{verdict_stability, Cut, Stability};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use mms::model_file::{ModelFile, Motion};
 use mms::response::{ChainResponse, Effects};
 use mms::Output;
@@ -66,7 +69,10 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
     let rec = args.recording.read()?;
     let output: Output = args.recording.output.into();
     let name = args.recording.path()?.display().to_string();
-    let id = identify(&rec.frf, output, &options).map_err(|e| format!("{name}: {e}"))?;
+    let bar = progress_bar();
+    let id = identify_with_progress(&rec.frf, output, &options, &|p| show(&bar, p))
+        .map_err(|e| format!("{name}: {e}"))?;
+    bar.finish_and_clear();
     // A time-domain recording is identified again on other cuts of it.
     let stability = match (&rec.samples, &rec.source) {
         (Some(s), frf::Source::TimeDomain { nfft, .. }) => Some(verdict_stability(
@@ -160,6 +166,30 @@ pub fn model_files(
     })
     .into_iter()
     .collect()
+}
+
+/// One tick per fitted candidate on stderr (indicatif draws nothing when
+/// stderr is not a terminal).
+pub fn progress_bar() -> ProgressBar {
+    // Drawn from the first report on, when the number of candidates is
+    // known.
+    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
+    bar.set_style(
+        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} candidates, {elapsed}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_prefix("identify");
+    bar
+}
+
+/// Shows `p` on `bar`.
+pub fn show(bar: &ProgressBar, p: Progress) {
+    bar.set_length(p.total as u64);
+    bar.set_position(p.done as u64);
+    if bar.is_hidden() {
+        bar.set_draw_target(ProgressDrawTarget::stderr());
+    }
 }
 
 /// The `--operating-point` recordings, each read with the options of the

@@ -8,14 +8,17 @@ use crate::diagnose::{
     options as diagnose_options, DiagnoseArgs,
 };
 use crate::identify::{
-    fmt_sig, html_page, model_curve, model_files, write_report_dir, IdentifyArgs, IdentifyFormat,
+    fmt_sig, html_page, model_curve, model_files, progress_bar, show, write_report_dir,
+    IdentifyArgs, IdentifyFormat,
 };
 use crate::recording::SensorRecording;
 use ident::classify::feature_name;
 use ident::diagnose::EffectKind;
 use ident::diagnosis::{diagnose_recording, RecordingDiagnosis};
 use ident::identify::IdentifyOptions;
-use ident::joint::{identify_sensors, RuledOutBy, SensorOutput, SensorsIdentification};
+use ident::joint::{
+    identify_sensors_with_progress, RuledOutBy, SensorOutput, SensorsIdentification,
+};
 use mms::model_file::ModelFile;
 use mms::response::ChainResponse;
 use mms::{Model, Output, Port};
@@ -51,7 +54,10 @@ pub fn run(args: &IdentifyArgs, options: &IdentifyOptions) -> Result<Option<Stri
             location: o.location,
         })
         .collect();
-    let id = identify_sensors(&inputs, output, options).map_err(|e| format!("{name}: {e}"))?;
+    let bar = progress_bar();
+    let id = identify_sensors_with_progress(&inputs, output, options, &|p| show(&bar, p))
+        .map_err(|e| format!("{name}: {e}"))?;
+    bar.finish_and_clear();
     let plots = bode(&outputs, output, &id);
     let report = match args.format {
         IdentifyFormat::Json => {

@@ -50,6 +50,7 @@ use mms::{Model, Output};
 use num_complex::Complex64;
 use serde::Serialize;
 use std::f64::consts::PI;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Options of [`identify`].
 #[derive(Clone, Debug, PartialEq)]
@@ -200,6 +201,44 @@ pub fn identify(
     output: Output,
     options: &IdentifyOptions,
 ) -> Result<Identification, IdentifyError> {
+    identify_with_progress(frf, output, options, &|_| {})
+}
+
+/// How far a long identification has come: candidates fitted of all.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Progress {
+    /// Candidates fitted so far.
+    pub done: usize,
+    /// All candidates.
+    pub total: usize,
+}
+
+/// [`identify`], reporting each fitted candidate to `progress` (from the
+/// fitting threads, in the order they finish), so that a caller can show
+/// how far a long run has come.
+///
+/// ```
+/// use ident::identify::{identify_with_progress, IdentifyOptions, Progress};
+/// use ident::synth::{synthetic, SynthOptions};
+/// use std::sync::Mutex;
+///
+/// let s = synthetic(&mut mms::xorshift::XorShift::new(3), None, &SynthOptions::default())?;
+/// let seen = Mutex::new(Vec::new());
+/// let id = identify_with_progress(&s.frf, s.output, &IdentifyOptions::default(), &|p: Progress| {
+///     seen.lock().unwrap().push(p);
+/// })?;
+/// let seen = seen.into_inner().unwrap();
+/// assert_eq!(seen.len(), seen[0].total);
+/// assert!(seen.iter().any(|p| p.done == p.total));
+/// assert!(id.candidates.len() <= seen[0].total);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn identify_with_progress(
+    frf: &Frf,
+    output: Output,
+    options: &IdentifyOptions,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Identification, IdentifyError> {
     let Measured {
         classification,
         data,
@@ -274,6 +313,9 @@ pub fn identify(
     let workers = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .clamp(1, candidates.len().max(1));
+    let total = candidates.len();
+    let finished = AtomicUsize::new(0);
+    let finished = &finished;
     let results: Vec<_> = std::thread::scope(|scope| {
         let chunks: Vec<&[Model]> = candidates
             .chunks(candidates.len().div_ceil(workers).max(1))
@@ -285,7 +327,12 @@ pub fn identify(
                 scope.spawn(move || {
                     chunk
                         .iter()
-                        .map(|m| (*m, fit_candidate(m, output, data, target, zeta, options)))
+                        .map(|m| {
+                            let fitted = fit_candidate(m, output, data, target, zeta, options);
+                            let done = finished.fetch_add(1, Ordering::Relaxed) + 1;
+                            progress(Progress { done, total });
+                            (*m, fitted)
+                        })
                         .collect::<Vec<_>>()
                 })
             })

@@ -43,7 +43,7 @@ use crate::classify::Classification;
 use crate::fit::{fit_outputs, Fit, FitOptions, Gain};
 use crate::identify::{
     fit_candidate, fit_options, groups, mean_damping, measured, measured_target, score,
-    undamped_starts, with_dampers, IdentifyError, IdentifyOptions, Measured,
+    undamped_starts, with_dampers, IdentifyError, IdentifyOptions, Measured, Progress,
 };
 use frf::Frf;
 use mms::analysis::{analyze, SearchLimits, Status};
@@ -288,6 +288,17 @@ pub fn identify_sensors(
     output: Output,
     options: &IdentifyOptions,
 ) -> Result<SensorsIdentification, IdentifyError> {
+    identify_sensors_with_progress(outputs, output, options, &|_| {})
+}
+
+/// [`identify_sensors`], reporting each jointly fitted candidate to
+/// `progress`.
+pub fn identify_sensors_with_progress(
+    outputs: &[SensorOutput],
+    output: Output,
+    options: &IdentifyOptions,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<SensorsIdentification, IdentifyError> {
     if outputs.is_empty() {
         return Err(IdentifyError::Outputs("no output given".into()));
     }
@@ -400,7 +411,11 @@ pub fn identify_sensors(
         }
     }
     let mut fits: Vec<SensorsCandidate> = Vec::new();
-    for models in &candidates {
+    for (done, models) in candidates.iter().enumerate() {
+        progress(Progress {
+            done,
+            total: candidates.len(),
+        });
         let id = candidate_id(models);
         let channels: Vec<(Model, &Frf)> = models.iter().copied().zip(turned.iter()).collect();
         let mut best: Option<crate::fit::OutputsFit> = None;
@@ -449,6 +464,10 @@ pub fn identify_sensors(
             rank: 0,
         });
     }
+    progress(Progress {
+        done: candidates.len(),
+        total: candidates.len(),
+    });
     fits.sort_by(|a, b| {
         a.score_db
             .total_cmp(&b.score_db)
