@@ -646,6 +646,30 @@ fn tue_and_emps_pulses_verdicts() {
         );
         let margin = num(&v["closed_loop"]["modulus_margin"]);
         assert!((0.3..1.0).contains(&margin), "{rec}: {margin}");
+        // The sensitivity from the excitation: small where the loop gain is
+        // high (below 3 Hz for a loop that crosses over at tens of Hz),
+        // near 1 far above the crossover, and its peak is the modulus
+        // margin's inverse.
+        let s = v["closed_loop"]["sensitivity"].as_array().unwrap();
+        let mag = |row: &Value| num(&row[1]).hypot(num(&row[2]));
+        let at = |lo: f64, hi: f64| -> Vec<f64> {
+            s.iter()
+                .filter(|r| (lo..hi).contains(&num(&r[0])))
+                .map(mag)
+                .collect()
+        };
+        assert!(
+            at(1.0, 3.0).iter().all(|&m| m < 0.5),
+            "{rec}: {:?}",
+            at(1.0, 3.0)
+        );
+        let high = at(300.0, 800.0);
+        let mean = high.iter().sum::<f64>() / high.len() as f64;
+        assert!((mean - 1.0).abs() < 0.1, "{rec}: {mean}");
+        assert!(!v["closed_loop"]["process_sensitivity"]
+            .as_array()
+            .unwrap()
+            .is_empty());
         // The injected noise drives the plant input (d is added to it).
         assert!(
             num(&v["closed_loop"]["median_coherence_to_input"]) > 0.9,

@@ -87,8 +87,10 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
     };
     let operating = operating_points(args, &rec.frf, output, &options, &id)?;
     let plots = bode(&rec.frf, output, &id);
+    let loop_figure =
+        (args.format == IdentifyFormat::Md && args.out.is_some()).then_some("loop.svg");
     let closed = match (&rec.excitation, rec.possible_excitations.is_empty()) {
-        (Some(e), _) => Some(closed_loop_section(e)),
+        (Some(e), _) => Some(closed_loop_section(e, loop_figure)),
         (None, false) => Some(possible_excitation_note(&rec.possible_excitations)),
         (None, true) => None,
     };
@@ -109,6 +111,8 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
                     "peak_sensitivity_db": peak.map(|p| p.0),
                     "peak_sensitivity_hz": peak.map(|p| p.1),
                     "modulus_margin": peak.map(|p| 10f64.powf(-p.0 / 20.0)),
+                    "sensitivity": curve_json(&e.sensitivity),
+                    "process_sensitivity": curve_json(&e.process_sensitivity),
                 });
             }
             if !operating.is_empty() {
@@ -133,7 +137,11 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
             let mut m = markdown(&name, &id, stability.as_ref(), None);
             m.push_str(closed.as_deref().unwrap_or(""));
             m.push_str(&operating_markdown(&name, &operating));
-            html_page("mms identify", &m, &plots.to_svg())
+            let mut svg = plots.to_svg();
+            if let Some(e) = &rec.excitation {
+                svg.push_str(&loop_plot(e).to_svg());
+            }
+            html_page("mms identify", &m, &svg)
         }
     };
     let Some(dir) = args.out else {
@@ -144,7 +152,12 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
             .first()
             .map(|best| (best.model, &best.fit, output)),
     );
-    write_report_dir(dir, args.format, &plots, &files, &report)?;
+    let loop_plot = rec.excitation.as_ref().map(loop_plot);
+    let mut figures = vec![("bode", &plots)];
+    if let Some(l) = &loop_plot {
+        figures.push(("loop", l));
+    }
+    write_report_plots(dir, args.format, &figures, &files, &report)?;
     Ok(None)
 }
 
@@ -341,14 +354,28 @@ pub fn write_report_dir(
     extra: &[(&str, String)],
     report: &str,
 ) -> Result<(), String> {
+    write_report_plots(dir, format, &[("bode", plot)], extra, report)
+}
+
+/// [`write_report_dir`] with several figures, each `NAME.svg` and
+/// `NAME.png`.
+pub fn write_report_plots(
+    dir: &Path,
+    format: IdentifyFormat,
+    plots: &[(&str, &Bode)],
+    extra: &[(&str, String)],
+    report: &str,
+) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
     let ext = match format {
         IdentifyFormat::Md => "md",
         IdentifyFormat::Html => "html",
         IdentifyFormat::Json => "json",
     };
-    write_atomic_bytes(&dir.join("bode.svg"), plot.to_svg().as_bytes())?;
-    write_atomic_bytes(&dir.join("bode.png"), &plot.to_png())?;
+    for (name, plot) in plots {
+        write_atomic_bytes(&dir.join(format!("{name}.svg")), plot.to_svg().as_bytes())?;
+        write_atomic_bytes(&dir.join(format!("{name}.png")), &plot.to_png())?;
+    }
     for (name, text) in extra {
         write_atomic_bytes(&dir.join(name), text.as_bytes())?;
     }
@@ -633,7 +660,38 @@ pub fn possible_excitation_note(names: &[String]) -> String {
 
 /// The loop behind a 3-point estimate: its excitation and peak
 /// sensitivity.
-fn closed_loop_section(e: &frf::recording::Excitation) -> String {
+/// The loop functions from the excitation: the sensitivity `S` (to the
+/// plant input) and the process sensitivity `PS` (to the output).
+fn loop_plot(e: &frf::recording::Excitation) -> Bode {
+    let s = &e.sensitivity;
+    let ps = &e.process_sensitivity;
+    Bode::new(format!("Closed loop: S and PS from `{}`", e.name))
+        .trace(
+            "S (excitation to plant input)",
+            s.freq_hz(),
+            s.response(),
+            Style::points(),
+        )
+        .trace(
+            "PS (excitation to output)",
+            ps.freq_hz(),
+            ps.response(),
+            Style::points(),
+        )
+}
+
+/// A loop function as `[freq_hz, re, im]` rows for the JSON.
+fn curve_json(f: &Frf) -> Value {
+    Value::Array(
+        f.freq_hz()
+            .iter()
+            .zip(f.response())
+            .map(|(x, h)| json!([x, h.re, h.im]))
+            .collect(),
+    )
+}
+
+fn closed_loop_section(e: &frf::recording::Excitation, plot: Option<&str>) -> String {
     let mut s = format!(
         "\n## Closed loop\n\nThe FRF is the 3-point estimate `P = S_xy / S_xu` from the \
          excitation `{}` (the noise the controller feeds back from the output into the input \
@@ -654,6 +712,12 @@ fn closed_loop_section(e: &frf::recording::Excitation) -> String {
          input, {to_y:.3} to the output."
     );
     s.push('\n');
+    if let Some(p) = plot {
+        let _ = writeln!(
+            s,
+            "\n![The loop's sensitivity S and process sensitivity PS from the excitation]({p})"
+        );
+    }
     s
 }
 
