@@ -749,3 +749,39 @@ fn excitation_that_is_constant_or_does_not_reach_the_input() {
         assert!(err.contains("loop.csv") && err.contains(want), "{x}: {err}");
     }
 }
+
+/// Operating points recorded at different sample rates are refused: a
+/// one-line error naming both files and rates, exit code 2.
+#[test]
+fn operating_points_at_different_rates_are_an_error() {
+    let dir = temp_dir("operating-rates");
+    let mut rng = XorShift::new(23);
+    let mut write = |name: &str, fs: f64| {
+        // A lightly damped mass-spring driven by noise (explicit Euler at
+        // a fine step; only the rate of the written samples matters).
+        let mut text = String::from("t,u,y\n");
+        let (mut x, mut v) = (0.0f64, 0.0f64);
+        for k in 0..8192 {
+            let u = rng.normal();
+            let dt = 1.0 / fs;
+            let a = u - 400.0 * x - 2.0 * v;
+            v += a * dt;
+            x += v * dt;
+            text.push_str(&format!("{},{u},{x}\n", k as f64 * dt));
+        }
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_string_lossy().into_owned()
+    };
+    let a = write("at_1000.csv", 1000.0);
+    let b = write("at_500.csv", 500.0);
+    let (code, out, err) = mms(&["identify", &a, "--operating-point", &b]);
+    assert_eq!(code, 2, "{err}");
+    assert!(out.is_empty());
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("at_500.csv") && err.contains("500") && err.contains("1000"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

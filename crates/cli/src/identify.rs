@@ -85,7 +85,7 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
         )),
         _ => None,
     };
-    let operating = operating_points(args, &rec.frf, output, &options, &id)?;
+    let operating = operating_points(args, &rec, output, &options, &id)?;
     let plots = bode(&rec.frf, output, &id);
     let loop_figure =
         (args.format == IdentifyFormat::Md && args.out.is_some()).then_some("loop.svg");
@@ -209,15 +209,29 @@ pub fn show(bar: &ProgressBar, p: Progress) {
 /// main one, classified as it was and compared with it.
 fn operating_points(
     args: &IdentifyArgs,
-    frf: &Frf,
+    rec: &frf::Recording,
     output: Output,
     options: &IdentifyOptions,
     id: &Identification,
 ) -> Result<Vec<(String, OperatingPointComparison)>, String> {
+    let frf = &rec.frf;
     let mut out = Vec::new();
     for path in args.operating_points {
         let name = path.display().to_string();
         let other = args.recording.read_file(path)?;
+        // Lines of records at different rates sit on different grids and
+        // see different holds and filters: a comparison needs one rate.
+        if let (Some(a), Some(b)) = (&rec.samples, &other.samples) {
+            if (a.fs / b.fs - 1.0).abs() > 1e-9 {
+                return Err(format!(
+                    "{name}: sampled at {} Hz, {} at {} Hz: resample one of them before \
+                     comparing operating points",
+                    b.fs,
+                    args.recording.path()?.display(),
+                    a.fs
+                ));
+            }
+        }
         let c = ident::classify(&other.frf, output, &options.classify)
             .map_err(|e| format!("{name}: {e}"))?;
         out.push((
@@ -320,14 +334,14 @@ fn operating_markdown(name: &str, comparisons: &[(String, OperatingPointComparis
     s
 }
 
+/// Parameters as a JSON object, name to value.
+pub fn parameters_json(p: &mms::response::Parameters) -> serde_json::Map<String, Value> {
+    p.iter().map(|(k, v)| (k.to_string(), json!(v))).collect()
+}
+
 fn candidate_json(c: &CandidateFit) -> Value {
     let m = &c.model;
-    let params: serde_json::Map<String, Value> = c
-        .fit
-        .parameters
-        .iter()
-        .map(|(k, v)| (k.to_string(), json!(v)))
-        .collect();
+    let params = parameters_json(&c.fit.parameters);
     json!({
         "id": c.id,
         "masses": m.n_masses(),

@@ -8,8 +8,8 @@ use crate::diagnose::{
     options as diagnose_options, DiagnoseArgs,
 };
 use crate::identify::{
-    fmt_sig, html_page, model_curve, model_files, progress_bar, show, write_report_dir,
-    IdentifyArgs, IdentifyFormat,
+    fmt_sig, html_page, model_curve, model_files, parameters_json, progress_bar, show,
+    write_report_dir, IdentifyArgs, IdentifyFormat,
 };
 use crate::recording::SensorRecording;
 use ident::classify::feature_name;
@@ -164,12 +164,7 @@ fn to_json(id: &SensorsIdentification) -> Value {
             })
         }).collect::<Vec<_>>(),
         "candidates": id.candidates.iter().map(|c| {
-            let params: serde_json::Map<String, Value> = c
-                .fit
-                .parameters
-                .iter()
-                .map(|(k, v)| (k.to_string(), json!(v)))
-                .collect();
+            let params = parameters_json(&c.fit.parameters);
             json!({
                 "id": c.id,
                 "rank": c.rank,
