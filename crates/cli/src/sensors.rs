@@ -410,7 +410,7 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     }
     let common = common_effects(&runs);
     let mut plot = Bode::new(format!(
-        "{} outputs: recordings and the model after each output's diagnosis",
+        "{} outputs and the model after each diagnosis",
         runs.len()
     ));
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
