@@ -86,7 +86,10 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
         _ => None,
     };
     let operating = operating_points(args, &rec, output, &options, &id)?;
-    let plots = bode(&rec.frf, output, &id);
+    // A figure of a million points helps nobody: the lines the
+    // identification worked on.
+    let shown = frf::uncertainty::log_binned(&rec.frf, ident::identify::MAX_LINES);
+    let plots = bode(&shown, output, &id);
     let loop_figure =
         (args.format == IdentifyFormat::Md && args.out.is_some()).then_some("loop.svg");
     let closed = match (&rec.excitation, rec.possible_excitations.is_empty()) {

@@ -40,6 +40,7 @@
 //! ```
 
 use crate::Frf;
+use num_complex::Complex64;
 use std::f64::consts::PI;
 
 /// The averages assumed behind a coherence whose count is not known.
@@ -194,4 +195,76 @@ pub fn scatter(x: &[f64], mag: &[f64], phase: &[f64]) -> Vec<f64> {
             *q / Q25_ABS_NORMAL
         })
         .collect()
+}
+
+/// `frf` averaged into at most `max_lines` log-spaced bins when it has
+/// more lines (else a copy): each bin's response is the mean of its lines
+/// weighted by their inverse variance ([`line_uncertainty`]), at the
+/// weighted mean frequency, with the standard deviation of that mean.
+/// Lines at 0 Hz or without information are left out; a bin with none
+/// is dropped. A feature narrower than a bin (relative width
+/// `ln(f_max / f_min) / max_lines`) is smeared, so `max_lines` should
+/// keep that well below the damping ratios of interest.
+///
+/// Work is linear in the lines: a million-line FRF can be classified and
+/// fitted on its bins.
+///
+/// ```
+/// use frf::{Complex64, Frf};
+/// use frf::uncertainty::log_binned;
+/// let f: Vec<f64> = (1..=100_000).map(|k| k as f64 * 0.01).collect();
+/// let h: Vec<Complex64> = f.iter().map(|&x| Complex64::new(1.0 / x, 0.0)).collect();
+/// let frf = Frf::new(f, h, None)?.with_std_dev(vec![1e-3; 100_000])?;
+/// let b = log_binned(&frf, 1000);
+/// // Below 0.9 Hz a bin is narrower than the line spacing: those hold one
+/// // line each, or none.
+/// assert!(b.len() <= 1000 && b.len() > 600, "{}", b.len());
+/// // Averaging lines shrinks the standard deviation by the root of their count.
+/// let k = b.len() - 1;
+/// assert!(b.std_dev().unwrap()[k] < 1e-3 / 10.0);
+/// // The response stays 1/f at the bin's frequency (to the bin's curvature).
+/// let rel = (b.response()[k].re * b.freq_hz()[k] - 1.0).abs();
+/// assert!(rel < 1e-4, "{rel}");
+/// # Ok::<(), frf::FrfError>(())
+/// ```
+pub fn log_binned(frf: &Frf, max_lines: usize) -> Frf {
+    let n = frf.len();
+    if n <= max_lines || max_lines < 2 {
+        return frf.clone();
+    }
+    let sigma = line_uncertainty(frf, None).relative;
+    let f = frf.freq_hz();
+    let h = frf.response();
+    let usable =
+        |k: usize| f[k] > 0.0 && sigma[k].is_finite() && sigma[k] > 0.0 && h[k].norm() > 0.0;
+    let Some(first) = (0..n).find(|&k| usable(k)) else {
+        return frf.clone();
+    };
+    let last = (0..n).rev().find(|&k| usable(k)).unwrap_or(first);
+    let (lo, hi) = (f[first].ln(), f[last].ln());
+    let width = ((hi - lo) / max_lines as f64).max(f64::MIN_POSITIVE);
+    let (mut freq, mut resp, mut sd) = (Vec::new(), Vec::new(), Vec::new());
+    let mut k = first;
+    while k <= last {
+        let bin = (((f[k].ln() - lo) / width) as usize).min(max_lines - 1);
+        let (mut w_sum, mut fw, mut hw) = (0.0, 0.0, Complex64::new(0.0, 0.0));
+        while k <= last && (((f[k].ln() - lo) / width) as usize).min(max_lines - 1) == bin {
+            if usable(k) {
+                // Relative variance of line k, in units of its magnitude.
+                let w = 1.0 / (sigma[k] * h[k].norm()).powi(2);
+                w_sum += w;
+                fw += w * f[k];
+                hw += h[k] * w;
+            }
+            k += 1;
+        }
+        if w_sum > 0.0 {
+            freq.push(fw / w_sum);
+            resp.push(hw / w_sum);
+            sd.push(w_sum.sqrt().recip());
+        }
+    }
+    Frf::new(freq, resp, None)
+        .and_then(|b| b.with_std_dev(sd))
+        .unwrap_or_else(|_| frf.clone())
 }

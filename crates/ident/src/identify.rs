@@ -245,9 +245,16 @@ pub fn identify_with_progress(
         target,
         options,
         sensor_reversed,
+        binned_from,
     } = measured(frf, output, options)?;
     let options = &options;
     let mut notes = Vec::new();
+    if let Some(read) = binned_from {
+        notes.push(format!(
+            "lines: the {read} lines were averaged into at most {MAX_LINES} log-spaced bins, each \
+             weighted by its lines' uncertainty"
+        ));
+    }
     let resonances = classification.frf_type.resonances() as usize;
     let masses = options.masses.unwrap_or(resonances + 1);
     if masses == 0 || masses > mms::MAX_MASSES {
@@ -501,13 +508,26 @@ pub(crate) struct Measured {
     /// sensor.
     pub options: IdentifyOptions,
     pub sensor_reversed: bool,
+    /// The lines read, when more than [`MAX_LINES`] were averaged into
+    /// bins.
+    pub binned_from: Option<usize>,
 }
+
+/// Most lines an identification works on: a finer FRF is averaged into
+/// this many log-spaced bins first (`frf::uncertainty::log_binned`;
+/// relative bin width about 3e-4 per decade it spans, finer than any
+/// damping ratio a chain model is fitted to), so that the work stays
+/// linear in the lines read.
+pub const MAX_LINES: usize = 20_000;
 
 pub(crate) fn measured(
     frf: &Frf,
     output: Output,
     options: &IdentifyOptions,
 ) -> Result<Measured, IdentifyError> {
+    let binned = (frf.len() > MAX_LINES).then(|| frf::uncertainty::log_binned(frf, MAX_LINES));
+    let lines_read = frf.len();
+    let frf = binned.as_ref().unwrap_or(frf);
     let classification = classify(frf, output, &options.classify)?;
     let (lo, hi) = classification.band_hz;
     // Lines at 0 Hz carry no rigid-body information a chain can match, and
@@ -548,6 +568,7 @@ pub(crate) fn measured(
         target,
         options,
         sensor_reversed,
+        binned_from: binned.is_some().then_some(lines_read),
     })
 }
 
