@@ -785,3 +785,63 @@ fn operating_points_at_different_rates_are_an_error() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Sample rates are numbers in a physical range: a negative one is read
+/// as a number and refused as such (not as an unknown flag), an absurdly
+/// small one from the flag or from a time column is refused too; each a
+/// one-line error naming the file, exit code 2.
+#[test]
+fn sample_rates_outside_the_physical_range_are_refused() {
+    let dir = temp_dir("sample-rates");
+    let mut text = String::from("t,u,y\n");
+    for k in 0..4096 {
+        let t = k as f64 * 1e300;
+        text.push_str(&format!(
+            "{t:e},{},{}\n",
+            (0.3 * k as f64).sin(),
+            (0.3 * k as f64 + 0.5).sin()
+        ));
+    }
+    let slow = dir.join("slow.csv");
+    std::fs::write(&slow, text).unwrap();
+    let path = real_data("sperte/setup18_motor_side_v0.3.mat");
+    for (args, want) in [
+        (
+            vec![
+                "frf",
+                path.as_str(),
+                "--u",
+                "result:1",
+                "--y",
+                "result:2",
+                "--fs",
+                "-5",
+            ],
+            "positive",
+        ),
+        (
+            vec![
+                "frf",
+                path.as_str(),
+                "--u",
+                "result:1",
+                "--y",
+                "result:2",
+                "--fs",
+                "1e-320",
+            ],
+            "outside",
+        ),
+        (vec!["frf", slow.to_str().unwrap()], "outside"),
+    ] {
+        let (code, out, err) = mms(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(out.is_empty());
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(
+            err.contains(want) && (err.contains(".mat") || err.contains("slow.csv")),
+            "{err}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -34,7 +34,7 @@ pub struct RecordingArgs {
     pub y: Vec<String>,
     /// Sample rate in Hz where the file has none (overrides the file's),
     /// or the .mat variable that holds it (e.g. Data.settings.fs).
-    #[arg(long, value_name = "HZ|VAR")]
+    #[arg(long, value_name = "HZ|VAR", allow_negative_numbers = true)]
     pub fs: Option<String>,
     /// The measured quantity.
     #[arg(long, value_enum, default_value_t = OutputArg::Position)]

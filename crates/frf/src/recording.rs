@@ -447,6 +447,35 @@ impl Ctx<'_> {
     }
 }
 
+/// The sample rates a recording may have, Hz: positive, finite, and
+/// within what a measurement of a motion system can be (a sample a week
+/// to a terahertz); anything outside is a unit or parsing mistake.
+pub const SAMPLE_RATE_RANGE_HZ: (f64, f64) = (1e-6, 1e12);
+
+/// `Ok` for a sample rate inside [`SAMPLE_RATE_RANGE_HZ`], else why not.
+///
+/// ```
+/// use frf::recording::check_sample_rate;
+/// assert!(check_sample_rate(4000.0).is_ok());
+/// assert!(check_sample_rate(-5.0).unwrap_err().contains("positive"));
+/// assert!(check_sample_rate(1e-320).unwrap_err().contains("outside"));
+/// assert!(check_sample_rate(f64::NAN).is_err());
+/// ```
+pub fn check_sample_rate(fs: f64) -> Result<(), String> {
+    let (lo, hi) = SAMPLE_RATE_RANGE_HZ;
+    if !(fs.is_finite() && fs > 0.0) {
+        return Err(format!(
+            "sample rate {fs} Hz is not a positive finite number"
+        ));
+    }
+    if !(lo..=hi).contains(&fs) {
+        return Err(format!(
+            "sample rate {fs:e} Hz is outside {lo:e} to {hi:e} Hz"
+        ));
+    }
+    Ok(())
+}
+
 /// Reads a measurement file into an FRF; see the
 /// [module documentation](self) for formats, defaults and errors.
 ///
@@ -489,11 +518,7 @@ pub fn read_recording(
         source,
     })?;
     if let Some(fs) = opts.fs {
-        if !(fs.is_finite() && fs > 0.0) {
-            return Err(ctx.file(format!(
-                "sample rate {fs} Hz is not a positive finite number"
-            )));
-        }
+        check_sample_rate(fs).map_err(|why| ctx.file(why))?;
     }
     let ext = path
         .extension()
@@ -646,6 +671,8 @@ fn estimate(
     output: String,
     excitation: Option<(Vec<f64>, String)>,
 ) -> Result<(Frf, Source), RecordingError> {
+    // Every source of the rate (flag, variable, time column) ends here.
+    check_sample_rate(fs).map_err(|why| ctx.file(why))?;
     // A constant channel has no spectrum: nothing to estimate, and the
     // ratio of two zero spectra would read as noise.
     let x_name = excitation.as_ref().map(|e| e.1.clone()).unwrap_or_default();
@@ -976,8 +1003,13 @@ fn read_mat_recording(
                 ctx.variable(name, why)
             })?;
             match v.scalar() {
-                Some(fs) if fs.is_finite() && fs > 0.0 => fs,
-                _ => return Err(ctx.variable(name, "a sample rate must be a positive real scalar")),
+                Some(fs) => {
+                    check_sample_rate(fs).map_err(|why| ctx.variable(name, why))?;
+                    fs
+                }
+                None => {
+                    return Err(ctx.variable(name, "a sample rate must be a positive real scalar"))
+                }
             }
         }
         (None, None) => mat_sample_rate(ctx, &mat, u.len())?,
@@ -1021,12 +1053,7 @@ fn mat_sample_rate(ctx: &Ctx<'_>, mat: &MatFile, n: usize) -> Result<f64, Record
             let fs = v
                 .scalar()
                 .ok_or_else(|| ctx.variable(name, "a sample rate must be a real scalar"))?;
-            if !(fs.is_finite() && fs > 0.0) {
-                return Err(ctx.variable(
-                    name,
-                    format!("sample rate {fs} Hz is not a positive finite number"),
-                ));
-            }
+            check_sample_rate(fs).map_err(|why| ctx.variable(name, why))?;
             return Ok(fs);
         }
     }
