@@ -149,11 +149,20 @@ pub struct SensorRecording {
 impl RecordingArgs {
     /// Each `--y` read as its own recording with the same input and
     /// options, with its sensor's location; an error names the output.
+    /// The first output may leave its place free (any the structure
+    /// allows, as for a single recording); each further one must name it.
     pub fn read_outputs(&self) -> Result<Vec<SensorRecording>, String> {
         let path = self.path()?;
         let mut out = Vec::with_capacity(self.y.len());
-        for v in &self.y {
+        for (k, v) in self.y.iter().enumerate() {
             let (signal, location) = split_sensor(v)?;
+            if k > 0 && location.is_none() {
+                return Err(format!(
+                    "{}: --y {signal} has no sensor location: with several outputs, each after \
+                     the first names where its sensor sits (e.g. --y {signal}@N)",
+                    path.display()
+                ));
+            }
             let one = RecordingArgs {
                 y: vec![signal.clone()],
                 ..self.clone()

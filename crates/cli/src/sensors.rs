@@ -36,15 +36,6 @@ pub fn run(args: &IdentifyArgs, options: &IdentifyOptions) -> Result<Option<Stri
         ));
     }
     let outputs: Vec<SensorRecording> = args.recording.read_outputs()?;
-    // The first output may leave its place free (any the structure
-    // allows, as for a single recording); each further one names it.
-    if let Some(o) = outputs.iter().skip(1).find(|o| o.location.is_none()) {
-        return Err(format!(
-            "{name}: --y {} has no sensor location: with several outputs, each after the first \
-             names where its sensor sits (e.g. --y {}@N)",
-            o.signal, o.signal
-        ));
-    }
     let output: Output = args.recording.output.into();
     let inputs: Vec<SensorOutput> = outputs
         .iter()
@@ -369,7 +360,7 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     let chain = model.model;
     let n = chain.n_masses();
     let mut runs: Vec<(&SensorRecording, Port, RecordingDiagnosis)> = Vec::new();
-    for (k, o) in outputs.iter().enumerate() {
+    for o in &outputs {
         let port = match o.location {
             Some(l) => l.port(n).ok_or_else(|| {
                 format!(
@@ -377,14 +368,8 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
                     o.signal
                 )
             })?,
-            None if k == 0 => chain.sensor(),
-            None => {
-                return Err(format!(
-                    "{name}: --y {} has no sensor location: with several outputs, each after the \
-                     first names where its sensor sits (e.g. --y {}@N)",
-                    o.signal, o.signal
-                ))
-            }
+            // Only the first may leave it free (`read_outputs`).
+            None => chain.sensor(),
         };
         let m = Model::new(n, chain.gap(), chain.actuator(), port).map_err(|e| {
             format!(

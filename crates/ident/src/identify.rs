@@ -699,7 +699,7 @@ fn undamped_target(data: &Frf, output: Output, c: &Classification) -> Option<(Ve
 /// frequencies carry a few significant digits, not 53 bits: each
 /// coefficient becomes the simplest rational within 1e-9 of it (relative),
 /// which keeps the exact back-solving's numbers small and fast.
-pub(crate) fn measured_target(num: &[f64], den: &[f64]) -> Result<Target, mms::BackSolveError> {
+fn measured_target(num: &[f64], den: &[f64]) -> Result<Target, mms::BackSolveError> {
     let r =
         |v: &[f64]| -> Vec<poly::Rat> { v.iter().map(|&x| simplest_rational(x, 1e-9)).collect() };
     Target::new(r(num), r(den))
@@ -837,33 +837,24 @@ pub(crate) fn fit_candidate(
         .collect();
     let mut starts: Vec<Vec<f64>> = Vec::new();
     let mut why_not: Option<String> = None;
-    if let Some((num, den)) = target {
-        let tf = model.undamped_tf();
-        let degrees_match = tf.num.degree(mms::OMEGA) as usize + 1 == num.len()
-            && tf.den.degree(mms::OMEGA) as usize + 1 == den.len();
-        if degrees_match {
-            if let Ok(t) = measured_target(num, den) {
-                if let Ok(solution) = back_solve(model, &t) {
-                    if let BackSolution::NoSolution(reason) = &solution {
-                        let n = model.undamped_parameters().len();
-                        why_not = Some(format!(
-                            "no positive undamped parameter set reproduces the classified features: {reason}{}",
-                            if surplus > 0 {
-                                format!(
-                                    " ({} of {n} parameters determinable, Tab. 5: the structure has {surplus} degree(s) of freedom fewer than its FRF type has numbers)",
-                                    n - surplus
-                                )
-                            } else {
-                                String::new()
-                            }
-                        ));
-                    }
-                    starts = undamped_starts(&solution);
-                    if let Some(f) = solution.families().first() {
-                        default_fixed = f.free.clone();
-                    }
+    if let Some(solution) = back_solution(model, target) {
+        if let BackSolution::NoSolution(reason) = &solution {
+            let n = model.undamped_parameters().len();
+            why_not = Some(format!(
+                "no positive undamped parameter set reproduces the classified features: {reason}{}",
+                if surplus > 0 {
+                    format!(
+                        " ({} of {n} parameters determinable, Tab. 5: the structure has {surplus} degree(s) of freedom fewer than its FRF type has numbers)",
+                        n - surplus
+                    )
+                } else {
+                    String::new()
                 }
-            }
+            ));
+        }
+        starts = undamped_starts(&solution);
+        if let Some(f) = solution.families().first() {
+            default_fixed = f.free.clone();
         }
     }
     let back_solutions = starts.len();
@@ -944,6 +935,23 @@ pub(crate) fn fit_candidate(
         Some(b) if score(&b) <= score(&ms) => Ok((b, kind, back_solutions, why_not)),
         _ => Ok((ms, StartKind::MultiStart, back_solutions, why_not)),
     }
+}
+
+/// Every positive undamped parameter set of `model` that reproduces the
+/// measured undamped target exactly (`None` without a target, when the
+/// model's degrees differ from the target's, or when back-solving fails).
+pub(crate) fn back_solution(
+    model: &Model,
+    target: Option<&(Vec<f64>, Vec<f64>)>,
+) -> Option<BackSolution> {
+    let (num, den) = target?;
+    let tf = model.undamped_tf();
+    let degrees_match = tf.num.degree(mms::OMEGA) as usize + 1 == num.len()
+        && tf.den.degree(mms::OMEGA) as usize + 1 == den.len();
+    if !degrees_match {
+        return None;
+    }
+    back_solve(model, &measured_target(num, den).ok()?).ok()
 }
 
 /// The features of an undamped target `(num, den)`: its roots and static

@@ -42,12 +42,11 @@
 use crate::classify::Classification;
 use crate::fit::{fit_outputs, Fit, FitOptions, Gain};
 use crate::identify::{
-    fit_candidate, fit_options, groups, mean_damping, measured, measured_target, score,
+    back_solution, fit_candidate, fit_options, groups, mean_damping, measured, score,
     undamped_starts, with_dampers, IdentifyError, IdentifyOptions, Measured, Progress,
 };
 use frf::Frf;
 use mms::analysis::{analyze, SearchLimits, Status};
-use mms::backsolve::back_solve;
 use mms::response::Parameters;
 use mms::sensors::{sensor_set_distinguishability, SensorSet, SensorSetVerdict};
 use mms::{Model, Output, Port};
@@ -428,7 +427,8 @@ pub fn identify_sensors_with_progress(
             if let Some(Some(start)) = single.get(&(i, *m)) {
                 starts.push((start.parameters.clone(), start.gain.abs()));
             }
-            for undamped in back_solved(m, measured_outputs[i].target.as_ref()) {
+            let solution = back_solution(m, measured_outputs[i].target.as_ref());
+            for undamped in solution.as_ref().map(undamped_starts).unwrap_or_default() {
                 if let Ok(p) = Parameters::from_values(m, with_dampers(m, &undamped, zetas[i])) {
                     starts.push((p, 1.0));
                 }
@@ -568,27 +568,6 @@ pub fn identify_sensors_with_progress(
         exact,
         notes,
     })
-}
-
-/// The undamped parameter sets of `model` that reproduce an output's
-/// undamped target exactly (none without a target or a solution).
-fn back_solved(model: &Model, target: Option<&(Vec<f64>, Vec<f64>)>) -> Vec<Vec<f64>> {
-    let Some((num, den)) = target else {
-        return Vec::new();
-    };
-    let tf = model.undamped_tf();
-    if tf.num.degree(mms::OMEGA) as usize + 1 != num.len()
-        || tf.den.degree(mms::OMEGA) as usize + 1 != den.len()
-    {
-        return Vec::new();
-    }
-    let Ok(t) = measured_target(num, den) else {
-        return Vec::new();
-    };
-    match back_solve(model, &t) {
-        Ok(solution) => undamped_starts(&solution),
-        Err(_) => Vec::new(),
-    }
 }
 
 /// The ID of a candidate: the first output's structure, then `+s<port>`
