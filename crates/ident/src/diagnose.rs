@@ -1437,6 +1437,8 @@ fn extra_mode<'a>(
     let old: Vec<f64> = base.state.x[..np].iter().map(|v| v.exp()).collect();
     let effect_x = &base.state.x[np..];
     let smallest = old[..n].iter().cloned().fold(f64::INFINITY, f64::min);
+    let missing =
+        missing_mass(file, &old[..n], e_base, &problem.inv_sigma).filter(|&m| m > smallest);
     // The three largest local maxima of the residual's magnitude (on the
     // fitted lines).
     let mag: Vec<f64> = e_base
@@ -1488,11 +1490,19 @@ fn extra_mode<'a>(
             Source::Split(j) if *j >= n && *j < n + n_links - 1 => Some(old[*j]),
             _ => None,
         });
-        for &k in &peaks {
+        // Each peak with a mass tuned to it; and a missing heavy mass, on
+        // the largest peak.
+        let starts = peaks
+            .iter()
+            .map(|&k| (k, None))
+            .chain(missing.zip(peaks.first()).map(|(m, &k)| (k, Some(m))));
+        for (k, heavy) in starts {
             let w = 2.0 * PI * problem.freq[k];
-            let (m_new, c_new) = match split_spring {
-                Some(c) => ((4.0 * c / (w * w)).min(5.0 * smallest), 2.0 * c),
-                None => (0.2 * smallest, 0.2 * smallest * w * w),
+            let (m_new, c_new) = match (split_spring, heavy) {
+                (Some(c), None) => ((4.0 * c / (w * w)).min(5.0 * smallest), 2.0 * c),
+                (None, None) => (0.2 * smallest, 0.2 * smallest * w * w),
+                (Some(c), Some(m)) => (m, 2.0 * c),
+                (None, Some(m)) => (m, m * w * w),
             };
             let d_new = 2.0 * 0.02 * (c_new * m_new).sqrt();
             let values: Vec<f64> = map
@@ -1539,6 +1549,34 @@ fn extra_mode<'a>(
         first.get_or_insert(done);
     }
     first
+}
+
+/// The mass a free chain lacks by the level of its lowest fitted lines,
+/// which lie on the rigid-body mass line `1 / (M w^2)` below the first
+/// feature: the model's total mass times `|H_model / H_data| - 1`, from the
+/// median over up to five lines; `None` on a grounded chain (its low band
+/// is a compliance, which a mass does not change) or if the model is not
+/// lighter than the data.
+fn missing_mass(
+    file: &ModelFile,
+    masses: &[f64],
+    e: &[Complex64],
+    inv_sigma: &[f64],
+) -> Option<f64> {
+    if file.model.has_link(0) {
+        return None;
+    }
+    let mut level: Vec<f64> = e
+        .iter()
+        .zip(inv_sigma)
+        .filter(|(_, w)| **w > 0.0)
+        .map(|(e, _)| e.re)
+        .take(5)
+        .collect();
+    level.sort_by(f64::total_cmp);
+    let ratio = level.get(level.len() / 2)?.exp();
+    let total: f64 = masses.iter().sum();
+    (ratio > 1.0).then_some(total * (ratio - 1.0))
 }
 
 /// How many screened placements [`extra_mode`] finishes at most.

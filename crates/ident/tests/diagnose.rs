@@ -687,3 +687,41 @@ fn hidden_middle_mass_is_found() {
     assert_eq!(d.model_after.model, ext, "placement");
     assert!(d.fit.after.rms_db < 0.1, "{:?}", d.fit);
 }
+
+/// The extra_mode row of the concealed-effect table on its own, with the
+/// added resonance's accuracy and the time per diagnosis (release: `cargo
+/// test --release -p ident --test diagnose -- --ignored extra_mode_row
+/// --nocapture`).
+#[test]
+#[ignore = "figures for docs/diagnosis.md; run in release"]
+fn extra_mode_row() {
+    let options = DiagnoseOptions::default();
+    let (mut by_kind, mut placed) = (0, 0);
+    let mut errs = Vec::new();
+    let start = Instant::now();
+    for i in 0..10u64 {
+        let seed = 7000 + i;
+        let case = draw(seed, EffectKind::ExtraMode);
+        let d = diagnose(&case.data, &case.nominal, &options).unwrap();
+        let top = &d.effects[0];
+        let got = reported(top);
+        if top.kind == EffectKind::ExtraMode {
+            by_kind += 1;
+            let e = (got.unwrap() / case.value.unwrap() - 1.0).abs();
+            errs.push(e);
+            placed += usize::from(e < 0.25);
+        }
+        println!(
+            "seed {seed}: {} {:?} (truth {:?})",
+            top.kind.as_str(),
+            got,
+            case.value
+        );
+    }
+    errs.sort_by(f64::total_cmp);
+    println!(
+        "extra_mode: by kind {by_kind}/10, resonance within 25 % {placed}/10, median error {:.1} %, {:.0} ms per diagnosis",
+        100.0 * errs.get(errs.len() / 2).copied().unwrap_or(f64::NAN),
+        start.elapsed().as_secs_f64() * 100.0
+    );
+}

@@ -144,7 +144,9 @@ pub struct Simulator {
     h: f64,
 }
 
-/// The state: positions, velocities, and the lagged force.
+/// The state: positions, velocities, and the lagged force. Index 0 of
+/// `x` and `v` is the ground (always 0) and mass `i` is at index `i`, so a
+/// link reads its two nodes without asking which one is the ground.
 #[derive(Clone, Debug)]
 struct State {
     x: Vec<f64>,
@@ -310,16 +312,19 @@ impl Simulator {
     }
 
     /// All forces on the masses except Coulomb friction, for force `f` at
-    /// the actuator, into `out`.
+    /// the actuator, into `out` (indexed as the state: `out[0]` takes the
+    /// ground's reactions and is not read).
     fn forces(&self, s: &State, f: f64, out: &mut [f64]) {
-        for (i, o) in out.iter_mut().enumerate() {
-            *o = self.input[i] * f;
+        let out = &mut out[..=self.n];
+        let (x, v) = (&s.x[..=self.n], &s.v[..=self.n]);
+        out[0] = 0.0;
+        for (o, i) in out[1..].iter_mut().zip(&self.input) {
+            *o = i * f;
         }
-        out[self.driven] -= self.viscous * s.v[self.driven] + self.offset;
-        let node = |v: &[f64], k: usize| if k == 0 { 0.0 } else { v[k - 1] };
+        out[self.driven + 1] -= self.viscous * v[self.driven + 1] + self.offset;
         for (k, &(a, b, c, d)) in self.links.iter().enumerate() {
-            let dx = node(&s.x, b) - node(&s.x, a);
-            let dv = node(&s.v, b) - node(&s.v, a);
+            let dx = x[b] - x[a];
+            let dv = v[b] - v[a];
             let force = match self.backlash {
                 Some((kb, half)) if kb == k => {
                     if dx > half {
@@ -332,12 +337,8 @@ impl Simulator {
                 }
                 _ => c * dx + d * dv,
             };
-            if b > 0 {
-                out[b - 1] -= force;
-            }
-            if a > 0 {
-                out[a - 1] += force;
-            }
+            out[b] -= force;
+            out[a] += force;
         }
     }
 
@@ -353,15 +354,16 @@ impl Simulator {
         }
     }
 
-    /// Accelerations (into `a`) and the lag's derivative, for held input
-    /// `u_in` (already scaled).
+    /// Accelerations (into `a`, indexed as the state, the ground's 0) and
+    /// the lag's derivative, for held input `u_in` (already scaled).
     fn deriv(&self, s: &State, u_in: f64, a: &mut [f64], scratch: &mut [f64]) -> f64 {
         let f = if self.lag > 0.0 { s.f } else { u_in };
         self.forces(s, f, scratch);
-        let j = self.friction_mass;
+        let j = self.friction_mass + 1;
         scratch[j] += self.friction(s.v[j], scratch[j]);
-        for i in 0..self.n {
-            a[i] = scratch[i] * self.inv_m[i];
+        a[0] = 0.0;
+        for ((a, f), w) in a[1..=self.n].iter_mut().zip(&scratch[1..]).zip(&self.inv_m) {
+            *a = f * w;
         }
         if self.lag > 0.0 {
             self.lag * (u_in - s.f)
@@ -374,16 +376,16 @@ impl Simulator {
     /// length), starting at rest.
     pub fn run(&self, u: &[f64]) -> Result<Vec<f64>, SimulateError> {
         let mut y = Vec::with_capacity(u.len());
-        let mut a = vec![0.0; self.n];
-        let mut scratch = vec![0.0; self.n];
+        let mut a = vec![0.0; self.n + 1];
+        let mut scratch = vec![0.0; self.n + 1];
         let dot = |w: &[f64], v: &[f64]| w.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
         self.open_loop(u, |s, f_in| {
             y.push(match self.output {
-                Output::Position => dot(&self.sensor, &s.x),
-                Output::Velocity => dot(&self.sensor, &s.v),
+                Output::Position => dot(&self.sensor, &s.x[1..]),
+                Output::Velocity => dot(&self.sensor, &s.v[1..]),
                 Output::Acceleration => {
                     self.deriv(s, f_in, &mut a, &mut scratch);
-                    dot(&self.sensor, &a)
+                    dot(&self.sensor, &a[1..])
                 }
             });
             y.last().is_some_and(|v| v.is_finite())
@@ -425,7 +427,7 @@ impl Simulator {
     pub fn positions(&self, u: &[f64]) -> Result<Vec<Vec<f64>>, SimulateError> {
         let mut out = Vec::with_capacity(u.len());
         self.open_loop(u, |s, _| {
-            out.push(s.x.clone());
+            out.push(s.x[1..].to_vec());
             s.x.iter().all(|x| x.is_finite())
         })?;
         Ok(out)
@@ -497,7 +499,7 @@ impl Simulator {
             n,
             start,
             |k, s| {
-                let reading = dot(&self.sensor, &s.x) + cl.initial_position;
+                let reading = dot(&self.sensor, &s.x[1..]) + cl.initial_position;
                 y.push(reading);
                 let d = cl.disturbance.map_or(0.0, |d| d[k]);
                 hist.output(cl.controller, cl.reference[k], reading, d)
@@ -523,17 +525,23 @@ impl Simulator {
             Start::Rest => 0.0,
             Start::Moving(v) => v,
         };
+        let mut v = vec![v0; n + 1];
+        v[0] = 0.0;
         let mut s = State {
-            x: vec![0.0; n],
-            v: vec![v0; n],
+            x: vec![0.0; n + 1],
+            v,
             f: 0.0,
         };
         let mut u: Vec<f64> = Vec::with_capacity(samples);
         let mut tmp = s.clone();
-        let (mut k1, mut k2, mut k3, mut k4) =
-            (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        let mut scratch = vec![0.0; n];
-        let (mut v1, mut v2, mut v3) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let (mut k1, mut k2, mut k3, mut k4) = (
+            vec![0.0; n + 1],
+            vec![0.0; n + 1],
+            vec![0.0; n + 1],
+            vec![0.0; n + 1],
+        );
+        let mut scratch = vec![0.0; n + 1];
+        let (mut v1, mut v2, mut v3) = (vec![0.0; n + 1], vec![0.0; n + 1], vec![0.0; n + 1]);
         let h = self.h;
         let held = |u: &[f64], step: usize| -> f64 {
             // The sub-step's input: the held sample, `delay_steps` earlier.
@@ -542,7 +550,7 @@ impl Simulator {
                 None => 0.0,
             }
         };
-        let j = self.friction_mass;
+        let j = self.friction_mass + 1;
         for k in 0..samples {
             let step0 = k * self.substeps;
             let uk = input(k, &s);
@@ -569,7 +577,7 @@ impl Simulator {
                 stage(&s, &v3, &k3, g3, h, &mut tmp);
                 let g4 = self.deriv(&tmp, f_in, &mut k4, &mut scratch);
                 let v4 = &tmp.v;
-                for i in 0..n {
+                for i in 1..=n {
                     s.x[i] += h / 6.0 * (v1[i] + 2.0 * v2[i] + 2.0 * v3[i] + v4[i]);
                     s.v[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
                 }
