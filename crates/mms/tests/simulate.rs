@@ -398,3 +398,36 @@ fn closed_loop_static_error_saturation_and_errors() {
     let short = [0.0; 2];
     assert!(c.check(&short, &short, &short, None, 1000.0).is_err());
 }
+
+/// The cost of one simulated sample of a two-mass chain with Coulomb
+/// friction (the time-domain diagnosis's commonest run): `cargo test
+/// --release -p mms --test simulate -- --ignored --nocapture`.
+#[test]
+#[ignore = "timing; meaningful in release only"]
+fn benchmark_two_mass_coulomb() {
+    let m = Model::new(2, 0, Port::new(1, 0), Port::new(2, 0)).unwrap();
+    let effects = Effects {
+        coulomb_friction: Some(0.3),
+        ..Effects::default()
+    };
+    let f = file(m, Output::Position, vec![1.0, 2.0, 4.0e4, 5.0], effects);
+    let fs = 4000.0;
+    let sim = Simulator::new(&f, fs, &SimOptions::default()).unwrap();
+    let u: Vec<f64> = (0..4096)
+        .map(|k| {
+            (2.0 * PI * 3.0 * k as f64 / fs).sin() + 0.5 * (2.0 * PI * 40.0 * k as f64 / fs).sin()
+        })
+        .collect();
+    let runs = 400;
+    let start = std::time::Instant::now();
+    let mut sum = 0.0;
+    for _ in 0..runs {
+        sum += sim.run(&u).unwrap().iter().sum::<f64>();
+    }
+    let per = start.elapsed().as_secs_f64() / (runs * u.len() * sim.substeps()) as f64;
+    println!(
+        "two masses, Coulomb friction: {:.1} ns per step ({} sub-steps per sample; checksum {sum:.6e})",
+        per * 1e9,
+        sim.substeps()
+    );
+}
