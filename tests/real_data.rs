@@ -788,11 +788,19 @@ fn tue_standstill_fine_frf_claims_no_feature_in_the_noise() {
 
 /// The TU/e 2025 runs as two operating points of one rig (`identify
 /// standstill --operating-point moving`, 0.4 Hz lines over 1-150 Hz): the
-/// antiresonance and the resonance hold for both (the students read 40.5
-/// and 54.1 Hz on the moving run), and the 5.4 Hz resonance that only
-/// standstill shows, below every feature of the moving run whose low band
-/// is the rigid body's, is named as pre-sliding friction with a positive
-/// stiffness to ground.
+/// 5.4 Hz resonance that only standstill shows, below every feature of the
+/// moving run whose low band is the rigid body's, is named as pre-sliding
+/// friction with a positive stiffness to ground. Its consequence is
+/// checked by the physics of a two-mass drive seen at the motor: a spring
+/// `k` from the motor to ground leaves the antiresonance `sqrt(c / J_l)`
+/// where it is (it holds for both, within the noise; the students read
+/// 40.5 Hz on the moving run) and raises the resonance; with the moving
+/// run's antiresonance and resonance and the standstill's 5.4 Hz as the
+/// lower root of `J_m J_l w^4 - (J_l (c + k) + J_m c) w^2 + c k = 0`, the
+/// upper root predicts the standstill resonance 0.38 % above the moving
+/// run's. The comparison's local fits measure 0.65 % (their standard
+/// deviation 0.1 %; the moving run's peak is skewed, coherence 0.7): the
+/// shift must have the predicted sign and lie within a factor 2 of it.
 #[test]
 fn tue_standstill_against_moving_names_pre_sliding_friction() {
     let still = real_data("tue_motion_2025/motor_side_stationary.mat");
@@ -817,9 +825,28 @@ fn tue_standstill_against_moving_names_pre_sliding_friction() {
     let paired = c["paired"].as_array().unwrap();
     assert_eq!(paired.len(), 2, "{c}");
     for (p, reference) in paired.iter().zip([40.5, 54.1]) {
-        assert_eq!(p["shifted"], false, "{p}");
         assert!((num(&p["freq_hz"][1]) - reference).abs() < 1.5, "{p}");
     }
+    let anti = &paired[0];
+    assert_eq!(anti["kind"], "antiresonance");
+    assert_eq!(anti["shifted"], false, "{anti}");
+    // The moving run's drive, in units of its load inertia (J_l = 1).
+    let w = |f: f64| 2.0 * std::f64::consts::PI * f;
+    let (wa, wr, w1) = (
+        w(num(&anti["freq_hz"][1])),
+        w(num(&paired[1]["freq_hz"][1])),
+        w(f),
+    );
+    let c_l = wa * wa;
+    let j_m = c_l / (wr * wr - c_l);
+    let k = w1 * w1 * (c_l + j_m * c_l - j_m * w1 * w1) / (c_l - w1 * w1);
+    let w2 = (c_l * k / (j_m * w1 * w1)).sqrt();
+    let predicted = wr / w2 - 1.0;
+    let measured = num(&paired[1]["shift"]);
+    assert!(
+        (0.5..2.0).contains(&(measured / predicted)),
+        "standstill -> moving resonance shift {measured} vs {predicted} predicted"
+    );
 }
 
 /// The TU/e 2018 signals with both encoders as outputs, each with its

@@ -257,9 +257,15 @@ fn operating_markdown(name: &str, comparisons: &[(String, OperatingPointComparis
             OperatingRecording::First => "first",
             OperatingRecording::Second => "second",
         };
-        if c.findings.is_empty() {
+        if c.paired.is_empty() {
             s.push_str(
-                "Every feature of the type holds for both recordings within the resolution: \
+                "The types of the two recordings share no feature: they cannot be compared \
+                 feature by feature (different structures, or a feature one classification \
+                 did not claim).\n",
+            );
+        } else if c.findings.is_empty() && c.lone.is_empty() {
+            s.push_str(
+                "Every feature of the type holds for both recordings within the noise: \
                  nothing differs between the operating points.\n",
             );
         }
@@ -281,20 +287,48 @@ fn operating_markdown(name: &str, comparisons: &[(String, OperatingPointComparis
                          rigid-body inertia)"
                     ))
                 ),
-                Finding::ModeShift { feature, freq_hz } => writeln!(
+                Finding::ModeShift {
+                    feature,
+                    freq_hz,
+                    z,
+                } => writeln!(
                     s,
-                    "- **Mode shift:** the {} moves from {:.4} Hz to {:.4} Hz ({:+.1} %), beyond \
-                     the resolution.",
+                    "- **Mode shift:** the {} moves from {:.4} Hz to {:.4} Hz ({:+.1} %), {}.",
                     feature_name(*feature),
                     freq_hz.0,
                     freq_hz.1,
-                    100.0 * (freq_hz.1 / freq_hz.0 - 1.0)
+                    100.0 * (freq_hz.1 / freq_hz.0 - 1.0),
+                    match z {
+                        Some(z) => format!(
+                            "{:.1} standard deviations of the difference of the two local fits",
+                            z.abs()
+                        ),
+                        None => "beyond the resolution (no local fit)".to_string(),
+                    }
+                ),
+                Finding::DampingChange {
+                    feature,
+                    freq_hz,
+                    damping,
+                    z,
+                } => writeln!(
+                    s,
+                    "- **Damping change:** the {} near {:.4} / {:.4} Hz has a damping ratio of \
+                     {:.4} in the first recording and {:.4} in the second, {:.1} standard \
+                     deviations of the difference.",
+                    feature_name(*feature),
+                    freq_hz.0,
+                    freq_hz.1,
+                    damping.0,
+                    damping.1,
+                    z.abs()
                 ),
             };
         }
         s.push_str(
-            "\n| feature | first (Hz) | second (Hz) | shift | resolution | holds for |\n\
-             |---|---:|---:|---:|---:|---|\n",
+            "\n| feature | first (Hz) | second (Hz) | shift | shift / sd | damping first | \
+             damping second | damping / sd | holds for |\n\
+             |---|---:|---:|---:|---:|---:|---:|---:|---|\n",
         );
         let mut rows: Vec<(f64, String)> = c
             .paired
@@ -303,13 +337,23 @@ fn operating_markdown(name: &str, comparisons: &[(String, OperatingPointComparis
                 (
                     p.freq_hz.0,
                     format!(
-                        "| {} | {:.4} | {:.4} | {:+.2} % | {:.2} % | {} |",
+                        "| {} | {} | {} | {:+.2} % | {} | {} | {} | {} | {} |",
                         feature_name(p.kind),
-                        p.freq_hz.0,
-                        p.freq_hz.1,
+                        with_sd(p.freq_hz.0, p.sd_hz.map(|s| s.0)),
+                        with_sd(p.freq_hz.1, p.sd_hz.map(|s| s.1)),
                         100.0 * p.shift,
-                        100.0 * p.resolution,
-                        if p.shifted { "each its own" } else { "both" }
+                        match p.shift_z {
+                            Some(z) => format!("{z:+.1}"),
+                            None => format!("- (resolution {:.2} %)", 100.0 * p.resolution),
+                        },
+                        p.fits.map_or("-".into(), |f| format!("{:.4}", f.0.damping)),
+                        p.fits.map_or("-".into(), |f| format!("{:.4}", f.1.damping)),
+                        p.damping_z.map_or("-".into(), |z| format!("{z:+.1}")),
+                        if p.shifted || p.damping_changed {
+                            "each its own"
+                        } else {
+                            "both"
+                        }
                     ),
                 )
             })
@@ -322,7 +366,7 @@ fn operating_markdown(name: &str, comparisons: &[(String, OperatingPointComparis
             (
                 l.freq_hz,
                 format!(
-                    "| {} | {a} | {b} | - | - | the {} only |",
+                    "| {} | {a} | {b} | - | - | - | - | - | the {} only |",
                     feature_name(l.kind),
                     which(l.recording)
                 ),
@@ -335,6 +379,14 @@ fn operating_markdown(name: &str, comparisons: &[(String, OperatingPointComparis
         }
     }
     s
+}
+
+/// A frequency and, from a local fit, its standard deviation.
+fn with_sd(f_hz: f64, sd_hz: Option<f64>) -> String {
+    match sd_hz {
+        Some(sd) => format!("{f_hz:.4} ± {sd:.4}"),
+        None => format!("{f_hz:.4}"),
+    }
 }
 
 /// Parameters as a JSON object, name to value.

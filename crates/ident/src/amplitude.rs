@@ -623,7 +623,7 @@ pub fn amplitude_dependence(
 /// lines (five unknowns and some redundancy). Far from the peak the
 /// neighbours' tails and the antiresonances dominate, which the local
 /// model describes only roughly.
-fn window(h: &[Complex64], peaks: &[usize], j: usize) -> (usize, usize) {
+pub(crate) fn window(h: &[Complex64], peaks: &[usize], j: usize) -> (usize, usize) {
     let n = h.len();
     let p = peaks[j];
     let dip = |a: usize, b: usize| {
@@ -699,7 +699,12 @@ fn peaks(h: &[Complex64], sd_db: &[f64], usable: &[bool], min_db: f64) -> Vec<us
 /// Sanathanan-Koerner iterations, each a linear least-squares problem
 /// weighted by the previous denominator and the noise. `None` if the fit
 /// gives no lightly damped resonance inside the lines.
-fn local_mode(f: &[f64], h: &[Complex64], sigma: &[f64], f_peak: f64) -> Option<ModeEstimate> {
+pub(crate) fn local_mode(
+    f: &[f64],
+    h: &[Complex64],
+    sigma: &[f64],
+    f_peak: f64,
+) -> Option<ModeEstimate> {
     let s: Vec<Complex64> = f.iter().map(|&x| Complex64::new(0.0, x / f_peak)).collect();
     // Start: the resonance at the peak with 2 % damping.
     let mut den: Vec<Complex64> = s.iter().map(|&s| s * s + 0.04 * s + 1.0).collect();
