@@ -961,7 +961,31 @@ fn tue2018_both_encoders_name_the_same_friction() {
     assert!(num(&friction["spread"]) < 0.05, "{friction}");
     let fc = num(&friction["values"][0]);
     assert!((0.0076 / 2.0..4.0 * 0.0076).contains(&fc), "{fc}");
-    // A further output without its sensor's place is refused.
+    // The identification wrote each output's sensor into the model file:
+    // the outputs given without their places read them from there, and
+    // the diagnosis is the same.
+    let text = std::fs::read_to_string(&model).unwrap();
+    assert!(text.contains("sensors = [[1, 0], [2, 0]]"), "{text}");
+    let without: Vec<&str> = signals
+        .iter()
+        .map(|s| s.split('@').next().unwrap())
+        .collect();
+    let mut args = vec!["diagnose", path.as_str()];
+    args.extend_from_slice(&without);
+    args.extend_from_slice(&["--model", model.to_str().unwrap(), "--format", "json"]);
+    let w = json(&args);
+    assert!(w["common_effects"] == v["common_effects"]);
+    for k in 0..2 {
+        let (a, b) = (&w["outputs"][k], &outputs[k]);
+        assert!(
+            a["sensor"] == b["sensor"] && a["diagnosis"] == b["diagnosis"],
+            "output {k}"
+        );
+    }
+    // A further output whose place neither the command line nor the model
+    // file gives is refused.
+    let bare = dir.join("bare.toml");
+    std::fs::write(&bare, text.replace("sensors = [[1, 0], [2, 0]]\n", "")).unwrap();
     let (code, _, err) = mms(&[
         "diagnose",
         &path,
@@ -972,7 +996,7 @@ fn tue2018_both_encoders_name_the_same_friction() {
         "--y",
         "Data.y2",
         "--model",
-        model.to_str().unwrap(),
+        bare.to_str().unwrap(),
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("Data.y2"), "{err}");

@@ -97,7 +97,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         };
     };
     let amplitude = levels.map(|(_, a)| a);
-    let (model, source) = load_model(args, model_source)?;
+    let (model, _, source) = load_model(args, model_source)?;
     let options = options(args)?;
     let name = args.recording.path()?.display().to_string();
     let looped = match &args.closed_loop {
@@ -170,16 +170,17 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     finish(args, &plot, &d.model_after, report)
 }
 
-/// The model of `--model` or `--simulation`, and a sentence naming it.
+/// The model of `--model` or `--simulation`, the sensors its file lists
+/// for a recording with several outputs, and a sentence naming it.
 pub fn load_model(
     args: &DiagnoseArgs,
     model_source: &ModelSource,
-) -> Result<(ModelFile, String), String> {
-    let model = match model_source {
+) -> Result<(ModelFile, Vec<mms::Port>, String), String> {
+    let (model, sensors) = match model_source {
         ModelSource::File(path) => {
             let text = std::fs::read_to_string(path)
                 .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-            ModelFile::parse(&text).map_err(|e| match e.line {
+            ModelFile::parse_with_sensors(&text).map_err(|e| match e.line {
                 Some(l) => format!("{}:{l}: {}", path.display(), e.message),
                 None => format!("{}: {}", path.display(), e.message),
             })?
@@ -187,8 +188,9 @@ pub fn load_model(
         ModelSource::Simulation(path) => {
             let sim = frf::read_recording(path, &frf::RecordingOptions::default())
                 .map_err(|e| e.to_string())?;
-            model_from_simulation(&sim.frf, args.recording.output.into())
-                .map_err(|e| format!("{}: {e}", path.display()))?
+            let model = model_from_simulation(&sim.frf, args.recording.output.into())
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            (model, Vec::new())
         }
     };
     let source = match model_source {
@@ -200,7 +202,7 @@ pub fn load_model(
             ident::diagnose::SIMULATION_TOLERANCE_DB
         ),
     };
-    Ok((model, source))
+    Ok((model, sensors, source))
 }
 
 /// The diagnosis options of the flags.

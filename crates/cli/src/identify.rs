@@ -154,6 +154,7 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
         id.candidates
             .first()
             .map(|best| (best.model, &best.fit, output)),
+        &[],
     );
     let loop_plot = rec.excitation.as_ref().map(loop_plot);
     let mut figures = vec![("bode", &plots)];
@@ -164,9 +165,11 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
     Ok(None)
 }
 
-/// `model.toml` of a fitted structure, if any, for the report directory.
+/// `model.toml` of a fitted structure, if any, for the report directory,
+/// with the sensors of a recording with several outputs (none for one).
 pub fn model_files(
     best: Option<(mms::Model, &ident::fit::Fit, Output)>,
+    sensors: &[mms::Port],
 ) -> Vec<(&'static str, String)> {
     best.map(|(model, fit, output)| {
         let text = ModelFile {
@@ -177,7 +180,7 @@ pub fn model_files(
             motion: Motion::Translational,
             effects: Effects::default(),
         }
-        .to_toml();
+        .to_toml_with_sensors(sensors);
         ("model.toml", text)
     })
     .into_iter()

@@ -150,16 +150,21 @@ impl RecordingArgs {
     /// Each `--y` read as its own recording with the same input and
     /// options, with its sensor's location; an error names the output.
     /// The first output may leave its place free (any the structure
-    /// allows, as for a single recording); each further one must name it.
-    pub fn read_outputs(&self) -> Result<Vec<SensorRecording>, String> {
+    /// allows, as for a single recording); each further one must name it,
+    /// on the command line (`@PLUS[.MINUS]`, which wins) or in `listed`:
+    /// the sensors a model file lists, one per output in order.
+    pub fn read_outputs(&self, listed: &[mms::Port]) -> Result<Vec<SensorRecording>, String> {
         let path = self.path()?;
         let mut out = Vec::with_capacity(self.y.len());
         for (k, v) in self.y.iter().enumerate() {
-            let (signal, location) = split_sensor(v)?;
+            let (signal, given) = split_sensor(v)?;
+            let from_file = listed.get(k).map(|&p| SensorLocation::from(p));
+            let location = given.or(from_file);
             if k > 0 && location.is_none() {
                 return Err(format!(
                     "{}: --y {signal} has no sensor location: with several outputs, each after \
-                     the first names where its sensor sits (e.g. --y {signal}@N)",
+                     the first names where its sensor sits (e.g. --y {signal}@N, or the model \
+                     file's 'sensors')",
                     path.display()
                 ));
             }

@@ -35,7 +35,7 @@ pub fn run(args: &IdentifyArgs, options: &IdentifyOptions) -> Result<Option<Stri
             "{name}: --operating-point compares one output; give a single --y with it"
         ));
     }
-    let outputs: Vec<SensorRecording> = args.recording.read_outputs()?;
+    let outputs: Vec<SensorRecording> = args.recording.read_outputs(&[])?;
     let output: Output = args.recording.output.into();
     let inputs: Vec<SensorOutput> = outputs
         .iter()
@@ -66,11 +66,19 @@ pub fn run(args: &IdentifyArgs, options: &IdentifyOptions) -> Result<Option<Stri
         return Ok(Some(report));
     };
     // The model file of the best candidate, read by the first output's
-    // sensor; the others' places are in the report.
+    // sensor, with every output's sensor (`mms diagnose` reads them); a
+    // sensor mounted the other way round (its output's sign reversed) has
+    // no port of its own, so then the places are in the report only.
+    let reversed = id.outputs.iter().any(|o| o.sensor_reversed);
+    let sensors: Vec<mms::Port> = match id.candidates.first() {
+        Some(best) if !reversed => best.models.iter().map(|m| m.sensor()).collect(),
+        _ => Vec::new(),
+    };
     let files = model_files(
         id.candidates
             .first()
             .map(|best| (best.models[0], &best.fit, output)),
+        &sensors,
     );
     write_report_dir(dir, args.format, &plots, &files, &report)?;
     Ok(None)
@@ -354,9 +362,9 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     let Some(source) = args.model else {
         return Err("give the model: --model MODEL.toml or --simulation FILE".into());
     };
-    let (model, source_text) = load_model(args, source)?;
+    let (model, sensors, source_text) = load_model(args, source)?;
     let options = diagnose_options(args)?;
-    let outputs = args.recording.read_outputs()?;
+    let outputs = args.recording.read_outputs(&sensors)?;
     let chain = model.model;
     let n = chain.n_masses();
     let mut runs: Vec<(&SensorRecording, Port, RecordingDiagnosis)> = Vec::new();

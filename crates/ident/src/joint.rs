@@ -120,6 +120,16 @@ impl FromStr for SensorLocation {
     }
 }
 
+impl From<Port> for SensorLocation {
+    /// The place of a sensor port: its masses by number.
+    fn from(p: Port) -> SensorLocation {
+        SensorLocation {
+            plus: MassRef::Mass(p.plus),
+            minus: p.minus,
+        }
+    }
+}
+
 impl fmt::Display for SensorLocation {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.plus {

@@ -103,11 +103,12 @@ pub struct ModelFileError {
     pub message: String,
 }
 
-const TOP_KEYS: [&str; 10] = [
+const TOP_KEYS: [&str; 11] = [
     "masses",
     "gap",
     "actuator",
     "sensor",
+    "sensors",
     "structure",
     "output",
     "gain",
@@ -216,6 +217,32 @@ impl Reader<'_> {
 impl ModelFile {
     /// Reads a model file from its text.
     pub fn parse(text: &str) -> Result<ModelFile, ModelFileError> {
+        Ok(ModelFile::parse_with_sensors(text)?.0)
+    }
+
+    /// Reads a model file and the sensors of a recording with several
+    /// outputs: the optional top-level `sensors = [[plus, minus], ...]`,
+    /// one port per output in the order the outputs are given, the first
+    /// the model's own `sensor` (empty without the key). Each must be a
+    /// sensor the chain can have (rule (1) with the model's gap).
+    ///
+    /// ```
+    /// use mms::model_file::ModelFile;
+    /// use mms::Port;
+    /// // A two-mass drive read at the motor and at the load.
+    /// let text = "masses = 2\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\n\
+    ///             sensors = [[1, 0], [2, 0]]\noutput = \"position\"\n\
+    ///             [parameters]\nm1 = 1\nm2 = 2\nc12 = 100\nd12 = 0.1\n";
+    /// let (file, sensors) = ModelFile::parse_with_sensors(text)?;
+    /// assert_eq!(sensors, vec![Port::new(1, 0), Port::new(2, 0)]);
+    /// // It writes them back.
+    /// assert_eq!(ModelFile::parse_with_sensors(&file.to_toml_with_sensors(&sensors))?.1, sensors);
+    /// // A sensor that does not start the list with the model's is refused.
+    /// let swapped = text.replace("[[1, 0], [2, 0]]", "[[2, 0], [1, 0]]");
+    /// assert!(ModelFile::parse(&swapped).is_err());
+    /// # Ok::<(), mms::model_file::ModelFileError>(())
+    /// ```
+    pub fn parse_with_sensors(text: &str) -> Result<(ModelFile, Vec<Port>), ModelFileError> {
         let r = Reader { text };
         let root = DeTable::parse(text).map_err(|e| ModelFileError {
             line: e.span().map(|s| r.line_of(s.start)),
@@ -255,6 +282,41 @@ impl ModelFile {
             )?;
             let meas = r.port("sensor", get("sensor").ok_or_else(|| missing("sensor"))?)?;
             Model::new(masses, gap, act, meas).map_err(|e| r.err(gap_v.span(), e.to_string()))?
+        };
+
+        let sensors = match get("sensors") {
+            None => Vec::new(),
+            Some(v) => {
+                let msg = "'sensors' must be a list of [plus, minus], e.g. [[1, 0], [2, 0]]";
+                let arr = v.get_ref().as_array().ok_or_else(|| r.err(v.span(), msg))?;
+                let mut ports = Vec::with_capacity(arr.len());
+                for p in arr.iter() {
+                    let port = r.port("sensors", p)?;
+                    Model::new(model.n_masses(), model.gap(), model.actuator(), port).map_err(
+                        |e| {
+                            r.err(
+                                p.span(),
+                                format!(
+                                    "'sensors': no sensor at [{}, {}]: {e}",
+                                    port.plus, port.minus
+                                ),
+                            )
+                        },
+                    )?;
+                    ports.push(port);
+                }
+                if ports.first().is_some_and(|p| *p != model.sensor()) {
+                    let s = model.sensor();
+                    return Err(r.err(
+                        v.span(),
+                        format!(
+                            "'sensors' must start with the model's sensor [{}, {}]",
+                            s.plus, s.minus
+                        ),
+                    ));
+                }
+                ports
+            }
         };
 
         let output = match get("output") {
@@ -382,14 +444,38 @@ impl ModelFile {
             }
         }
 
-        Ok(ModelFile {
-            model,
-            output,
-            parameters,
-            gain,
-            motion,
-            effects,
-        })
+        Ok((
+            ModelFile {
+                model,
+                output,
+                parameters,
+                gain,
+                motion,
+                effects,
+            },
+            sensors,
+        ))
+    }
+
+    /// [`ModelFile::to_toml`] with the sensors of a recording with several
+    /// outputs (see [`ModelFile::parse_with_sensors`]; none: the same
+    /// text).
+    pub fn to_toml_with_sensors(&self, sensors: &[Port]) -> String {
+        let text = self.to_toml();
+        if sensors.is_empty() {
+            return text;
+        }
+        let list: Vec<String> = sensors
+            .iter()
+            .map(|p| format!("[{}, {}]", p.plus, p.minus))
+            .collect();
+        let b = self.model.sensor();
+        let line = format!("sensor = [{}, {}]\n", b.plus, b.minus);
+        text.replacen(
+            &line,
+            &format!("{line}sensors = [{}]\n", list.join(", ")),
+            1,
+        )
     }
 
     /// The file's text: deterministic (keys in a fixed order, numbers in

@@ -228,3 +228,54 @@ fn offset_round_trip_and_errors() {
         assert!(got.starts_with(want), "got: {got}\nwant: {want}");
     }
 }
+
+/// The sensors of a recording with several outputs: read in order, written
+/// back, and every wrong list refused with the line named.
+#[test]
+fn sensors_of_several_outputs() {
+    // A2 (gap 0, actuator [1, 0]) read at masses 2, 3 and 1.
+    let text = A2_TAB4.replace(
+        "sensor = [2, 0]\n",
+        "sensor = [2, 0]\nsensors = [[2, 0], [3, 0], [1, 0]]\n",
+    );
+    let (file, sensors) = ModelFile::parse_with_sensors(&text).unwrap();
+    assert_eq!(
+        sensors,
+        vec![Port::new(2, 0), Port::new(3, 0), Port::new(1, 0)]
+    );
+    // One model: the sensors do not change the file's chain or parameters.
+    assert_eq!(file, ModelFile::parse(A2_TAB4).unwrap());
+    let again = ModelFile::parse_with_sensors(&file.to_toml_with_sensors(&sensors)).unwrap();
+    assert_eq!(again, (file.clone(), sensors));
+    // Without the key: none, and the same text as before.
+    assert!(ModelFile::parse_with_sensors(A2_TAB4).unwrap().1.is_empty());
+    assert_eq!(file.to_toml_with_sensors(&[]), file.to_toml());
+    let err = |list: &str| {
+        let t = A2_TAB4.replace(
+            "sensor = [2, 0]\n",
+            &format!("sensor = [2, 0]\nsensors = {list}\n"),
+        );
+        ModelFile::parse(&t).unwrap_err().to_string()
+    };
+    assert_eq!(
+        err("[[3, 0], [2, 0]]"),
+        "line 7: 'sensors' must start with the model's sensor [2, 0]"
+    );
+    assert!(
+        err("[2, 0]").starts_with("line 7: 'sensors' must be [plus, minus]"),
+        "{}",
+        err("[2, 0]")
+    );
+    // Past the last mass, or a reference beyond the gap (rule (1)).
+    assert!(err("[[2, 0], [3, 1]]").starts_with("line 7: 'sensors': no sensor at [3, 1]"));
+    assert!(
+        err("[[2, 0], [4, 0]]").starts_with("line 7: 'sensors': no sensor at [4, 0]"),
+        "{}",
+        err("[[2, 0], [4, 0]]")
+    );
+    assert!(
+        err("3").starts_with("line 7: 'sensors' must be a list"),
+        "{}",
+        err("3")
+    );
+}
