@@ -10,7 +10,8 @@ use ident::amplitude::{
 };
 use ident::diagnose::{model_from_simulation, Diagnosis, EffectVerdict, Selection, Unresolved};
 use ident::diagnosis::{
-    diagnose_recording, validate, DiagnosisOptions, Domain, Reason, RecordingDiagnosis, Validation,
+    compare_operating_diagnoses, diagnose_recording, validate, DiagnosisOptions, Domain, HoldsFor,
+    OperatingPointDiagnosis, Reason, RecordingDiagnosis, Validation,
 };
 use ident::evidence::{CalibrationNote, Evidence, RecordEvidence};
 use ident::nonlinear::{percent, LoopRecord, TimeDiagnosis};
@@ -72,6 +73,9 @@ pub struct DiagnoseArgs<'a> {
     pub levels: &'a [PathBuf],
     /// Another recording of the same rig to check the diagnosis on.
     pub validate: Option<&'a Path>,
+    /// A recording of the same rig at another operating point, diagnosed
+    /// with the same model and compared.
+    pub operating_point: Option<&'a Path>,
     pub select: SelectArg,
     pub tolerance: f64,
     pub band: Option<(f64, f64)>,
@@ -113,6 +117,38 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         &options,
     )
     .map_err(|e| format!("{name}: {e}"))?;
+    if args.validate.is_some() && args.operating_point.is_some() {
+        return Err(format!(
+            "{name}: give --validate or --operating-point, not both (both diagnose the other \
+             recording with this model)"
+        ));
+    }
+    let operating = match args.operating_point {
+        None => None,
+        Some(path) => {
+            let other = args.recording.read_file(path)?;
+            let other_args = RecordingArgs {
+                recording: Some(path.to_path_buf()),
+                recording_flag: None,
+                ..args.recording.clone()
+            };
+            let looped = match &args.closed_loop {
+                Some(l) => Some(read_loop(&other_args, l, other.samples.as_ref())?),
+                None => None,
+            };
+            let record = looped.as_ref().map(|l| l.record());
+            let od = diagnose_recording(
+                &other.frf,
+                other.samples.as_ref(),
+                &model,
+                record.as_ref(),
+                &options,
+            )
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+            let c = compare_operating_diagnoses(&d, &rec.frf, &od, &other.frf);
+            Some((path.display().to_string(), c, od))
+        }
+    };
     let validation = match args.validate {
         None => None,
         Some(path) => {
@@ -141,7 +177,23 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     };
     let plot = bode(&d);
     let report = match args.format {
-        IdentifyFormat::Json => json(&d, amplitude.as_ref(), validation.as_ref().map(|v| &v.1))?,
+        IdentifyFormat::Json => {
+            let mut s = json(&d, amplitude.as_ref(), validation.as_ref().map(|v| &v.1))?;
+            if let Some((other, c, od)) = &operating {
+                let err = |e: serde_json::Error| format!("JSON: {e}");
+                let mut v: serde_json::Value = serde_json::from_str(&s).map_err(err)?;
+                let other_json: serde_json::Value =
+                    serde_json::from_str(&json(od, None, None)?).map_err(err)?;
+                v["operating_point"] = serde_json::json!({
+                    "recording": other,
+                    "comparison": serde_json::to_value(c).map_err(err)?,
+                    "diagnosis": other_json,
+                });
+                s = serde_json::to_string_pretty(&v).map_err(err)?;
+                s.push('\n');
+            }
+            s
+        }
         IdentifyFormat::Md | IdentifyFormat::Html => {
             let mut m = markdown(
                 &name,
@@ -156,6 +208,9 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
             }
             if let Some((other, v)) = &validation {
                 m.push_str(&validation_markdown(other, v));
+            }
+            if let Some((other, c, _)) = &operating {
+                m.push_str(&operating_markdown(&name, other, c));
             }
             if let Some(a) = &amplitude {
                 m.push_str(&amplitude_markdown(a));
@@ -478,6 +533,65 @@ fn spoken_list(items: &[String]) -> String {
 
 /// The validation on another recording: what carries over, how the model
 /// fits there.
+/// The operating-point section: each effect and which recording it holds
+/// for, then the features of the two FRFs.
+fn operating_markdown(name: &str, other: &str, c: &OperatingPointDiagnosis) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "\n## Operating points: the diagnoses of `{name}` (first) and `{other}` (second)\n"
+    );
+    let _ = writeln!(
+        s,
+        "Both diagnosed with the same model; the models after them: {} and {}.\n",
+        c.structures.0, c.structures.1
+    );
+    if c.effects.is_empty() {
+        s.push_str(
+            "Neither verdict names an effect: nothing is missing at either operating point.\n",
+        );
+    } else {
+        s.push_str(
+            "| effect | parameter | first | second | holds for |\n|---|---|---:|---:|---|\n",
+        );
+        for e in &c.effects {
+            let value = |v: Option<f64>| v.map_or("-".to_string(), crate::identify::fmt_sig);
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} |",
+                e.kind.as_str(),
+                e.parameter,
+                value(e.values.0),
+                value(e.values.1),
+                match e.holds_for {
+                    HoldsFor::Both => "both",
+                    HoldsFor::First => "the first only",
+                    HoldsFor::Second => "the second only",
+                }
+            );
+        }
+    }
+    if let Some(r) = c.pre_sliding_as_extra_mode {
+        let _ = writeln!(
+            s,
+            "\nThe extra mode at {} Hz that one diagnosis alone adds is the pre-sliding friction \
+             of the comparison below, seen twice: a stiffness to ground, which the chain can \
+             take only as one more mass.",
+            crate::identify::fmt_sig(r)
+        );
+    }
+    match &c.features {
+        Some(f) => s.push_str(&crate::identify::operating_markdown(
+            name,
+            &[(other.to_string(), f.clone())],
+        )),
+        None => {
+            s.push_str("\nThe features were not compared: a recording could not be classified.\n")
+        }
+    }
+    s
+}
+
 fn validation_markdown(other: &str, v: &Validation) -> String {
     let mut s = format!("\n## Validation on `{other}`\n\n");
     let o = &v.other.verdict;

@@ -249,7 +249,10 @@ fn operating_points(
 }
 
 /// The report section of the operating-point comparisons.
-fn operating_markdown(name: &str, comparisons: &[(String, OperatingPointComparison)]) -> String {
+pub fn operating_markdown(
+    name: &str,
+    comparisons: &[(String, OperatingPointComparison)],
+) -> String {
     let mut s = String::new();
     for (other, c) in comparisons {
         let _ = writeln!(

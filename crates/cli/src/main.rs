@@ -200,6 +200,14 @@ enum Command {
         /// this diagnosis fits it.
         #[arg(long, value_name = "FILE")]
         validate: Option<PathBuf>,
+        /// A recording of the same rig at another operating point
+        /// (standstill and moving, another speed), read with the same
+        /// flags: diagnosed with the same model, the report says which
+        /// effects each operating point shows, and compares the two FRFs
+        /// feature by feature (mode shifts, damping changes, pre-sliding
+        /// friction at standstill).
+        #[arg(long = "operating-point", value_name = "FILE")]
+        operating_point: Option<PathBuf>,
         /// How an effect must earn its parameters: bic (information
         /// criterion on all lines) or holdout (every 4th line held out of
         /// the fits, the effect must lower their cost).
@@ -435,6 +443,7 @@ fn run(cli: Cli) -> Result<(), String> {
             simulation,
             levels,
             validate,
+            operating_point,
             select,
             tolerance,
             band,
@@ -461,6 +470,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 model: model.as_ref(),
                 levels: &levels,
                 validate: validate.as_deref(),
+                operating_point: operating_point.as_deref(),
                 select,
                 tolerance,
                 band: band.as_deref().map(parse_band).transpose()?,

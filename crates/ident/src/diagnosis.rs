@@ -67,7 +67,11 @@ use crate::nonlinear::{
     diagnose_closed_loop, diagnose_time, held_out_error, LoopRecord, TimeDiagnoseError,
     TimeDiagnosis, TimeOptions,
 };
+use crate::operating::{
+    compare_operating_points, Finding, OperatingPointComparison, Recording, PAIRING_RANGE,
+};
 use crate::stability::Cut;
+use crate::{classify, ClassifyOptions};
 use frf::welch::WelchOptions;
 use frf::{Complex64, Frf, Samples};
 use mms::model_file::ModelFile;
@@ -958,4 +962,182 @@ pub fn validate(
         },
         other: Box::new(other),
     })
+}
+
+/// Which of two operating points a verdict holds for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HoldsFor {
+    /// Both recordings.
+    Both,
+    /// The first recording only.
+    First,
+    /// The second recording only.
+    Second,
+}
+
+/// One effect's parameter at two operating points.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EffectAcross {
+    /// The effect.
+    pub kind: EffectKind,
+    /// Its parameter.
+    pub parameter: String,
+    /// Its value at the first and the second operating point, where that
+    /// recording's verdict names the effect.
+    pub values: (Option<f64>, Option<f64>),
+    /// Which recordings name it.
+    pub holds_for: HoldsFor,
+}
+
+/// Two recordings of one rig at different operating points, each
+/// diagnosed with the same model ([`compare_operating_diagnoses`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct OperatingPointDiagnosis {
+    /// Every effect either verdict names, the first recording's first.
+    pub effects: Vec<EffectAcross>,
+    /// The two FRFs compared feature by feature, each classified on its
+    /// diagnosis's band ([`crate::operating`]).
+    pub features: Option<OperatingPointComparison>,
+    /// The resonance (Hz) of an extra mass that only one diagnosis adds
+    /// and that lies within the pairing range of the pre-sliding friction
+    /// the feature comparison names in that recording: one finding seen
+    /// twice (the chain can take a stiffness to ground only as one more
+    /// mass).
+    pub pre_sliding_as_extra_mode: Option<f64>,
+    /// The structure of the model after each diagnosis.
+    pub structures: (String, String),
+}
+
+/// Compares the diagnoses `first` (of `first_frf`) and `second` (of
+/// `second_frf`) of one rig at two operating points, both made with the
+/// same model: which effects each verdict names and with which values (an
+/// extra mass holds for both only if it adds its resonance within the
+/// pairing range of [`crate::operating`] in both), and
+/// the two FRFs feature by feature (`None` if either cannot be
+/// classified).
+///
+/// ```
+/// use frf::{Complex64, Frf};
+/// use ident::diagnosis::{compare_operating_diagnoses, diagnose_recording, DiagnosisOptions, HoldsFor};
+/// use ident::diagnose::EffectKind;
+/// use mms::model_file::ModelFile;
+///
+/// // A two-mass drive seen at the motor; at the second operating point
+/// // its measurement lags by a dead time of 1 ms, the first has none.
+/// let text = "masses = 2\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\n\
+///             output = \"position\"\n[parameters]\nm1 = 1e-3\nm2 = 1e-3\nc12 = 40\nd12 = 0.002\n";
+/// let model = ModelFile::parse(text)?;
+/// let f: Vec<f64> = (1..=600).map(|k| 0.25 * k as f64).collect();
+/// let g = mms::response::ChainResponse::new(&model.model, model.output)
+///     .eval_many(model.parameters.values(), &f)?;
+/// let frf = |delay: f64| -> Frf {
+///     let h = g.iter().zip(&f).map(|(g, &f)| {
+///         g * Complex64::from_polar(1.0, -2.0 * std::f64::consts::PI * f * delay)
+///     });
+///     Frf::new(f.clone(), h.collect(), None).unwrap()
+/// };
+/// let (a, b) = (frf(0.0), frf(1e-3));
+/// let o = DiagnosisOptions::default();
+/// let da = diagnose_recording(&a, None, &model, None, &o)?;
+/// let db = diagnose_recording(&b, None, &model, None, &o)?;
+/// let c = compare_operating_diagnoses(&da, &a, &db, &b);
+/// let delay = c.effects.iter().find(|e| e.kind == EffectKind::TimeDelay).unwrap();
+/// assert_eq!(delay.holds_for, HoldsFor::Second);
+/// assert!((delay.values.1.unwrap() / 1e-3 - 1.0).abs() < 0.01);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn compare_operating_diagnoses(
+    first: &RecordingDiagnosis,
+    first_frf: &Frf,
+    second: &RecordingDiagnosis,
+    second_frf: &Frf,
+) -> OperatingPointDiagnosis {
+    let named = |d: &RecordingDiagnosis| -> Vec<EffectVerdict> {
+        d.verdict
+            .effects
+            .iter()
+            .filter(|e| e.kind != EffectKind::None)
+            .cloned()
+            .collect()
+    };
+    let (ours, theirs) = (named(first), named(second));
+    // One effect at both operating points: the same kind; for an extra
+    // mass also the same added resonance (another mode is another effect).
+    let same = |a: &EffectVerdict, b: &EffectVerdict| {
+        a.kind == b.kind
+            && (a.kind != EffectKind::ExtraMode
+                || match (
+                    a.parameters.get("resonance_hz"),
+                    b.parameters.get("resonance_hz"),
+                ) {
+                    (Some(x), Some(y)) => (x / y).ln().abs() < PAIRING_RANGE.ln(),
+                    _ => false,
+                })
+    };
+    let mut effects: Vec<EffectAcross> = Vec::new();
+    let across = |e: &EffectVerdict, other: Option<&EffectVerdict>, first: bool| {
+        e.parameters
+            .iter()
+            .map(|(p, &v)| {
+                let w = other.and_then(|o| o.parameters.get(p).copied());
+                EffectAcross {
+                    kind: e.kind,
+                    parameter: p.clone(),
+                    values: if first { (Some(v), w) } else { (w, Some(v)) },
+                    holds_for: match (other.is_some(), first) {
+                        (true, _) => HoldsFor::Both,
+                        (false, true) => HoldsFor::First,
+                        (false, false) => HoldsFor::Second,
+                    },
+                }
+            })
+            .collect::<Vec<_>>()
+    };
+    for e in &ours {
+        effects.extend(across(e, theirs.iter().find(|t| same(e, t)), true));
+    }
+    for t in theirs.iter().filter(|t| !ours.iter().any(|e| same(e, t))) {
+        effects.extend(across(t, None, false));
+    }
+    let output = first.model_after.output;
+    let classified = |d: &RecordingDiagnosis, frf: &Frf| {
+        let o = ClassifyOptions {
+            band_hz: d.band_hz,
+            ..ClassifyOptions::default()
+        };
+        classify(frf, output, &o).ok()
+    };
+    let features = classified(first, first_frf)
+        .zip(classified(second, second_frf))
+        .map(|(a, b)| compare_operating_points(&a, first_frf, &b, second_frf));
+    let pre_sliding_as_extra_mode = features.as_ref().and_then(|f| {
+        f.findings.iter().find_map(|finding| {
+            let Finding::PreSlidingFriction {
+                recording, freq_hz, ..
+            } = finding
+            else {
+                return None;
+            };
+            let holds = match recording {
+                Recording::First => HoldsFor::First,
+                Recording::Second => HoldsFor::Second,
+            };
+            effects
+                .iter()
+                .filter(|e| {
+                    e.kind == EffectKind::ExtraMode
+                        && e.parameter == "resonance_hz"
+                        && e.holds_for == holds
+                })
+                .filter_map(|e| e.values.0.or(e.values.1))
+                .find(|r| (r / freq_hz).ln().abs() < PAIRING_RANGE.ln())
+        })
+    });
+    OperatingPointDiagnosis {
+        effects,
+        features,
+        pre_sliding_as_extra_mode,
+        structures: (first.model_after.model.id(), second.model_after.model.id()),
+    }
 }
