@@ -148,6 +148,9 @@ const STRONG_SIGMA: f64 = 8.0;
 /// A phase step between two lines beyond this (150 deg) is ambiguous in
 /// sign: the magnitude decides ([`Data::unwrap_phase`]).
 const AMBIGUOUS_STEP: f64 = 150.0 * PI / 180.0;
+/// Lines on either side of an ambiguous step that tell a notch or a peak
+/// several lines wide ([`Data::unwrap_phase`]).
+const AMBIGUOUS_FLANK: usize = 3;
 
 /// Features and nm dips under this confidence are not reported at all.
 const REPORT_CONFIDENCE: f64 = 0.1;
@@ -1006,7 +1009,11 @@ impl Data {
     /// between two lines (a lightly damped feature no wider than one line)
     /// is ambiguous in sign; the magnitude decides it: across a dip the
     /// phase rises (an antiresonance, the minimum-phase reading), across a
-    /// peak it falls (a resonance).
+    /// peak it falls (a resonance). The dip or peak is the two lines
+    /// against their neighbours; where those tell neither, as in a noisy
+    /// notch several lines wide (a motor-side antiresonance, where the
+    /// sensor barely moves and the coherence falls), both lines against
+    /// the extremes of the [`AMBIGUOUS_FLANK`] lines on either side.
     fn unwrap_phase(&mut self) {
         let n = self.len();
         let wrapped = self.phi.clone();
@@ -1016,9 +1023,20 @@ impl Data {
                 let y = &self.y;
                 let (lo, hi) = (y[i - 1].min(y[i]), y[i - 1].max(y[i]));
                 let (a, b) = (y[i - 2], y[i + 1]);
-                if lo < a && lo < b && d < 0.0 {
+                let left = &y[(i - 1).saturating_sub(AMBIGUOUS_FLANK)..i - 1];
+                let right = &y[i + 1..(i + 1 + AMBIGUOUS_FLANK).min(n)];
+                let top = |v: &[f64]| v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+                let bottom = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
+                let (dip, peak) = (lo < a && lo < b, hi > a && hi > b);
+                let wide_dip = hi < top(left) && hi < top(right);
+                let wide_peak = lo > bottom(left) && lo > bottom(right);
+                if dip && d < 0.0 {
                     d += 2.0 * PI;
-                } else if hi > a && hi > b && d > 0.0 {
+                } else if peak && d > 0.0 {
+                    d -= 2.0 * PI;
+                } else if !dip && !peak && wide_dip && !wide_peak && d < 0.0 {
+                    d += 2.0 * PI;
+                } else if !dip && !peak && wide_peak && !wide_dip && d > 0.0 {
                     d -= 2.0 * PI;
                 }
             }
