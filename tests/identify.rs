@@ -64,6 +64,25 @@ fn identify_json_names_the_generating_structure_among_the_best() {
         let me = cands.iter().find(|c| c["id"] == id).unwrap();
         assert!(me["fit"]["rms_db"].as_f64().unwrap() < 0.05, "{me}");
         assert_eq!(me["masses"], 3);
+        // Every notes array has its notes as data beside it, one object per
+        // sentence, tagged by its kind.
+        let holders = [&v, &v["classification"]].into_iter().chain(cands);
+        for h in holders {
+            let (notes, data) = (h["notes"].as_array(), h["note_data"].as_array());
+            let (notes, data) = (notes.unwrap(), data.unwrap());
+            assert_eq!(notes.len(), data.len(), "{h}");
+            assert!(data.iter().all(|d| d["kind"].is_string()), "{h}");
+        }
+        let scale = v["note_data"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .position(|d| d == &serde_json::json!({"kind": "gain_known", "gain": 1.0}))
+            .unwrap_or_else(|| panic!("{}", v["note_data"]));
+        assert_eq!(
+            v["notes"][scale],
+            "scale: the actuator/sensor gain is taken as known (1); parameters are absolute"
+        );
     }
 }
 

@@ -2,6 +2,7 @@
 //! report (Markdown, HTML or JSON), with Bode plots and the best model as
 //! a model file when `--out DIR` is given.
 
+use crate::notes::{candidate_note, classify_note, identify_note};
 use crate::output::write_atomic_bytes;
 use crate::recording::RecordingArgs;
 use frf::Frf;
@@ -415,7 +416,8 @@ fn candidate_json(c: &CandidateFit) -> Value {
         "start": c.start,
         "back_solutions": c.back_solutions,
         "rank": c.rank,
-        "notes": c.notes,
+        "notes": c.notes.iter().map(candidate_note).collect::<Vec<_>>(),
+        "note_data": c.notes,
     })
 }
 
@@ -475,7 +477,8 @@ fn to_json(id: &Identification, stability: Option<&Stability>) -> Value {
                 "damping_ratio": f.damping_ratio,
                 "in_type": f.in_type,
             })).collect::<Vec<_>>(),
-            "notes": c.notes,
+            "notes": c.notes.iter().map(classify_note).collect::<Vec<_>>(),
+            "note_data": c.notes,
         },
         "masses": id.masses,
         "candidates": id.candidates.iter().map(candidate_json).collect::<Vec<_>>(),
@@ -484,7 +487,8 @@ fn to_json(id: &Identification, stability: Option<&Stability>) -> Value {
         "equivalents": id.equivalents,
         "sensor_reversed": id.sensor_reversed,
         "stability": stability.map(|s| json!({"stable": s.stable(), "runs": s.runs})),
-        "notes": id.notes,
+        "notes": id.notes.iter().map(identify_note).collect::<Vec<_>>(),
+        "note_data": id.notes,
     })
 }
 
@@ -637,7 +641,11 @@ fn markdown(
                 ident::identify::StartKind::FeatureMatched => "feature-matched".into(),
                 ident::identify::StartKind::MultiStart => "multi-start".into(),
             },
-            cand.notes.join("; ")
+            cand.notes
+                .iter()
+                .map(candidate_note)
+                .collect::<Vec<_>>()
+                .join("; ")
         );
     }
     s.push_str("\n## Parameters\n\n");
@@ -716,7 +724,12 @@ fn markdown(
         s.push('\n');
     }
     s.push_str("## Notes\n\n");
-    for n in id.notes.iter().chain(&c.notes) {
+    let notes = id
+        .notes
+        .iter()
+        .map(identify_note)
+        .chain(c.notes.iter().map(classify_note));
+    for n in notes {
         let _ = writeln!(s, "- {n}");
     }
     s

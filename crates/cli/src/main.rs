@@ -9,6 +9,7 @@ mod derive;
 mod diagnose;
 mod enumerate;
 mod identify;
+mod notes;
 mod output;
 mod recording;
 mod sensors;

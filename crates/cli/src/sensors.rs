@@ -11,6 +11,7 @@ use crate::identify::{
     fmt_sig, html_page, model_curve, model_files, parameters_json, progress_bar, show,
     write_report_dir, IdentifyArgs, IdentifyFormat,
 };
+use crate::notes::sensors_note;
 use crate::recording::SensorRecording;
 use ident::classify::feature_name;
 use ident::diagnose::EffectKind;
@@ -187,7 +188,8 @@ fn to_json(id: &SensorsIdentification) -> Value {
             "indistinguishable": e.indistinguishable(),
             "reason": e.verdict.to_string(),
         })).collect::<Vec<_>>(),
-        "notes": id.notes,
+        "notes": id.notes.iter().map(sensors_note).collect::<Vec<_>>(),
+        "note_data": id.notes,
     })
 }
 
@@ -343,7 +345,7 @@ fn markdown(name: &str, id: &SensorsIdentification, plot: Option<&str>) -> Strin
     if !id.notes.is_empty() {
         s.push_str("\n## Notes\n\n");
         for n in &id.notes {
-            let _ = writeln!(s, "- {n}");
+            let _ = writeln!(s, "- {}", sensors_note(n));
         }
     }
     s

@@ -108,6 +108,7 @@
 //! bandwidths with damping ratios of 8 % or more can vanish together (the
 //! damped FRF then shows neither) or be found only without noise.
 
+use crate::notes::ClassifyNote;
 pub use frf::uncertainty::Source as UncertaintySource;
 use frf::uncertainty::{line_uncertainty, scatter, second_differences};
 use frf::Frf;
@@ -501,7 +502,7 @@ pub struct Classification {
     pub nonminimum_phase: Option<NmEvidence>,
     /// What a reader should know: band decisions, rejected features,
     /// cancellations, budgets.
-    pub notes: Vec<String>,
+    pub notes: Vec<ClassifyNote>,
 }
 
 fn ser_source<S: Serializer>(t: &UncertaintySource, s: S) -> Result<S::Ok, S::Error> {
@@ -527,7 +528,7 @@ impl Classification {
     }
 }
 
-fn ser_type<S: Serializer>(t: &FrfType, s: S) -> Result<S::Ok, S::Error> {
+pub(crate) fn ser_type<S: Serializer>(t: &FrfType, s: S) -> Result<S::Ok, S::Error> {
     s.collect_str(t)
 }
 
@@ -577,11 +578,9 @@ pub fn classify(
     let mut notes = Vec::new();
     let uncertainty = line_uncertainty(frf, options.averages.map(f64::from));
     if uncertainty.source == UncertaintySource::CoherenceAssumedAverages {
-        notes.push(format!(
-            "the line uncertainty comes from the coherence with {} averages assumed (the \
-             count is not known)",
-            frf::uncertainty::ASSUMED_AVERAGES
-        ));
+        notes.push(ClassifyNote::AssumedAverages {
+            averages: frf::uncertainty::ASSUMED_AVERAGES,
+        });
     }
     let band = select_band(
         frf,
@@ -624,11 +623,10 @@ pub fn classify(
     let spacing_ln = median(&data.x.windows(2).map(|w| w[1] - w[0]).collect::<Vec<_>>());
     let resolution = (COARSE_SPACING / spacing_ln).clamp(0.3, 1.0);
     if resolution < 1.0 {
-        notes.push(format!(
-            "coarse grid: lines {:.0} % apart (median): a resonance and an antiresonance \
-             closer than two lines can be missed; all confidences scaled by {resolution:.2}",
-            100.0 * (spacing_ln.exp() - 1.0)
-        ));
+        notes.push(ClassifyNote::CoarseGrid {
+            relative_spacing: spacing_ln.exp() - 1.0,
+            confidence_scale: resolution,
+        });
         for e in &mut found {
             e.confidence *= resolution;
         }
@@ -641,15 +639,10 @@ pub fn classify(
         .is_some_and(|e| e.confidence >= options.min_confidence);
 
     for e in found.iter().filter(|e| e.edge) {
-        notes.push(format!(
-            "{} at {:.4} Hz is at the band edge: lower confidence",
-            feature_name(if e.dip {
-                Feature::Antiresonance
-            } else {
-                Feature::Resonance
-            }),
-            e.x0.exp() / (2.0 * PI)
-        ));
+        notes.push(ClassifyNote::AtBandEdge {
+            feature: feature_of(e),
+            freq_hz: e.x0.exp() / (2.0 * PI),
+        });
     }
     let mut features: Vec<ClassifiedFeature> = found
         .iter()
@@ -670,13 +663,12 @@ pub fn classify(
         .collect();
     features.sort_by(|a, b| a.freq_hz.total_cmp(&b.freq_hz));
     for f in features.iter().filter(|f| !f.in_type) {
-        notes.push(format!(
-            "{} at {:.4} Hz left out of the type: confidence {:.2} < {:.2}",
-            feature_name(f.kind),
-            f.freq_hz,
-            f.confidence,
-            options.min_confidence
-        ));
+        notes.push(ClassifyNote::LeftOut {
+            feature: f.kind,
+            freq_hz: f.freq_hz,
+            confidence: f.confidence,
+            min_confidence: options.min_confidence,
+        });
     }
     let tokens = features
         .iter()
@@ -699,13 +691,11 @@ pub fn classify(
     let mut confidence = confidence;
     if let Some(slope) = budget.as_ref().and_then(|b| b.low_slope) {
         if slope.abs() > 1.0 {
-            notes.push(format!(
-                "with the features divided out, the inertance has slope {slope:+.1} (ln|G| per \
-                 ln w) at the bottom of the band, where a free chain is flat: a feature just \
-                 below the band (the type may lack it), or a wrong output kind ({output}); the \
-                 level budget is not used for nm, and the type's confidence is at most \
-                 {UNFLAT_BOTTOM_CAP}"
-            ));
+            notes.push(ClassifyNote::UnflatBottom {
+                slope,
+                output,
+                confidence_cap: UNFLAT_BOTTOM_CAP,
+            });
             confidence = confidence.min(UNFLAT_BOTTOM_CAP);
         }
     }
@@ -782,7 +772,7 @@ fn running_median(v: &[f64], half: usize) -> Vec<f64> {
 
 /// Drops the features that lie where the phase is not determined (see
 /// [`PHASE_UNDETERMINED`]) and notes how many.
-fn drop_where_phase_undetermined(d: &Data, found: &mut Vec<Eval>, notes: &mut Vec<String>) {
+fn drop_where_phase_undetermined(d: &Data, found: &mut Vec<Eval>, notes: &mut Vec<ClassifyNote>) {
     let smooth = running_median(&d.given, PHASE_WINDOW_HALF);
     let before = found.len();
     let mut dropped_hz = Vec::new();
@@ -795,14 +785,10 @@ fn drop_where_phase_undetermined(d: &Data, found: &mut Vec<Eval>, notes: &mut Ve
         keep
     });
     if found.len() < before {
-        let list: Vec<String> = dropped_hz.iter().map(|f| format!("{f:.4}")).collect();
-        notes.push(format!(
-            "{} feature candidate(s) at {} Hz not claimed: the lines there are too uncertain \
-             for their phase (smoothed uncertainty above {PHASE_UNDETERMINED} rad), so a phase \
-             step there can be a turn of noise",
-            before - found.len(),
-            list.join(", ")
-        ));
+        notes.push(ClassifyNote::PhaseUndetermined {
+            at_hz: dropped_hz,
+            max_std_dev_rad: PHASE_UNDETERMINED,
+        });
     }
 }
 
@@ -813,7 +799,7 @@ fn select_band(
     sigma: &[f64],
     source: UncertaintySource,
     o: &ClassifyOptions,
-    notes: &mut Vec<String>,
+    notes: &mut Vec<ClassifyNote>,
 ) -> Result<Vec<usize>, ClassifyError> {
     let f = frf.freq_hz();
     let (lo, hi) = o.band_hz.unwrap_or((0.0, f64::INFINITY));
@@ -822,16 +808,13 @@ fn select_band(
         .filter(|&i| in_range(i) && sigma[i].is_finite())
         .collect();
     if f[0] == 0.0 {
-        notes.push("the 0 Hz line is left out (the inertance is undefined there)".into());
+        notes.push(ClassifyNote::ZeroHzLeftOut);
     }
     let unexcited = (0..frf.len())
         .filter(|&i| in_range(i) && !sigma[i].is_finite())
         .count();
     if unexcited > 0 {
-        notes.push(format!(
-            "{unexcited} lines without excitation (or a zero response) carry no information and \
-             are left out"
-        ));
+        notes.push(ClassifyNote::Unexcited { lines: unexcited });
     }
     if eligible.len() < o.min_lines {
         return Err(ClassifyError::TooFewLines {
@@ -840,17 +823,21 @@ fn select_band(
         });
     }
     if o.band_hz.is_some() || source == UncertaintySource::Scatter {
-        notes.push(format!(
-            "band {:.4} .. {:.4} Hz {}: all {} lines are used, each weighted by its uncertainty",
-            f[eligible[0]],
-            f[eligible[eligible.len() - 1]],
-            if o.band_hz.is_some() {
-                "as given"
-            } else {
-                "(no coherence or standard deviation: the whole range)"
-            },
-            eligible.len()
-        ));
+        let (low_hz, high_hz) = (f[eligible[0]], f[eligible[eligible.len() - 1]]);
+        let lines = eligible.len();
+        notes.push(if o.band_hz.is_some() {
+            ClassifyNote::BandAsGiven {
+                low_hz,
+                high_hz,
+                lines,
+            }
+        } else {
+            ClassifyNote::BandWholeRange {
+                low_hz,
+                high_hz,
+                lines,
+            }
+        });
         return Ok(eligible);
     }
     let c: Vec<f64> = eligible.iter().map(|&i| sigma[i]).collect();
@@ -895,29 +882,24 @@ fn select_band(
         });
     };
     let total_good = good.iter().filter(|&&g| g).count();
-    notes.push(format!(
-        "band {:.4} .. {:.4} Hz: {} of {} excited lines informative (smoothed uncertainty <= \
-         {} nepers, {:.1} dB)",
-        f[eligible[s]],
-        f[eligible[e]],
-        k,
-        eligible.len(),
-        o.informative_std_dev,
-        o.informative_std_dev * DB_PER_NEPER
-    ));
+    notes.push(ClassifyNote::BandInformative {
+        low_hz: f[eligible[s]],
+        high_hz: f[eligible[e]],
+        informative_lines: k,
+        excited_lines: eligible.len(),
+        max_std_dev_nepers: o.informative_std_dev,
+        max_std_dev_db: o.informative_std_dev * DB_PER_NEPER,
+    });
     if e + 1 - s > k {
-        notes.push(format!(
-            "{} less certain lines inside the band are kept with their low weight (gaps up to \
-             {} decades, typically at antiresonances)",
-            e + 1 - s - k,
-            o.max_gap_decades
-        ));
+        notes.push(ClassifyNote::LowWeightKept {
+            lines: e + 1 - s - k,
+            max_gap_decades: o.max_gap_decades,
+        });
     }
     if total_good > k {
-        notes.push(format!(
-            "{} informative lines outside the band are not used",
-            total_good - k
-        ));
+        notes.push(ClassifyNote::InformativeOutside {
+            lines: total_good - k,
+        });
     }
     Ok(eligible[s..=e].to_vec())
 }
@@ -947,7 +929,7 @@ impl Data {
         output: Output,
         band: &[usize],
         uncertainty: &[f64],
-        notes: &mut Vec<String>,
+        notes: &mut Vec<ClassifyNote>,
     ) -> Data {
         let mut d = Data {
             orig: Vec::new(),
@@ -982,7 +964,7 @@ impl Data {
             d.phi.push(g.arg());
         }
         if zero > 0 {
-            notes.push(format!("{zero} lines with a zero response are left out"));
+            notes.push(ClassifyNote::ZeroResponse { lines: zero });
         }
         d
     }
@@ -1068,7 +1050,7 @@ impl Data {
 /// value on which the linear extrapolations from its two left and its two
 /// right neighbours agree. A resonance or antiresonance between two lines
 /// is never one: there the two extrapolations disagree in phase.
-fn remove_outliers(d: &mut Data, notes: &mut Vec<String>) {
+fn remove_outliers(d: &mut Data, notes: &mut Vec<ClassifyNote>) {
     let n = d.len();
     if n < 7 {
         return;
@@ -1099,21 +1081,11 @@ fn remove_outliers(d: &mut Data, notes: &mut Vec<String>) {
         return;
     }
     if out * 10 > n {
-        notes.push(format!(
-            "{out} lines scatter like outliers: too many to be outliers, all kept"
-        ));
+        notes.push(ClassifyNote::OutliersKept { lines: out });
         return;
     }
-    let at: Vec<String> = (0..n)
-        .filter(|&i| !keep[i])
-        .take(5)
-        .map(|i| format!("{:.4}", d.f[i]))
-        .collect();
-    notes.push(format!(
-        "{out} outlier lines left out (at {} Hz{})",
-        at.join(", "),
-        if out > 5 { ", ..." } else { "" }
-    ));
+    let at_hz = (0..n).filter(|&i| !keep[i]).map(|i| d.f[i]).collect();
+    notes.push(ClassifyNote::OutliersLeftOut { at_hz });
     d.retain(&keep);
 }
 
@@ -1219,6 +1191,15 @@ struct Eval {
     /// Confidence as a dip of zeros off the positive `Omega` axis.
     nm_confidence: f64,
     edge: bool,
+}
+
+/// The kind of feature `e` is.
+fn feature_of(e: &Eval) -> Feature {
+    if e.dip {
+        Feature::Antiresonance
+    } else {
+        Feature::Resonance
+    }
 }
 
 /// Half the mean spacing in `ln w` around line `i`.
@@ -1642,7 +1623,7 @@ fn phase_check(
 ///    most three times);
 /// 3. phase steps of what the features leave (a feature without an
 ///    extremum of the magnitude), with all features divided out.
-fn find_features(d: &Data, mags: &[Candidate], notes: &mut Vec<String>) -> Vec<Eval> {
+fn find_features(d: &Data, mags: &[Candidate], notes: &mut Vec<ClassifyNote>) -> Vec<Eval> {
     let mut all: Vec<Candidate> = mags.to_vec();
     let mut evals: Vec<Eval> = (0..all.len())
         .map(|k| evaluate_candidate(d, d, mags, &all, k, &[]))
@@ -1668,13 +1649,11 @@ fn find_features(d: &Data, mags: &[Candidate], notes: &mut Vec<String>) -> Vec<E
     }
     let found = accepted(evals, notes);
     for e in found.iter().filter(|e| all[e.id].phase_only) {
-        notes.push(format!(
-            "{} at {:.4} Hz found from its phase {} of {:.0} deg alone (no magnitude extremum)",
-            if e.dip { "antiresonance" } else { "resonance" },
-            e.x0.exp() / (2.0 * PI),
-            if e.dip { "rise" } else { "fall" },
-            e.dphi.to_degrees().abs()
-        ));
+        notes.push(ClassifyNote::PhaseOnly {
+            feature: feature_of(e),
+            freq_hz: e.x0.exp() / (2.0 * PI),
+            phase_change_deg: e.dphi.to_degrees(),
+        });
     }
     found
 }
@@ -1768,7 +1747,7 @@ fn deflate(
 /// Features of the magnitude kind with at least the report confidence;
 /// of two of the same kind within half their half-power bandwidths (a
 /// peak split by noise) the weaker goes.
-fn accepted(evals: Vec<Eval>, notes: &mut Vec<String>) -> Vec<Eval> {
+fn accepted(evals: Vec<Eval>, notes: &mut Vec<ClassifyNote>) -> Vec<Eval> {
     let mut found: Vec<Eval> = evals
         .into_iter()
         .filter(|e| e.confidence >= REPORT_CONFIDENCE && e.confidence >= e.nm_confidence)
@@ -1780,12 +1759,11 @@ fn accepted(evals: Vec<Eval>, notes: &mut Vec<String>) -> Vec<Eval> {
             let width = (0.5 * (last.zeta.unwrap_or(0.01) + e.zeta.unwrap_or(0.01)))
                 .max(1.5 * last.dx.max(e.dx));
             if last.dip == e.dip && (e.x0 - last.x0).abs() < width {
-                notes.push(format!(
-                    "two {}s at {:.4} and {:.4} Hz merged (closer than their widths)",
-                    if e.dip { "antiresonance" } else { "resonance" },
-                    last.x0.exp() / (2.0 * PI),
-                    e.x0.exp() / (2.0 * PI)
-                ));
+                notes.push(ClassifyNote::Merged {
+                    feature: feature_of(&e),
+                    first_hz: last.x0.exp() / (2.0 * PI),
+                    second_hz: e.x0.exp() / (2.0 * PI),
+                });
                 if e.confidence > last.confidence {
                     *last = e;
                 }
@@ -1868,21 +1846,19 @@ fn phase_steps(r: &Data, found: &[Eval]) -> Vec<Candidate> {
 }
 
 /// Caps adjacent dip-peak pairs closer than `separation` (relative).
-fn mark_near_cancellations(found: &mut [Eval], separation: f64, notes: &mut Vec<String>) {
+fn mark_near_cancellations(found: &mut [Eval], separation: f64, notes: &mut Vec<ClassifyNote>) {
     let limit = (1.0 + separation).ln();
     for k in 1..found.len() {
         let (a, b) = (&found[k - 1], &found[k]);
         if a.dip != b.dip && (b.x0 - a.x0).abs() < limit {
-            notes.push(format!(
-                "near pole-zero cancellation: {} at {:.4} Hz and {} at {:.4} Hz are {:.1} % apart \
-                 (the undamped model may cancel them); confidence capped at {}",
-                if a.dip { "antiresonance" } else { "resonance" },
-                a.x0.exp() / (2.0 * PI),
-                if b.dip { "antiresonance" } else { "resonance" },
-                b.x0.exp() / (2.0 * PI),
-                100.0 * ((b.x0 - a.x0).exp() - 1.0),
-                NEAR_CANCELLATION_CAP
-            ));
+            notes.push(ClassifyNote::NearCancellation {
+                first: feature_of(a),
+                first_hz: a.x0.exp() / (2.0 * PI),
+                second: feature_of(b),
+                second_hz: b.x0.exp() / (2.0 * PI),
+                relative_separation: (b.x0 - a.x0).exp() - 1.0,
+                confidence_cap: NEAR_CANCELLATION_CAP,
+            });
             for j in [k - 1, k] {
                 found[j].confidence = found[j].confidence.min(NEAR_CANCELLATION_CAP);
             }
@@ -2003,7 +1979,11 @@ fn budget(d: &Data, found: &[Eval], dips: &[&Eval]) -> Option<Budget> {
 }
 
 /// Combines the nm dips and the level budget.
-fn nm_evidence(b: Option<&Budget>, dips: &[&Eval], notes: &mut Vec<String>) -> Option<NmEvidence> {
+fn nm_evidence(
+    b: Option<&Budget>,
+    dips: &[&Eval],
+    notes: &mut Vec<ClassifyNote>,
+) -> Option<NmEvidence> {
     let mut c_level = 0.0;
     if let Some(b) = b {
         let excess = b.level;
@@ -2020,34 +2000,21 @@ fn nm_evidence(b: Option<&Budget>, dips: &[&Eval], notes: &mut Vec<String>) -> O
         } else {
             0.0
         };
-        notes.push(format!(
-            "gain-phase budget: the level rises {:+.1} dB and the phase {:+.0} deg more from the \
-             bottom to the top of the band than the features explain",
-            excess * DB_PER_NEPER,
-            b.phase.to_degrees()
-        ));
+        notes.push(ClassifyNote::GainPhaseBudget {
+            level_db: excess * DB_PER_NEPER,
+            phase_deg: b.phase.to_degrees(),
+        });
         if excess > LEVEL_MIN_EXCESS && b.phase > 0.5 * PI {
-            notes.push(
-                "the unexplained level rise comes with a phase rise: an antiresonance may have \
-                 been missed"
-                    .into(),
-            );
+            notes.push(ClassifyNote::LevelRiseWithPhaseRise);
         }
         if excess < -LEVEL_MIN_EXCESS && excess.abs() > 5.0 * b.level_sd {
-            notes.push(
-                "the level falls more than the features explain: a resonance missed or just \
-                 outside the band"
-                    .into(),
-            );
+            notes.push(ClassifyNote::LevelFalls);
         }
         if b.phase < -0.5 * PI {
-            notes.push(
-                "the phase falls more than the features explain: a delay, or a resonance missed"
-                    .into(),
-            );
+            notes.push(ClassifyNote::PhaseFalls);
         }
     } else {
-        notes.push("no gain-phase budget: too few feature-free lines at the band ends".into());
+        notes.push(ClassifyNote::NoBudget);
     }
     let nm_dips: Vec<NmDip> = dips
         .iter()
@@ -2214,7 +2181,12 @@ mod tests {
         let band = select_band(&frf, &u.relative, u.source, &o, &mut notes).unwrap();
         assert_eq!(band.first(), Some(&20));
         assert_eq!(band.last(), Some(&(n - 1)));
-        assert!(notes.iter().any(|s| s.contains("low weight")), "{notes:?}");
+        // The 6 lines of the dip, bridged.
+        let bridged = ClassifyNote::LowWeightKept {
+            lines: 6,
+            max_gap_decades: o.max_gap_decades,
+        };
+        assert!(notes.contains(&bridged), "{notes:?}");
         // With a user's band every excited line in it is used.
         let o = ClassifyOptions {
             band_hz: Some((5.0, 50.0)),

@@ -40,6 +40,7 @@
 use crate::advice::{sensor_advice, Candidate, SensorAdvice};
 use crate::classify::{classify, Classification, ClassifyError, ClassifyOptions};
 use crate::fit::{fit, Fit, FitError, FitOptions, Gain};
+use crate::notes::{CandidateNote, IdentifyNote};
 use crate::start::{feature_starts, roots, FeatureTarget};
 use frf::Frf;
 use mms::analysis::{analyze, Feature, SearchLimits, Status};
@@ -126,8 +127,9 @@ pub struct CandidateFit {
     pub back_solutions: usize,
     /// 1 for the best.
     pub rank: usize,
-    /// Remarks on plausibility (parameter spread, damping).
-    pub notes: Vec<String>,
+    /// Remarks on plausibility (parameter spread, damping) and on the
+    /// start.
+    pub notes: Vec<CandidateNote>,
 }
 
 /// The result of [`identify`].
@@ -153,7 +155,7 @@ pub struct Identification {
     /// counts the other way, and the gain was taken negative.
     pub sensor_reversed: bool,
     /// How the scale was fixed, how candidates were chosen, and the like.
-    pub notes: Vec<String>,
+    pub notes: Vec<IdentifyNote>,
 }
 
 /// The undamped parameter sets of one structure that reproduce the best
@@ -250,10 +252,10 @@ pub fn identify_with_progress(
     let options = &options;
     let mut notes = Vec::new();
     if let Some(read) = binned_from {
-        notes.push(format!(
-            "lines: the {read} lines were averaged into at most {MAX_LINES} log-spaced bins, each \
-             weighted by its lines' uncertainty"
-        ));
+        notes.push(IdentifyNote::Binned {
+            lines: read,
+            max_bins: MAX_LINES,
+        });
     }
     let resonances = classification.frf_type.resonances() as usize;
     let masses = options.masses.unwrap_or(resonances + 1);
@@ -263,9 +265,10 @@ pub fn identify_with_progress(
     let all = mms::rule3_models(masses).map_err(|_| IdentifyError::Masses(masses))?;
     let t = &classification.frf_type;
     let mut candidates: Vec<Model> = if masses <= 3 {
-        notes.push(format!(
-            "candidates: the {masses}-mass structures whose exact FRF-type table lists {t} as possible"
-        ));
+        notes.push(IdentifyNote::CandidatesFromTypeTable {
+            masses,
+            frf_type: t.clone(),
+        });
         all.iter()
             .copied()
             .filter(|m| {
@@ -276,10 +279,10 @@ pub fn identify_with_progress(
             })
             .collect()
     } else {
-        notes.push(format!(
-            "candidates: the {masses}-mass structures whose transfer function has the degrees {t} needs \
-             (the exact type table is not used above 3 masses)"
-        ));
+        notes.push(IdentifyNote::CandidatesFromDegrees {
+            masses,
+            frf_type: t.clone(),
+        });
         all.iter()
             .copied()
             .filter(|m| {
@@ -290,29 +293,19 @@ pub fn identify_with_progress(
             .collect()
     };
     if candidates.is_empty() {
-        notes.push(format!(
-            "no {masses}-mass structure can show {t}: every structure is fitted instead"
-        ));
+        notes.push(IdentifyNote::NoStructureShowsType {
+            masses,
+            frf_type: t.clone(),
+        });
         candidates = all.clone();
     }
     match options.gain {
-        Gain::Known(g) => notes.push(format!(
-            "scale: the actuator/sensor gain is taken as known ({g}); parameters are absolute"
-        )),
-        Gain::Fit(_) => notes.push(
-            "scale: the gain is fitted and m1 held at its start value; only ratios of \
-             parameters are identified"
-                .into(),
-        ),
+        Gain::Known(gain) => notes.push(IdentifyNote::GainKnown { gain }),
+        Gain::Fit(_) => notes.push(IdentifyNote::GainFitted),
     }
 
     if sensor_reversed {
-        notes.push(
-            "polarity: below its features the inertance is negative, where every chain's is \
-             1 / (sum of masses) > 0: the sensor (or actuator) counts the other way, so the \
-             gain is taken negative"
-                .into(),
-        );
+        notes.push(IdentifyNote::SensorReversed);
     }
     let zeta = mean_damping(&classification);
     // The candidates are independent: fitted on every core, collected in
@@ -356,7 +349,10 @@ pub fn identify_with_progress(
         let (fit_result, start, back_solutions, why_not) = match result {
             Ok(r) => r,
             Err(e) => {
-                notes.push(format!("{}: not fitted: {e}", model.name()));
+                notes.push(IdentifyNote::NotFitted {
+                    structure: model.name(),
+                    error: e.to_string(),
+                });
                 continue;
             }
         };
@@ -814,7 +810,7 @@ pub(crate) fn fit_candidate(
     target: Option<&(Vec<f64>, Vec<f64>)>,
     zeta: f64,
     options: &IdentifyOptions,
-) -> Result<(Fit, StartKind, usize, Option<String>), IdentifyError> {
+) -> Result<(Fit, StartKind, usize, Option<CandidateNote>), IdentifyError> {
     // Structures with fewer determinable parameters than parameters
     // (Tab. 5) have valleys of equally good fits; holding the surplus
     // parameters at their start values keeps the fit from creeping along
@@ -836,21 +832,15 @@ pub(crate) fn fit_candidate(
         .take(surplus)
         .collect();
     let mut starts: Vec<Vec<f64>> = Vec::new();
-    let mut why_not: Option<String> = None;
+    let mut why_not: Option<CandidateNote> = None;
     if let Some(solution) = back_solution(model, target) {
         if let BackSolution::NoSolution(reason) = &solution {
-            let n = model.undamped_parameters().len();
-            why_not = Some(format!(
-                "no positive undamped parameter set reproduces the classified features: {reason}{}",
-                if surplus > 0 {
-                    format!(
-                        " ({} of {n} parameters determinable, Tab. 5: the structure has {surplus} degree(s) of freedom fewer than its FRF type has numbers)",
-                        n - surplus
-                    )
-                } else {
-                    String::new()
-                }
-            ));
+            let parameters = model.undamped_parameters().len();
+            why_not = Some(CandidateNote::NoBackSolution {
+                reason: reason.clone(),
+                parameters,
+                determinable: parameters - surplus,
+            });
         }
         starts = undamped_starts(&solution);
         if let Some(f) = solution.families().first() {
@@ -1095,16 +1085,8 @@ fn model_hash(m: &Model) -> u64 {
 }
 
 /// Remarks an engineer would make about a fitted parameter set.
-fn plausibility(model: &Model, f: &Fit) -> Vec<String> {
+fn plausibility(model: &Model, f: &Fit) -> Vec<CandidateNote> {
     let mut notes = Vec::new();
-    // A degenerate fit gives ratios of 1e300: three significant digits.
-    let readable = |x: f64, decimals: usize| {
-        if x.is_finite() && x >= 1e4 {
-            format!("{x:.2e}")
-        } else {
-            format!("{x:.decimals$}")
-        }
-    };
     let n = model.n_masses();
     let v = f.parameters.values();
     let masses = &v[..n];
@@ -1112,7 +1094,7 @@ fn plausibility(model: &Model, f: &Fit) -> Vec<String> {
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(a, b), &m| (a.min(m), b.max(m)));
     if mx / mn > 1e3 {
-        notes.push(format!("masses span a factor {}", readable(mx / mn, 0)));
+        notes.push(CandidateNote::MassSpread { factor: mx / mn });
     }
     let m = mn;
     let names = model.parameters();
@@ -1124,11 +1106,10 @@ fn plausibility(model: &Model, f: &Fit) -> Vec<String> {
         let d = v[n + n_links + k];
         let zeta = d / (2.0 * (c * m).sqrt());
         if zeta > 0.5 {
-            notes.push(format!(
-                "{} is heavily damped (link damping ratio {})",
-                names[n + n_links + k],
-                readable(zeta, 2)
-            ));
+            notes.push(CandidateNote::HeavilyDamped {
+                damper: names[n + n_links + k].clone(),
+                damping_ratio: zeta,
+            });
         }
     }
     notes

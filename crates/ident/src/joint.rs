@@ -45,6 +45,7 @@ use crate::identify::{
     back_solution, fit_candidate, fit_options, groups, mean_damping, measured, score,
     undamped_starts, with_dampers, IdentifyError, IdentifyOptions, Measured, Progress,
 };
+use crate::notes::SensorsNote;
 use frf::Frf;
 use mms::analysis::{analyze, SearchLimits, Status};
 use mms::response::Parameters;
@@ -261,7 +262,7 @@ pub struct SensorsIdentification {
     /// output's sensor (`mms::sensors`; up to 3 masses).
     pub exact: Vec<ExactComparison>,
     /// How the candidates were chosen, what was not fitted, and the like.
-    pub notes: Vec<String>,
+    pub notes: Vec<SensorsNote>,
 }
 
 /// The best candidate against another, decided exactly with the sensors of
@@ -355,16 +356,9 @@ pub fn identify_sensors_with_progress(
     let filtered = tuples.iter().any(joint_ok);
     let first_filtered = tuples.iter().any(|t| t.shows[0]);
     notes.push(if filtered {
-        format!(
-            "candidates: every {masses}-mass chain and actuator (rules (1) and (2) with the first \
-             sensor) with the sensors at the given locations, whose outputs can each show the type \
-             classified there (outputs with fewer resonances than the most are not used to choose)"
-        )
+        SensorsNote::CandidatesShowingTypes { masses }
     } else {
-        format!(
-            "candidates: no {masses}-mass chain shows every output's type with the sensors at \
-             these locations: every such chain is fitted instead"
-        )
+        SensorsNote::NoChainShowsTypes { masses }
     });
     let candidates: Vec<Vec<Model>> = tuples
         .iter()
@@ -457,7 +451,7 @@ pub fn identify_sensors_with_progress(
             }
         }
         let Some(best) = best else {
-            notes.push(format!("{id}: not fitted"));
+            notes.push(SensorsNote::NotFitted { candidate: id });
             continue;
         };
         let first = single

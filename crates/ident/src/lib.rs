@@ -17,6 +17,7 @@ pub mod identify;
 pub mod idim;
 pub mod joint;
 pub mod nonlinear;
+pub mod notes;
 pub mod operating;
 mod selection;
 pub mod stability;

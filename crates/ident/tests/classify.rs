@@ -7,6 +7,7 @@
 //! generating factors within 2 % (`FREQ_TOL`).
 
 use frf::{Complex64, Frf};
+use ident::notes::ClassifyNote;
 use ident::{classify, Classification, ClassifyError, ClassifyOptions};
 use mms::analysis::Feature;
 use mms::xorshift::XorShift;
@@ -381,12 +382,17 @@ fn phase_step_without_magnitude_change_is_found_from_the_phase_alone() {
         summary(&c)
     );
     assert!(
-        c.notes.iter().any(|n| n.contains("alone")),
+        c.notes.contains(&ClassifyNote::PhaseOnly {
+            feature: Feature::Antiresonance,
+            freq_hz: a.freq_hz,
+            phase_change_deg: a.phase_change_deg,
+        }),
         "{}",
         summary(&c)
     );
+    assert!((a.phase_change_deg - 180.0).abs() < 30.0, "{}", summary(&c));
     assert!(
-        c.notes.iter().any(|n| n.contains("level falls")),
+        c.notes.contains(&ClassifyNote::LevelFalls),
         "{}",
         summary(&c)
     );
@@ -454,10 +460,20 @@ fn near_pole_zero_cancellation_is_reported_with_low_confidence() {
         let hit = hit.unwrap_or_else(|| panic!("{kind:?} at {f} Hz missing: {}", summary(&c)));
         assert!(!hit.in_type && hit.confidence <= 0.4, "{}", summary(&c));
     }
-    assert!(c
-        .notes
-        .iter()
-        .any(|n| n.contains("near pole-zero cancellation")));
+    let pair = c.notes.iter().find_map(|n| match n {
+        ClassifyNote::NearCancellation {
+            first: Feature::Antiresonance,
+            first_hz,
+            second: Feature::Resonance,
+            second_hz,
+            relative_separation,
+            confidence_cap,
+        } => Some((*first_hz, *second_hz, *relative_separation, *confidence_cap)),
+        _ => None,
+    });
+    let (zero, pole, apart, cap) = pair.unwrap_or_else(|| panic!("{}", summary(&c)));
+    assert!((zero / 150.0 - 1.0).abs() < 0.005 && (pole / 153.0 - 1.0).abs() < 0.005);
+    assert!((apart - (pole / zero - 1.0)).abs() < 1e-9 && cap == 0.4);
     // the decision to leave the pair out is itself uncertain
     assert!(c.confidence <= 0.6 + 1e-12, "{}", summary(&c));
 }
@@ -491,7 +507,14 @@ fn feature_at_the_band_edge_has_lower_confidence() {
         "{}",
         summary(&c)
     );
-    assert!(c.notes.iter().any(|n| n.contains("band edge")));
+    assert!(
+        c.notes.contains(&ClassifyNote::AtBandEdge {
+            feature: last.kind,
+            freq_hz: last.freq_hz,
+        }),
+        "{}",
+        summary(&c)
+    );
     assert!(c.band_hz.1 <= 215.0);
 }
 
@@ -540,7 +563,11 @@ fn coherence_sets_the_band_and_bridges_antiresonance_gaps() {
         assert!((c.band_hz.0 / 8.0 - 1.0).abs() < 0.01, "{:?}", c.band_hz);
         assert!((c.band_hz.1 / 600.0 - 1.0).abs() < 0.01, "{:?}", c.band_hz);
         assert!(
-            c.notes.iter().any(|n| n.contains("low weight")),
+            c.notes.iter().any(|n| matches!(
+                n,
+                ClassifyNote::LowWeightKept { lines, max_gap_decades }
+                    if *lines > 0 && *max_gap_decades == options.max_gap_decades
+            )),
             "{:?}",
             c.notes
         );
@@ -606,7 +633,15 @@ fn h1_measurement_with_coherence_and_averages() {
             if ty == "A^2RR" {
                 assert!(c.band_hz.0 > 50.0, "{}", summary(&c));
                 assert!(c.confidence <= 0.5, "{}", summary(&c));
-                assert!(c.notes.iter().any(|n| n.contains("just below the band")));
+                assert!(
+                    c.notes.iter().any(|n| matches!(
+                        n,
+                        ClassifyNote::UnflatBottom { slope, output: o, confidence_cap }
+                            if slope.abs() > 1.0 && *o == output && *confidence_cap == 0.5
+                    )),
+                    "{}",
+                    summary(&c)
+                );
                 continue;
             }
             if let Some(m) = mismatch(&c, ty, &synth.expected()) {
@@ -767,7 +802,12 @@ fn outlier_lines_are_left_out() {
         panic!("{m}");
     }
     assert_eq!(c.lines_ignored, bad.len(), "{}", summary(&c));
-    assert!(c.notes.iter().any(|n| n.contains("outlier")));
+    let at_hz: Vec<f64> = bad.iter().map(|&i| frf.freq_hz()[i]).collect();
+    assert!(
+        c.notes.contains(&ClassifyNote::OutliersLeftOut { at_hz }),
+        "{}",
+        summary(&c)
+    );
 }
 
 /// A receptance read as an inertance keeps a slope of -2 at the bottom of
@@ -784,7 +824,11 @@ fn wrong_output_kind_is_noted() {
     let frf = measure(|f| synth.inertance(f), Output::Position, grid, 0.0, 91);
     let c = classify(&frf, Output::Acceleration, &ClassifyOptions::default()).unwrap();
     assert!(
-        c.notes.iter().any(|n| n.contains("wrong output kind")),
+        c.notes.iter().any(|n| matches!(
+            n,
+            ClassifyNote::UnflatBottom { slope, output: Output::Acceleration, .. }
+                if (slope + 2.0).abs() < 0.5
+        )),
         "{}",
         summary(&c)
     );

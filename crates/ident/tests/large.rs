@@ -2,6 +2,7 @@
 
 use frf::{Complex64, Frf};
 use ident::identify::{identify, IdentifyOptions, MAX_LINES};
+use ident::notes::IdentifyNote;
 use mms::response::ChainResponse;
 use mms::xorshift::XorShift;
 use mms::{Model, Output, Port};
@@ -35,7 +36,10 @@ fn a_million_lines_are_identified_on_their_bins() {
     eprintln!("{:.2} s", start.elapsed().as_secs_f64());
     assert_eq!(id.classification.frf_type.to_string(), "AR");
     assert!(
-        id.notes.iter().any(|n| n.contains(&MAX_LINES.to_string())),
+        id.notes.contains(&IdentifyNote::Binned {
+            lines: n,
+            max_bins: MAX_LINES
+        }),
         "{:?}",
         id.notes
     );
