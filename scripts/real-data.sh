@@ -70,4 +70,9 @@ run tue2018-both-diagnose diagnose "$real/tue_motion_2018/scan_10hz_with_feedfor
     --model "$out/tue2018-both/model.toml"
 run tue2025-operating-points identify "$real/tue_motion_2025/motor_side_stationary.mat" "${tue[@]}" \
     --nfft 10000 --band 1:150 --operating-point "$real/tue_motion_2025/motor_side_1rads.mat"
+run tue2025-moving-fine identify "$real/tue_motion_2025/motor_side_1rads.mat" "${tue[@]}" \
+    --nfft 10000 --band 1:150
+run tue2025-operating-points-diagnose diagnose "$real/tue_motion_2025/motor_side_stationary.mat" \
+    "${tue[@]}" --nfft 10000 --band 1:150 --model "$out/tue2025-moving-fine/model.toml" \
+    --operating-point "$real/tue_motion_2025/motor_side_1rads.mat"
 echo "reports in $out"
