@@ -126,16 +126,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     let operating = match args.operating_point {
         None => None,
         Some(path) => {
-            let other = args.recording.read_file(path)?;
-            let other_args = RecordingArgs {
-                recording: Some(path.to_path_buf()),
-                recording_flag: None,
-                ..args.recording.clone()
-            };
-            let looped = match &args.closed_loop {
-                Some(l) => Some(read_loop(&other_args, l, other.samples.as_ref())?),
-                None => None,
-            };
+            let (other, looped) = read_other(args, path)?;
             let record = looped.as_ref().map(|l| l.record());
             let od = diagnose_recording(
                 &other.frf,
@@ -152,16 +143,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     let validation = match args.validate {
         None => None,
         Some(path) => {
-            let other = args.recording.read_file(path)?;
-            let other_args = RecordingArgs {
-                recording: Some(path.to_path_buf()),
-                recording_flag: None,
-                ..args.recording.clone()
-            };
-            let looped = match &args.closed_loop {
-                Some(l) => Some(read_loop(&other_args, l, other.samples.as_ref())?),
-                None => None,
-            };
+            let (other, looped) = read_other(args, path)?;
             let record = looped.as_ref().map(|l| l.record());
             let v = validate(
                 &d,
@@ -1008,6 +990,25 @@ fn inverse_dynamics_section(id: &ident::idim::InverseDynamics) -> String {
 
 /// Reads the loop of `--reference`, `--controller` and `--disturbance`
 /// from the recording.
+/// Another recording of the rig read with this one's flags, and its loop
+/// when the diagnosis runs inside one.
+fn read_other(
+    args: &DiagnoseArgs,
+    path: &Path,
+) -> Result<(frf::Recording, Option<LoopData>), String> {
+    let other = args.recording.read_file(path)?;
+    let other_args = RecordingArgs {
+        recording: Some(path.to_path_buf()),
+        recording_flag: None,
+        ..args.recording.clone()
+    };
+    let looped = match &args.closed_loop {
+        Some(l) => Some(read_loop(&other_args, l, other.samples.as_ref())?),
+        None => None,
+    };
+    Ok((other, looped))
+}
+
 fn read_loop(
     rec: &RecordingArgs,
     l: &LoopArgs,
