@@ -864,3 +864,32 @@ fn sample_rates_outside_the_physical_range_are_refused() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// An input channel that is unrelated to the output and 1e30 times
+/// smaller (a disconnected channel read in volts beside a position in
+/// counts) is refused with one line and exit code 2, never given a type or
+/// a model; the same input scaled to the output's size is refused the
+/// same way, so the verdict does not depend on the units.
+#[test]
+fn an_input_unrelated_to_the_output_is_refused_at_any_scale() {
+    let dir = temp_dir("unrelated-input");
+    let mut rng = mms::xorshift::XorShift::new(11);
+    for scale in [1e-30, 1.0] {
+        let mut text = String::from("t,u,y\n");
+        for k in 0..8192 {
+            let (u, y) = (scale * rng.normal(), rng.normal());
+            text.push_str(&format!("{},{u:e},{y:e}\n", k as f64 / 1000.0));
+        }
+        let path = dir.join(format!("unrelated-{scale:e}.csv"));
+        std::fs::write(&path, text).unwrap();
+        let p = path.to_str().unwrap();
+        let (code, out, err) = mms(&["identify", p]);
+        assert_eq!(code, 2, "{scale}: {out}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(
+            err.contains(p) && err.contains("no informative band"),
+            "{err}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -636,6 +636,19 @@ pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estima
         _ => (u.to_vec(), y.to_vec()),
     };
     let (u, y) = (u.as_slice(), y.as_slice());
+    // One complex transform carries both signals (below); separating them
+    // leaves each with rounding of the order of the other's size, so an
+    // input many decades smaller than the output would come back polluted
+    // by the output and look coherent with it. A power of two brings the
+    // input near the output's level (exactly, and undone exactly after);
+    // within 2^20 it is not needed, and the arithmetic stays as it was.
+    let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt();
+    let ratio = rms(y) / rms(u);
+    let scale = if ratio.is_finite() && ratio > 0.0 && ratio.log2().abs() > 20.0 {
+        2f64.powi(ratio.log2().round() as i32)
+    } else {
+        1.0
+    };
     let lines = nfft / 2;
     let plan = FftPlan::new(nfft);
     let w = window.weights(nfft);
@@ -656,14 +669,14 @@ pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estima
         // Both real signals in one complex transform: z = u + i y gives
         // U_k = (Z_k + conj Z_{N-k}) / 2 and Y_k = (Z_k - conj Z_{N-k}) / 2i.
         for i in 0..nfft {
-            z[i] = Complex64::new(us[i] * w[i], ys[i] * w[i]);
+            z[i] = Complex64::new(scale * us[i] * w[i], ys[i] * w[i]);
         }
         plan.forward(&mut z);
         let mut this_period = Vec::with_capacity(if periodic { lines } else { 0 });
         for k in 1..=lines {
             let zk = z[k];
             let zm = z[nfft - k].conj();
-            let uk = (zk + zm) * 0.5;
+            let uk = (zk + zm) * 0.5 / scale;
             let yk = (zk - zm) * Complex64::new(0.0, -0.5);
             s_uu[k - 1] += uk.norm_sqr();
             s_yy[k - 1] += yk.norm_sqr();
@@ -931,6 +944,60 @@ mod tests {
             mean < 4.0 * sum_var.sqrt() / lines,
             "mean relative deviation {mean}"
         );
+    }
+
+    /// H1 is linear in each signal: an input 1e-20 (or 1e20) times as
+    /// large gives an FRF 1e20 (1e-20) times as large and the same
+    /// coherence, and an input unrelated to the output stays incoherent
+    /// however small it is. (Two signals in one complex transform leave
+    /// each with rounding of the other's size: unscaled, an input 1e20
+    /// times smaller than the output read a coherence near 0.6.)
+    #[test]
+    fn h1_does_not_depend_on_the_scale_of_the_input() {
+        let sys = Biquad::resonant();
+        let mut rng = Xorshift(0x5eed);
+        let u = rng.white(1 << 14);
+        let y: Vec<f64> = sys
+            .filter(&u)
+            .iter()
+            .map(|v| v + 0.1 * rng.next())
+            .collect();
+        let unrelated = rng.white(1 << 14);
+        let opts = WelchOptions {
+            nfft: Some(256),
+            ..Default::default()
+        };
+        let reference = h1(&u, &y, 1.0, &opts).unwrap();
+        let alone = h1(&u, &unrelated, 1.0, &opts).unwrap();
+        let mean = |e: &H1Estimate| {
+            let c = e.frf.coherence().unwrap();
+            c.iter().sum::<f64>() / c.len() as f64
+        };
+        for factor in [1e-20, 1e20] {
+            let scaled: Vec<f64> = u.iter().map(|v| v * factor).collect();
+            let est = h1(&scaled, &y, 1.0, &opts).unwrap();
+            for k in 0..est.frf.len() {
+                let want = reference.frf.response()[k] / factor;
+                let got = est.frf.response()[k];
+                assert!((got / want - 1.0).norm() < 1e-12, "{factor}: line {k}");
+                let (a, b) = (
+                    est.frf.coherence().unwrap()[k],
+                    reference.frf.coherence().unwrap()[k],
+                );
+                assert!((a - b).abs() < 1e-12, "{factor}: line {k}");
+            }
+            let unrelated_est = h1(&scaled, &unrelated, 1.0, &opts).unwrap();
+            // About 1 / averages for unrelated signals, at any scale.
+            assert!(
+                (mean(&unrelated_est) - mean(&alone)).abs() < 1e-9,
+                "{factor}"
+            );
+            assert!(
+                mean(&unrelated_est) < 0.1,
+                "{factor}: {}",
+                mean(&unrelated_est)
+            );
+        }
     }
 
     #[test]
