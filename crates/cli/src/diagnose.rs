@@ -92,6 +92,13 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     if args.recording.y.len() > 1 || args.recording.y.iter().any(|y| y.contains('@')) {
         return crate::sensors::diagnose(args);
     }
+    if args.validate.is_some() && args.operating_point.is_some() {
+        return Err(format!(
+            "{}: give --validate or --operating-point, not both (both diagnose the other \
+             recording with this model)",
+            args.recording.path()?.display()
+        ));
+    }
     let rec = args.recording.read()?;
     let levels = amplitude(args, &rec)?;
     let Some(model_source) = args.model else {
@@ -117,12 +124,6 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         &options,
     )
     .map_err(|e| format!("{name}: {e}"))?;
-    if args.validate.is_some() && args.operating_point.is_some() {
-        return Err(format!(
-            "{name}: give --validate or --operating-point, not both (both diagnose the other \
-             recording with this model)"
-        ));
-    }
     let operating = match args.operating_point {
         None => None,
         Some(path) => {
