@@ -87,7 +87,7 @@ pub struct DiagnosisOptions {
     /// hypotheses' own wider bounds).
     pub tolerance: f64,
     /// The lines to compare, Hz; `None`: the band the classification finds
-    /// informative ([`crate::classify`]).
+    /// informative ([`crate::classify()`]).
     pub band_hz: Option<(f64, f64)>,
     /// How an effect earns its parameters in the frequency domain: on
     /// held-out lines (the default, as the time domain does on held-out

@@ -2,7 +2,7 @@
 //! and moving, two speeds, two excitation levels), compared feature by
 //! feature.
 //!
-//! Each recording is classified on its own ([`crate::classify`]); the
+//! Each recording is classified on its own ([`crate::classify()`]); the
 //! features in the type are then paired by kind and frequency:
 //!
 //! - Two features of one kind pair when their frequencies differ by less

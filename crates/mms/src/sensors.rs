@@ -432,7 +432,7 @@ impl fmt::Display for SensorInvariant {
 
 /// Joint identifiability of a sensor set: the moment invariants of every
 /// sensor (see the [module documentation](self)) and the generic rank of
-/// their Jacobian, established like [`crate::identifiability`]'s.
+/// their Jacobian, established like [`crate::identifiability()`]'s.
 ///
 /// ```
 /// use mms::{sensors::{sensor_set_identifiability, SensorSet}, Model, Port};
