@@ -893,3 +893,69 @@ fn an_input_unrelated_to_the_output_is_refused_at_any_scale() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--out` writes only regular files, and a report directory as one set:
+/// a FIFO or a link out of the folder in place of an output file is
+/// refused with one line and exit code 2 and replaced by nothing; when one
+/// file of a report directory cannot be written, the files already there
+/// stay as they were (no mix of old and new), and no staging directory is
+/// left behind.
+#[cfg(unix)]
+#[test]
+fn out_writes_only_regular_files_and_whole_sets() {
+    let dir = temp_dir("safe-out");
+    let (csv, _) = recording(&dir, "A1", 0.0, 3);
+    let csv = csv.to_str().unwrap();
+    let fifo = dir.join("fifo.csv");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        eprintln!("skipped: mkfifo is not available");
+        return;
+    }
+    let (code, _, err) = mms(&["frf", csv, "--out", fifo.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("not a regular file"), "{err}");
+    let meta = std::fs::symlink_metadata(&fifo).unwrap();
+    assert!(!meta.is_file(), "the FIFO was replaced by a file");
+    let link = dir.join("link.csv");
+    std::os::unix::fs::symlink("/etc/hostname", &link).unwrap();
+    let (code, _, err) = mms(&["frf", csv, "--out", link.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(std::fs::symlink_metadata(&link).unwrap().is_symlink());
+    // A report directory whose report.md is a FIFO: nothing is replaced.
+    let out = dir.join("report");
+    std::fs::create_dir(&out).unwrap();
+    std::fs::write(out.join("bode.svg"), "old").unwrap();
+    let status = std::process::Command::new("mkfifo")
+        .arg(out.join("report.md"))
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let (code, _, err) = mms(&["identify", csv, "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert_eq!(
+        std::fs::read_to_string(out.join("bode.svg")).unwrap(),
+        "old"
+    );
+    assert!(!out.join("model.toml").exists());
+    let left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+    // Without the FIFO the set is written whole.
+    std::fs::remove_file(out.join("report.md")).unwrap();
+    let (code, _, err) = mms(&["identify", csv, "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    for f in ["bode.svg", "bode.png", "model.toml", "report.md"] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    assert_ne!(
+        std::fs::read_to_string(out.join("bode.svg")).unwrap(),
+        "old"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

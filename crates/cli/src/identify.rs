@@ -3,7 +3,7 @@
 //! a model file when `--out DIR` is given.
 
 use crate::notes::{candidate_note, classify_note, identify_note};
-use crate::output::write_atomic_bytes;
+use crate::output::write_dir_atomic;
 use crate::recording::RecordingArgs;
 use frf::Frf;
 use ident::classify::feature_name;
@@ -443,20 +443,21 @@ pub fn write_report_plots(
     extra: &[(&str, String)],
     report: &str,
 ) -> Result<(), String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
     let ext = match format {
         IdentifyFormat::Md => "md",
         IdentifyFormat::Html => "html",
         IdentifyFormat::Json => "json",
     };
+    let mut files: Vec<(String, Vec<u8>)> = Vec::new();
     for (name, plot) in plots {
-        write_atomic_bytes(&dir.join(format!("{name}.svg")), plot.to_svg().as_bytes())?;
-        write_atomic_bytes(&dir.join(format!("{name}.png")), &plot.to_png())?;
+        files.push((format!("{name}.svg"), plot.to_svg().into_bytes()));
+        files.push((format!("{name}.png"), plot.to_png()));
     }
     for (name, text) in extra {
-        write_atomic_bytes(&dir.join(name), text.as_bytes())?;
+        files.push((name.to_string(), text.clone().into_bytes()));
     }
-    write_atomic_bytes(&dir.join(format!("report.{ext}")), report.as_bytes())
+    files.push((format!("report.{ext}"), report.as_bytes().to_vec()));
+    write_dir_atomic(dir, &files)
 }
 
 /// The JSON of the schema.
