@@ -959,3 +959,25 @@ fn out_writes_only_regular_files_and_whole_sets() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A model file whose values overflow (masses and a spring of 1e308: the
+/// chain is singular at every line) is that file's fault: the one-line
+/// error (exit code 2) names the model file, not the recording.
+#[test]
+fn diagnose_blames_a_model_that_cannot_be_evaluated() {
+    let dir = temp_dir("blame-model");
+    let (csv, _) = recording(&dir, "A1", 0.0, 5);
+    let model = dir.join("huge.toml");
+    std::fs::write(
+        &model,
+        "masses = 2\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\noutput = \"position\"\n\
+         [parameters]\nm1 = 1e308\nm2 = 1e308\nc12 = 1e308\nd12 = 0.1\n",
+    )
+    .unwrap();
+    let (m, c) = (model.to_str().unwrap(), csv.to_str().unwrap());
+    let (code, _, err) = mms(&["diagnose", c, "--model", m]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains(m) && !err.contains(c), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -109,6 +109,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     };
     let amplitude = levels.map(|(_, a)| a);
     let (model, _, source) = load_model(args, model_source)?;
+    model_on_lines(&model, model_source, &rec.frf)?;
     let options = options(args)?;
     let name = args.recording.path()?.display().to_string();
     let looped = match &args.closed_loop {
@@ -206,6 +207,37 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         }
     };
     finish(args, &plot, &d.model_after, report)
+}
+
+/// A model file whose FRF cannot be evaluated on the recording's lines
+/// (a singular chain, values so large or small that they overflow) is the
+/// model file's fault: the error names it, not the recording.
+pub fn model_on_lines(
+    model: &ModelFile,
+    source: &ModelSource,
+    frf: &frf::Frf,
+) -> Result<(), String> {
+    let ModelSource::File(path) = source else {
+        return Ok(());
+    };
+    let g = mms::response::ChainResponse::with_effects(
+        &model.model,
+        model.output,
+        &model.effects.linear(),
+    );
+    let bad = |what: String| {
+        Err(format!(
+            "{}: the model cannot be evaluated at the recording's lines: {what}",
+            path.display()
+        ))
+    };
+    match g.eval_many(model.parameters.values(), frf.freq_hz()) {
+        Err(e) => bad(e.to_string()),
+        Ok(h) => match h.iter().zip(frf.freq_hz()).find(|(h, _)| !h.is_finite()) {
+            Some((_, f)) => bad(format!("its FRF is not finite at {f} Hz")),
+            None => Ok(()),
+        },
+    }
 }
 
 /// The model of `--model` or `--simulation`, the sensors its file lists

@@ -367,6 +367,9 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     let (model, sensors, source_text) = load_model(args, source)?;
     let options = diagnose_options(args)?;
     let outputs = args.recording.read_outputs(&sensors)?;
+    if let Some(first) = outputs.first() {
+        crate::diagnose::model_on_lines(&model, source, &first.recording.frf)?;
+    }
     let chain = model.model;
     let n = chain.n_masses();
     let mut runs: Vec<(&SensorRecording, Port, RecordingDiagnosis)> = Vec::new();
