@@ -940,12 +940,14 @@ fn out_writes_only_regular_files_and_whole_sets() {
         "old"
     );
     assert!(!out.join("model.toml").exists());
-    let left: Vec<String> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.contains(".tmp"))
-        .collect();
-    assert!(left.is_empty(), "{left:?}");
+    let staged = |d: &Path| -> Vec<String> {
+        std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.contains(".tmp"))
+            .collect()
+    };
+    assert!(staged(&dir).is_empty() && staged(&out).is_empty());
     // Without the FIFO the set is written whole.
     std::fs::remove_file(out.join("report.md")).unwrap();
     let (code, _, err) = mms(&["identify", csv, "--out", out.to_str().unwrap()]);
@@ -957,6 +959,15 @@ fn out_writes_only_regular_files_and_whole_sets() {
         std::fs::read_to_string(out.join("bode.svg")).unwrap(),
         "old"
     );
+    assert!(staged(&out).is_empty());
+    // A link to a directory is followed.
+    let linked = dir.join("linked");
+    std::fs::create_dir(&linked).unwrap();
+    let via = dir.join("via");
+    std::os::unix::fs::symlink(&linked, &via).unwrap();
+    let (code, _, err) = mms(&["identify", csv, "--out", via.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(linked.join("report.md").is_file() && staged(&linked).is_empty());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -73,18 +73,22 @@ fn regular_target(path: &Path, dir: &Path) -> Result<(), String> {
 }
 
 /// Writes `files` (name, contents) into the directory `dir` as one set: all
-/// into a new directory beside it, which then replaces nothing but those
-/// names in `dir` (or becomes `dir` if there was none). A failure while
+/// into a staging directory first (inside `dir` if it exists, so that the
+/// moves stay on its file system; else beside it, and it becomes `dir`),
+/// then moved in, replacing nothing but those names. A failure while
 /// writing leaves `dir` as it was, never a mix of old and new files.
 pub fn write_dir_atomic(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), String> {
-    if let Ok(meta) = std::fs::symlink_metadata(dir) {
-        if !meta.is_dir() {
+    // A link to a directory is followed: the directory is the target.
+    let exists = match std::fs::metadata(dir) {
+        Ok(meta) if meta.is_dir() => true,
+        Ok(_) => {
             return Err(format!(
                 "{}: exists and is not a directory; give a directory path for --out",
                 dir.display()
-            ));
+            ))
         }
-    }
+        Err(_) => false,
+    };
     let name = dir
         .file_name()
         .ok_or_else(|| format!("{}: not a directory path", dir.display()))?;
@@ -92,13 +96,16 @@ pub fn write_dir_atomic(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), S
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or_else(|| Path::new("."));
-    std::fs::create_dir_all(parent)
-        .map_err(|e| format!("{}: cannot create: {e}", parent.display()))?;
-    let staging = parent.join(format!(
-        ".{}.tmp{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
+    if !exists {
+        std::fs::create_dir_all(parent)
+            .map_err(|e| format!("{}: cannot create: {e}", parent.display()))?;
+    }
+    let staging_name = format!(".{}.tmp{}", name.to_string_lossy(), std::process::id());
+    let staging = if exists {
+        dir.join(staging_name)
+    } else {
+        parent.join(staging_name)
+    };
     let _ = std::fs::remove_dir_all(&staging);
     let written = (|| -> Result<(), String> {
         std::fs::create_dir(&staging)
@@ -119,7 +126,7 @@ pub fn write_dir_atomic(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), S
         let _ = std::fs::remove_dir_all(&staging);
         return Err(e);
     }
-    if !dir.exists() {
+    if !exists {
         return std::fs::rename(&staging, dir).map_err(|e| {
             let _ = std::fs::remove_dir_all(&staging);
             format!("{}: cannot create: {e}", dir.display())
