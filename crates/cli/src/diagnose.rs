@@ -162,20 +162,17 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     let plot = bode(&d);
     let report = match args.format {
         IdentifyFormat::Json => {
-            let mut s = json(&d, amplitude.as_ref(), validation.as_ref().map(|v| &v.1))?;
+            let err = |e: serde_json::Error| format!("JSON: {e}");
+            let mut v = json(&d, amplitude.as_ref(), validation.as_ref().map(|v| &v.1))?;
             if let Some((other, c, od)) = &operating {
-                let err = |e: serde_json::Error| format!("JSON: {e}");
-                let mut v: serde_json::Value = serde_json::from_str(&s).map_err(err)?;
-                let other_json: serde_json::Value =
-                    serde_json::from_str(&json(od, None, None)?).map_err(err)?;
                 v["operating_point"] = serde_json::json!({
                     "recording": other,
                     "comparison": serde_json::to_value(c).map_err(err)?,
-                    "diagnosis": other_json,
+                    "diagnosis": json(od, None, None)?,
                 });
-                s = serde_json::to_string_pretty(&v).map_err(err)?;
-                s.push('\n');
             }
+            let mut s = serde_json::to_string_pretty(&v).map_err(err)?;
+            s.push('\n');
             s
         }
         IdentifyFormat::Md | IdentifyFormat::Html => {
@@ -296,12 +293,13 @@ pub fn options(args: &DiagnoseArgs) -> Result<DiagnosisOptions, String> {
 }
 
 /// The JSON report: the verdict, the deciding domain's effects, fit and
-/// model at the top, each domain's diagnosis inside.
+/// model at the top, each domain's diagnosis inside (a value, so that a
+/// report can hold one diagnosis inside another).
 pub fn json(
     d: &RecordingDiagnosis,
     amplitude: Option<&AmplitudeDependence>,
     validation: Option<&Validation>,
-) -> Result<String, String> {
+) -> Result<serde_json::Value, String> {
     let err = |e: serde_json::Error| format!("JSON: {e}");
     let mut v = serde_json::to_value(d).map_err(err)?;
     // Kinds split viscous from Coulomb friction from version 2 on; the
@@ -323,9 +321,7 @@ pub fn json(
     if let Some(val) = validation {
         v["validation"] = serde_json::to_value(val).map_err(err)?;
     }
-    let mut s = serde_json::to_string_pretty(&v).map_err(err)?;
-    s.push('\n');
-    Ok(s)
+    Ok(v)
 }
 
 /// The version of the JSON report of `mms diagnose`.

@@ -439,8 +439,7 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         IdentifyFormat::Json => {
             let mut each = Vec::new();
             for (o, port, d) in &runs {
-                let v: Value = serde_json::from_str(&diagnosis_json(d, None, None)?)
-                    .map_err(|e| format!("JSON: {e}"))?;
+                let v: Value = diagnosis_json(d, None, None)?;
                 each.push(json!({
                     "name": o.signal,
                     "location": o.location,
