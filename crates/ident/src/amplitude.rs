@@ -231,6 +231,11 @@ impl Level {
     }
 }
 
+/// Standard deviations of a difference beyond which a mode's frequency or
+/// damping has changed (the default of [`AmplitudeOptions::z_threshold`],
+/// and the threshold of [`crate::operating`]).
+pub const Z_THRESHOLD: f64 = 3.0;
+
 /// Options of [`amplitude_dependence`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct AmplitudeOptions {
@@ -252,7 +257,7 @@ impl Default for AmplitudeOptions {
         AmplitudeOptions {
             band_hz: None,
             min_coherence: 0.5,
-            z_threshold: 3.0,
+            z_threshold: Z_THRESHOLD,
             min_prominence_db: 3.0,
         }
     }
@@ -842,15 +847,18 @@ fn least_squares(rows: &[[f64; 5]], rhs: &[f64]) -> Option<([f64; 5], [f64; 25])
     Some((x, cov))
 }
 
+/// A difference of two estimates in standard deviations of the
+/// difference, from their standard deviations `sd_a` and `sd_b`.
+pub(crate) fn z_score(difference: f64, sd_a: f64, sd_b: f64) -> f64 {
+    difference / sd_a.hypot(sd_b).max(f64::MIN_POSITIVE)
+}
+
 /// A mode at a higher level against the reference, and what it names.
 fn shift(label: &str, r: &ModeEstimate, e: &ModeEstimate, z: f64) -> Shift {
     let shift_hz = e.f_hz - r.f_hz;
-    let shift_z = shift_hz / e.f_sigma_hz.hypot(r.f_sigma_hz).max(f64::MIN_POSITIVE);
+    let shift_z = z_score(shift_hz, e.f_sigma_hz, r.f_sigma_hz);
     let damping_change = e.damping - r.damping;
-    let damping_z = damping_change
-        / e.damping_sigma
-            .hypot(r.damping_sigma)
-            .max(f64::MIN_POSITIVE);
+    let damping_z = z_score(damping_change, e.damping_sigma, r.damping_sigma);
     let stiffness = if shift_z <= -z {
         StiffnessTrend::Softening
     } else if shift_z >= z {

@@ -68,7 +68,7 @@ use crate::nonlinear::{
     TimeDiagnosis, TimeOptions,
 };
 use crate::operating::{
-    compare_operating_points, Finding, OperatingPointComparison, Recording, PAIRING_RANGE,
+    compare_operating_points, within_pairing_range, Finding, OperatingPointComparison, Recording,
 };
 use crate::stability::Cut;
 use crate::{classify, ClassifyOptions};
@@ -1053,14 +1053,13 @@ pub fn compare_operating_diagnoses(
     second: &RecordingDiagnosis,
     second_frf: &Frf,
 ) -> OperatingPointDiagnosis {
-    let named = |d: &RecordingDiagnosis| -> Vec<EffectVerdict> {
+    fn named(d: &RecordingDiagnosis) -> Vec<&EffectVerdict> {
         d.verdict
             .effects
             .iter()
             .filter(|e| e.kind != EffectKind::None)
-            .cloned()
             .collect()
-    };
+    }
     let (ours, theirs) = (named(first), named(second));
     // One effect at both operating points: the same kind; for an extra
     // mass also the same added resonance (another mode is another effect).
@@ -1071,7 +1070,7 @@ pub fn compare_operating_diagnoses(
                     a.parameters.get("resonance_hz"),
                     b.parameters.get("resonance_hz"),
                 ) {
-                    (Some(x), Some(y)) => (x / y).ln().abs() < PAIRING_RANGE.ln(),
+                    (Some(&x), Some(&y)) => within_pairing_range(x, y),
                     _ => false,
                 })
     };
@@ -1094,10 +1093,10 @@ pub fn compare_operating_diagnoses(
             })
             .collect::<Vec<_>>()
     };
-    for e in &ours {
-        effects.extend(across(e, theirs.iter().find(|t| same(e, t)), true));
+    for &e in &ours {
+        effects.extend(across(e, theirs.iter().copied().find(|t| same(e, t)), true));
     }
-    for t in theirs.iter().filter(|t| !ours.iter().any(|e| same(e, t))) {
+    for &t in theirs.iter().filter(|t| !ours.iter().any(|e| same(e, t))) {
         effects.extend(across(t, None, false));
     }
     let output = first.model_after.output;
@@ -1131,7 +1130,7 @@ pub fn compare_operating_diagnoses(
                         && e.holds_for == holds
                 })
                 .filter_map(|e| e.values.0.or(e.values.1))
-                .find(|r| (r / freq_hz).ln().abs() < PAIRING_RANGE.ln())
+                .find(|&r| within_pairing_range(r, *freq_hz))
         })
     });
     OperatingPointDiagnosis {

@@ -68,7 +68,7 @@
 //! assert!((stiffness.unwrap() / 4.0 - 1.0).abs() < 0.15);
 //! ```
 
-use crate::amplitude::{local_mode, window, ModeEstimate};
+use crate::amplitude::{local_mode, window, z_score, ModeEstimate};
 use crate::classify::ser_feature;
 use crate::{Classification, ClassifiedFeature};
 use frf::uncertainty::line_uncertainty;
@@ -81,9 +81,13 @@ use std::f64::consts::PI;
 /// Largest ratio of the frequencies of two features that can pair.
 pub const PAIRING_RANGE: f64 = 1.25;
 
-/// Standard deviations of a difference beyond which a feature's frequency
-/// or damping has changed (the amplitude comparison's default).
-pub const Z_THRESHOLD: f64 = 3.0;
+pub use crate::amplitude::Z_THRESHOLD;
+
+/// Whether two frequencies lie within [`PAIRING_RANGE`] of each other: one
+/// feature, in two recordings or two readings.
+pub fn within_pairing_range(a_hz: f64, b_hz: f64) -> bool {
+    (a_hz / b_hz).ln().abs() < PAIRING_RANGE.ln()
+}
 
 /// Which of the two recordings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -255,13 +259,12 @@ pub fn compare_operating_points(
             )
         };
         let sds = fits.map(|(x, y)| (sd(&x, a), sd(&y, b)));
-        let z = |d: f64, s1: f64, s2: f64| d / s1.hypot(s2).max(f64::MIN_POSITIVE);
         let shift_z = fits
             .zip(sds)
-            .map(|((x, y), (u, v))| z(y.f_hz - x.f_hz, u.0, v.0));
+            .map(|((x, y), (u, v))| z_score(y.f_hz - x.f_hz, u.0, v.0));
         let damping_z = fits
             .zip(sds)
-            .map(|((x, y), (u, v))| z(y.damping - x.damping, u.1, v.1));
+            .map(|((x, y), (u, v))| z_score(y.damping - x.damping, u.1, v.1));
         let freq_hz = fits.map_or((a.freq_hz, b.freq_hz), |(x, y)| (x.f_hz, y.f_hz));
         let shift = freq_hz.1 / freq_hz.0 - 1.0;
         paired.push(PairedFeature {
@@ -320,7 +323,7 @@ pub fn compare_operating_points(
         let own_antiresonance = lone.iter().any(|m| {
             m.recording == l.recording
                 && m.kind == Feature::Antiresonance
-                && (m.freq_hz / l.freq_hz).ln().abs() < PAIRING_RANGE.ln()
+                && within_pairing_range(m.freq_hz, l.freq_hz)
         });
         if l.kind == Feature::Resonance && below_all && seen_there && !own_antiresonance {
             findings.push(Finding::PreSlidingFriction {
