@@ -458,30 +458,9 @@ impl ModelFile {
     }
 
     /// [`ModelFile::to_toml`] with the sensors of a recording with several
-    /// outputs (see [`ModelFile::parse_with_sensors`]; none: the same
-    /// text).
+    /// outputs after the `sensor` line (see
+    /// [`ModelFile::parse_with_sensors`]; none: the same text).
     pub fn to_toml_with_sensors(&self, sensors: &[Port]) -> String {
-        let text = self.to_toml();
-        if sensors.is_empty() {
-            return text;
-        }
-        let list: Vec<String> = sensors
-            .iter()
-            .map(|p| format!("[{}, {}]", p.plus, p.minus))
-            .collect();
-        let b = self.model.sensor();
-        let line = format!("sensor = [{}, {}]\n", b.plus, b.minus);
-        text.replacen(
-            &line,
-            &format!("{line}sensors = [{}]\n", list.join(", ")),
-            1,
-        )
-    }
-
-    /// The file's text: deterministic (keys in a fixed order, numbers in
-    /// Rust's shortest round-trip form), so it reads back to an equal
-    /// [`ModelFile`] and diffs cleanly.
-    pub fn to_toml(&self) -> String {
         let m = &self.model;
         let mut s = String::new();
         if let Some(id) = m.paper_id() {
@@ -492,6 +471,13 @@ impl ModelFile {
         let _ = writeln!(s, "gap = {}", m.gap());
         let _ = writeln!(s, "actuator = [{}, {}]", a.plus, a.minus);
         let _ = writeln!(s, "sensor = [{}, {}]", b.plus, b.minus);
+        if !sensors.is_empty() {
+            let list: Vec<String> = sensors
+                .iter()
+                .map(|p| format!("[{}, {}]", p.plus, p.minus))
+                .collect();
+            let _ = writeln!(s, "sensors = [{}]", list.join(", "));
+        }
         let _ = writeln!(s, "output = \"{}\"", self.output);
         if self.gain != 1.0 {
             let _ = writeln!(s, "gain = {}", num(self.gain));
@@ -529,6 +515,13 @@ impl ModelFile {
             }
         }
         s
+    }
+
+    /// The file's text: deterministic (keys in a fixed order, numbers in
+    /// Rust's shortest round-trip form), so it reads back to an equal
+    /// [`ModelFile`] and diffs cleanly.
+    pub fn to_toml(&self) -> String {
+        self.to_toml_with_sensors(&[])
     }
 }
 
