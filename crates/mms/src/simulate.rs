@@ -144,14 +144,45 @@ pub struct Simulator {
     h: f64,
 }
 
-/// The state: positions, velocities, and the lagged force. Index 0 of
-/// `x` and `v` is the ground (always 0) and mass `i` is at index `i`, so a
-/// link reads its two nodes without asking which one is the ground.
-#[derive(Clone, Debug)]
-struct State {
-    x: Vec<f64>,
-    v: Vec<f64>,
+/// What the integration shows a caller at each sample: positions,
+/// velocities and, when asked for, accelerations. Index 0 is the ground
+/// (always 0) and mass `i` is at index `i`.
+struct Now<'a> {
+    x: &'a [f64],
+    v: &'a [f64],
+    a: &'a [f64],
+}
+
+/// The state of a chain with `L - 1` masses: positions, velocities, and the
+/// lagged force. Index 0 of `x` and `v` is the ground (always 0) and mass
+/// `i` is at index `i`, so a link reads its two nodes without asking which
+/// one is the ground. The size is a constant so that the per-mass loops of
+/// a step unroll: a step of a small chain is a few dozen operations, and
+/// loop and bounds overhead would otherwise cost more than they.
+#[derive(Clone, Copy, Debug)]
+struct State<const L: usize> {
+    x: [f64; L],
+    v: [f64; L],
     f: f64,
+}
+
+/// A simulator's coefficients laid out for a chain of `L - 1` masses.
+struct Kernel<'s, const L: usize> {
+    sim: &'s Simulator,
+    /// The actuator's input vector, with 0 for the ground.
+    input: [f64; L],
+    /// `1 / m_i`, with 0 for the ground.
+    inv_m: [f64; L],
+    /// The link from node `i` to node `i + 1` (a chain has no other):
+    /// whether it exists, its spring and its damper. Indexed by node, the
+    /// loops over links unroll with fixed places, and no force passes
+    /// through a store and load at a place known only at run time.
+    link: [bool; L],
+    spring: [f64; L],
+    damper: [f64; L],
+    /// The node below the spring with backlash (`L`: none), and half its
+    /// gap.
+    backlash: (usize, f64),
 }
 
 impl Simulator {
@@ -311,82 +342,17 @@ impl Simulator {
         self.substeps
     }
 
-    /// All forces on the masses except Coulomb friction, for force `f` at
-    /// the actuator, into `out` (indexed as the state: `out[0]` takes the
-    /// ground's reactions and is not read).
-    fn forces(&self, s: &State, f: f64, out: &mut [f64]) {
-        let out = &mut out[..=self.n];
-        let (x, v) = (&s.x[..=self.n], &s.v[..=self.n]);
-        out[0] = 0.0;
-        for (o, i) in out[1..].iter_mut().zip(&self.input) {
-            *o = i * f;
-        }
-        out[self.driven + 1] -= self.viscous * v[self.driven + 1] + self.offset;
-        for (k, &(a, b, c, d)) in self.links.iter().enumerate() {
-            let dx = x[b] - x[a];
-            let dv = v[b] - v[a];
-            let force = match self.backlash {
-                Some((kb, half)) if kb == k => {
-                    if dx > half {
-                        c * (dx - half) + d * dv
-                    } else if dx < -half {
-                        c * (dx + half) + d * dv
-                    } else {
-                        0.0
-                    }
-                }
-                _ => c * dx + d * dv,
-            };
-            out[b] -= force;
-            out[a] += force;
-        }
-    }
-
-    /// Friction force on the friction mass given the other forces `other`
-    /// on it and its velocity (Karnopp: at rest it balances up to `F_c`).
-    fn friction(&self, v: f64, other: f64) -> f64 {
-        if self.coulomb == 0.0 {
-            0.0
-        } else if v == 0.0 {
-            -other.clamp(-self.coulomb, self.coulomb)
-        } else {
-            -self.coulomb * v.signum()
-        }
-    }
-
-    /// Accelerations (into `a`, indexed as the state, the ground's 0) and
-    /// the lag's derivative, for held input `u_in` (already scaled).
-    fn deriv(&self, s: &State, u_in: f64, a: &mut [f64], scratch: &mut [f64]) -> f64 {
-        let f = if self.lag > 0.0 { s.f } else { u_in };
-        self.forces(s, f, scratch);
-        let j = self.friction_mass + 1;
-        scratch[j] += self.friction(s.v[j], scratch[j]);
-        a[0] = 0.0;
-        for ((a, f), w) in a[1..=self.n].iter_mut().zip(&scratch[1..]).zip(&self.inv_m) {
-            *a = f * w;
-        }
-        if self.lag > 0.0 {
-            self.lag * (u_in - s.f)
-        } else {
-            0.0
-        }
-    }
-
     /// Simulates the sensor output for the input samples `u` (the same
     /// length), starting at rest.
     pub fn run(&self, u: &[f64]) -> Result<Vec<f64>, SimulateError> {
         let mut y = Vec::with_capacity(u.len());
-        let mut a = vec![0.0; self.n + 1];
-        let mut scratch = vec![0.0; self.n + 1];
         let dot = |w: &[f64], v: &[f64]| w.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
-        self.open_loop(u, |s, f_in| {
+        let accelerations = self.output == Output::Acceleration;
+        self.open_loop(u, accelerations, |s| {
             y.push(match self.output {
                 Output::Position => dot(&self.sensor, &s.x[1..]),
                 Output::Velocity => dot(&self.sensor, &s.v[1..]),
-                Output::Acceleration => {
-                    self.deriv(s, f_in, &mut a, &mut scratch);
-                    dot(&self.sensor, &a[1..])
-                }
+                Output::Acceleration => dot(&self.sensor, &s.a[1..]),
             });
             y.last().is_some_and(|v| v.is_finite())
         })?;
@@ -394,17 +360,19 @@ impl Simulator {
     }
 
     /// Integrates the open-loop response to the input samples `u` from
-    /// rest, handing every sample's state to `record` (which says whether
-    /// it stayed finite); a non-finite input is refused first.
+    /// rest, handing every sample's state (with its accelerations if
+    /// `accelerations`) to `record` (which says whether it stayed finite);
+    /// a non-finite input is refused first.
     fn open_loop(
         &self,
         u: &[f64],
-        record: impl FnMut(&State, f64) -> bool,
+        accelerations: bool,
+        record: impl FnMut(&Now) -> bool,
     ) -> Result<(), SimulateError> {
         if let Some(k) = u.iter().position(|x| !x.is_finite()) {
             return Err(SimulateError::Input(k));
         }
-        self.integrate(u.len(), Start::Rest, |k, _| u[k], record)
+        self.integrate(u.len(), Start::Rest, accelerations, |k, _| u[k], record)
             .map(|_| ())
     }
 
@@ -426,7 +394,7 @@ impl Simulator {
     /// ```
     pub fn positions(&self, u: &[f64]) -> Result<Vec<Vec<f64>>, SimulateError> {
         let mut out = Vec::with_capacity(u.len());
-        self.open_loop(u, |s, _| {
+        self.open_loop(u, false, |s| {
             out.push(s.x[1..].to_vec());
             s.x.iter().all(|x| x.is_finite())
         })?;
@@ -498,54 +466,93 @@ impl Simulator {
         let u = self.integrate(
             n,
             start,
-            |k, s| {
-                let reading = dot(&self.sensor, &s.x[1..]) + cl.initial_position;
+            false,
+            |k, x| {
+                let reading = dot(&self.sensor, &x[1..]) + cl.initial_position;
                 y.push(reading);
                 let d = cl.disturbance.map_or(0.0, |d| d[k]);
                 hist.output(cl.controller, cl.reference[k], reading, d)
             },
-            |s, _| s.x.iter().chain(&s.v).all(|v| v.is_finite()),
+            |s| s.x.iter().chain(s.v).all(|v| v.is_finite()),
         )?;
         Ok(ClosedLoopRun { y, u })
     }
 
     /// Integrates `n` samples from `start`; at each sample time `input(k,
-    /// state)` gives the sample's input `u[k]` (before the gain), then
-    /// `sample(state, held input)` is called and returns false if the state
-    /// is no longer finite. Returns the inputs.
+    /// positions)` gives the sample's input `u[k]` (before the gain), then
+    /// `sample(state)` is called (with the accelerations under the held
+    /// input if `accelerations`) and returns false if the state is no
+    /// longer finite. Returns the inputs.
     fn integrate(
         &self,
         samples: usize,
         start: Start,
-        mut input: impl FnMut(usize, &State) -> f64,
-        mut sample: impl FnMut(&State, f64) -> bool,
+        accelerations: bool,
+        input: impl FnMut(usize, &[f64]) -> f64,
+        sample: impl FnMut(&Now) -> bool,
     ) -> Result<Vec<f64>, SimulateError> {
-        let n = self.n;
+        let a = (samples, start, accelerations);
+        // One instance per chain length, up to MAX_MASSES.
+        match self.n {
+            1 => self.integrate_chain::<2>(a, input, sample),
+            2 => self.integrate_chain::<3>(a, input, sample),
+            3 => self.integrate_chain::<4>(a, input, sample),
+            4 => self.integrate_chain::<5>(a, input, sample),
+            5 => self.integrate_chain::<6>(a, input, sample),
+            6 => self.integrate_chain::<7>(a, input, sample),
+            7 => self.integrate_chain::<8>(a, input, sample),
+            8 => self.integrate_chain::<9>(a, input, sample),
+            n => Err(SimulateError::Place(format!(
+                "{n} masses: a model has at most {}",
+                crate::model::MAX_MASSES
+            ))),
+        }
+    }
+
+    /// [`Simulator::integrate`] for a chain of `L - 1` masses.
+    fn integrate_chain<const L: usize>(
+        &self,
+        (samples, start, accelerations): (usize, Start, bool),
+        mut input: impl FnMut(usize, &[f64]) -> f64,
+        mut sample: impl FnMut(&Now) -> bool,
+    ) -> Result<Vec<f64>, SimulateError> {
+        let mut kernel = Kernel::<L> {
+            sim: self,
+            input: [0.0; L],
+            inv_m: [0.0; L],
+            link: [false; L],
+            spring: [0.0; L],
+            damper: [0.0; L],
+            backlash: (L, 0.0),
+        };
+        kernel.input[1..].copy_from_slice(&self.input);
+        kernel.inv_m[1..].copy_from_slice(&self.inv_m);
+        for (k, &(a, b, c, d)) in self.links.iter().enumerate() {
+            debug_assert_eq!(b, a + 1, "a chain links neighbours");
+            (kernel.link[a], kernel.spring[a], kernel.damper[a]) = (true, c, d);
+            if let Some((kb, half)) = self.backlash.filter(|&(kb, _)| kb == k) {
+                debug_assert_eq!(kb, k);
+                kernel.backlash = (a, half);
+            }
+        }
         let v0 = match start {
             Start::Rest => 0.0,
             Start::Moving(v) => v,
         };
-        let mut v = vec![v0; n + 1];
-        v[0] = 0.0;
-        let mut s = State {
-            x: vec![0.0; n + 1],
-            v,
+        let mut s = State::<L> {
+            x: [0.0; L],
+            v: [v0; L],
             f: 0.0,
         };
+        s.v[0] = 0.0;
         let mut u: Vec<f64> = Vec::with_capacity(samples);
-        let mut tmp = s.clone();
-        let (mut k1, mut k2, mut k3, mut k4) = (
-            vec![0.0; n + 1],
-            vec![0.0; n + 1],
-            vec![0.0; n + 1],
-            vec![0.0; n + 1],
-        );
-        let mut scratch = vec![0.0; n + 1];
-        let (mut v1, mut v2, mut v3) = (vec![0.0; n + 1], vec![0.0; n + 1], vec![0.0; n + 1]);
+        let (mut k1, mut k2, mut k3, mut k4) = ([0.0; L], [0.0; L], [0.0; L], [0.0; L]);
+        let mut a_now = [0.0; L];
         let h = self.h;
         let held = |u: &[f64], step: usize| -> f64 {
             // The sub-step's input: the held sample, `delay_steps` earlier.
             match step.checked_sub(self.delay_steps) {
+                Some(t) if self.substeps == 1 => self.scale * u[t],
                 Some(t) => self.scale * u[t / self.substeps],
                 None => 0.0,
             }
@@ -553,12 +560,20 @@ impl Simulator {
         let j = self.friction_mass + 1;
         for k in 0..samples {
             let step0 = k * self.substeps;
-            let uk = input(k, &s);
+            let uk = input(k, &s.x);
             if !uk.is_finite() {
                 return Err(SimulateError::Diverged(k));
             }
             u.push(uk);
-            if !sample(&s, held(&u, step0)) {
+            if accelerations {
+                kernel.deriv(&s, held(&u, step0), &mut a_now);
+            }
+            let now = Now {
+                x: &s.x,
+                v: &s.v,
+                a: &a_now,
+            };
+            if !sample(&now) {
                 return Err(SimulateError::Diverged(k));
             }
             for sub in 0..self.substeps {
@@ -566,19 +581,15 @@ impl Simulator {
                 let v0 = s.v[j];
                 // RK4 on (x, v, f): k = velocity derivative (acceleration);
                 // position derivative is the stage's velocity.
-                let g1 = self.deriv(&s, f_in, &mut k1, &mut scratch);
-                v1.copy_from_slice(&s.v);
-                stage(&s, &v1, &k1, g1, 0.5 * h, &mut tmp);
-                let g2 = self.deriv(&tmp, f_in, &mut k2, &mut scratch);
-                v2.copy_from_slice(&tmp.v);
-                stage(&s, &v2, &k2, g2, 0.5 * h, &mut tmp);
-                let g3 = self.deriv(&tmp, f_in, &mut k3, &mut scratch);
-                v3.copy_from_slice(&tmp.v);
-                stage(&s, &v3, &k3, g3, h, &mut tmp);
-                let g4 = self.deriv(&tmp, f_in, &mut k4, &mut scratch);
-                let v4 = &tmp.v;
-                for i in 1..=n {
-                    s.x[i] += h / 6.0 * (v1[i] + 2.0 * v2[i] + 2.0 * v3[i] + v4[i]);
+                let g1 = kernel.deriv(&s, f_in, &mut k1);
+                let s2 = stage(&s, &s.v, &k1, g1, 0.5 * h);
+                let g2 = kernel.deriv(&s2, f_in, &mut k2);
+                let s3 = stage(&s, &s2.v, &k2, g2, 0.5 * h);
+                let g3 = kernel.deriv(&s3, f_in, &mut k3);
+                let s4 = stage(&s, &s3.v, &k3, g3, h);
+                let g4 = kernel.deriv(&s4, f_in, &mut k4);
+                for i in 1..L {
+                    s.x[i] += h / 6.0 * (s.v[i] + 2.0 * s2.v[i] + 2.0 * s3.v[i] + s4.v[i]);
                     s.v[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
                 }
                 s.f += h / 6.0 * (g1 + 2.0 * g2 + 2.0 * g3 + g4);
@@ -589,8 +600,9 @@ impl Simulator {
                     let f = if self.lag > 0.0 { s.f } else { f_in };
                     let saved = s.v[j];
                     s.v[j] = 0.0;
-                    self.forces(&s, f, &mut scratch);
-                    if scratch[j].abs() > self.coulomb {
+                    let mut forces = [0.0; L];
+                    kernel.forces(&s, f, &mut forces);
+                    if forces[j].abs() > self.coulomb {
                         s.v[j] = saved;
                     }
                 }
@@ -845,12 +857,88 @@ pub struct ClosedLoopRun {
 }
 
 /// `out = s + dt * (v, a, g)`.
-fn stage(s: &State, v: &[f64], a: &[f64], g: f64, dt: f64, out: &mut State) {
-    for i in 0..s.x.len() {
+#[inline(always)]
+fn stage<const L: usize>(s: &State<L>, v: &[f64; L], a: &[f64; L], g: f64, dt: f64) -> State<L> {
+    let mut out = *s;
+    for i in 0..L {
         out.x[i] = s.x[i] + dt * v[i];
         out.v[i] = s.v[i] + dt * a[i];
     }
     out.f = s.f + dt * g;
+    out
+}
+
+impl<const L: usize> Kernel<'_, L> {
+    /// All forces on the masses except Coulomb friction, for force `f` at
+    /// the actuator, into `out` (indexed as the state: `out[0]` takes the
+    /// ground's reactions and is not read).
+    #[inline(always)]
+    fn forces(&self, s: &State<L>, f: f64, out: &mut [f64; L]) {
+        let sim = self.sim;
+        let (x, v) = (&s.x, &s.v);
+        // The ground's input is 0 (its reactions are not read).
+        for (o, i) in out.iter_mut().zip(&self.input) {
+            *o = i * f;
+        }
+        out[sim.driven + 1] -= sim.viscous * v[sim.driven + 1] + sim.offset;
+        let (backlash, half) = self.backlash;
+        for a in 0..L - 1 {
+            if !self.link[a] {
+                continue;
+            }
+            let (b, c, d) = (a + 1, self.spring[a], self.damper[a]);
+            let dx = x[b] - x[a];
+            let dv = v[b] - v[a];
+            let force = if a == backlash {
+                if dx > half {
+                    c * (dx - half) + d * dv
+                } else if dx < -half {
+                    c * (dx + half) + d * dv
+                } else {
+                    0.0
+                }
+            } else {
+                c * dx + d * dv
+            };
+            out[b] -= force;
+            out[a] += force;
+        }
+    }
+
+    /// Friction force on the friction mass given the other forces `other`
+    /// on it and its velocity (Karnopp: at rest it balances up to `F_c`).
+    #[inline(always)]
+    fn friction(&self, v: f64, other: f64) -> f64 {
+        let coulomb = self.sim.coulomb;
+        if coulomb == 0.0 {
+            0.0
+        } else if v == 0.0 {
+            -other.clamp(-coulomb, coulomb)
+        } else {
+            -coulomb * v.signum()
+        }
+    }
+
+    /// Accelerations (into `a`, indexed as the state, the ground's 0) and
+    /// the lag's derivative, for held input `u_in` (already scaled).
+    #[inline(always)]
+    fn deriv(&self, s: &State<L>, u_in: f64, a: &mut [f64; L]) -> f64 {
+        let lag = self.sim.lag;
+        let f = if lag > 0.0 { s.f } else { u_in };
+        let mut forces = [0.0; L];
+        self.forces(s, f, &mut forces);
+        let j = self.sim.friction_mass + 1;
+        forces[j] += self.friction(s.v[j], forces[j]);
+        a[0] = 0.0;
+        for i in 1..L {
+            a[i] = forces[i] * self.inv_m[i];
+        }
+        if lag > 0.0 {
+            lag * (u_in - s.f)
+        } else {
+            0.0
+        }
+    }
 }
 
 /// Simulates a model file for input samples `u` at rate `fs` with the
