@@ -2,13 +2,15 @@
 //! report (Markdown, HTML or JSON), with Bode plots and the best model as
 //! a model file when `--out DIR` is given.
 
-use crate::notes::{candidate_note, classify_note, identify_note};
+use crate::notes::{
+    candidate_note, classify_note, equivalent_family, identify_note, no_equivalent,
+};
 use crate::output::write_dir_atomic;
 use crate::recording::RecordingArgs;
 use frf::Frf;
 use ident::classify::feature_name;
 use ident::identify::{
-    identify_with_progress, CandidateFit, Identification, IdentifyOptions, Progress,
+    identify_with_progress, CandidateFit, Equivalent, Identification, IdentifyOptions, Progress,
 };
 use ident::operating::{
     compare_operating_points, Finding, OperatingPointComparison, Recording as OperatingRecording,
@@ -421,6 +423,20 @@ fn candidate_json(c: &CandidateFit) -> Value {
     })
 }
 
+/// An equivalent's JSON: `family` and `none` as sentences, their data
+/// beside them.
+fn equivalent_json(e: &Equivalent) -> Value {
+    json!({
+        "id": e.id,
+        "parameters": e.parameters,
+        "sets": e.sets,
+        "family": e.family.as_ref().map(equivalent_family),
+        "none": e.none.as_ref().map(no_equivalent),
+        "family_data": e.family,
+        "none_data": e.none,
+    })
+}
+
 /// Writes a report directory: `bode.svg`, `bode.png`, the `extra` text
 /// files, then `report.{md,html,json}` last (its presence means the rest is
 /// complete); every file atomically.
@@ -485,7 +501,7 @@ fn to_json(id: &Identification, stability: Option<&Stability>) -> Value {
         "candidates": id.candidates.iter().map(candidate_json).collect::<Vec<_>>(),
         "indistinguishable": id.indistinguishable,
         "sensor_advice": id.sensor_advice,
-        "equivalents": id.equivalents,
+        "equivalents": id.equivalents.iter().map(equivalent_json).collect::<Vec<_>>(),
         "sensor_reversed": id.sensor_reversed,
         "stability": stability.map(|s| json!({"stable": s.stable(), "runs": s.runs})),
         "notes": id.notes.iter().map(identify_note).collect::<Vec<_>>(),
@@ -691,7 +707,7 @@ fn markdown(
         );
         for e in &id.equivalents {
             if let Some(why) = &e.none {
-                let _ = writeln!(s, "- **{}**: none: {why}", e.id);
+                let _ = writeln!(s, "- **{}**: none: {}", e.id, no_equivalent(why));
                 continue;
             }
             let sets: Vec<String> = e
@@ -709,7 +725,13 @@ fn markdown(
                 .collect();
             match &e.family {
                 Some(f) => {
-                    let _ = writeln!(s, "- **{}**: {f}; e.g. {}", e.id, sets.join(" | "));
+                    let _ = writeln!(
+                        s,
+                        "- **{}**: {}; e.g. {}",
+                        e.id,
+                        equivalent_family(f),
+                        sets.join(" | ")
+                    );
                 }
                 None => {
                     let _ = writeln!(

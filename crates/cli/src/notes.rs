@@ -2,6 +2,7 @@
 //! Markdown and HTML reports and the JSON's `notes` arrays.
 
 use ident::classify::feature_name;
+use ident::identify::{EquivalentFamily, NoEquivalent};
 use ident::notes::{CandidateNote, ClassifyNote, IdentifyNote, SensorsNote};
 
 /// A classification note in words.
@@ -268,6 +269,34 @@ pub fn sensors_note(n: &SensorsNote) -> String {
 
 /// `x` with `decimals` decimals, or three significant digits from 1e4 on:
 /// a degenerate fit gives ratios of 1e300.
+/// A family of equivalent sets: its dimension, free parameters and their
+/// ranges.
+pub fn equivalent_family(f: &EquivalentFamily) -> String {
+    let free = f.free.join(", ");
+    let ranges: Vec<String> = f
+        .ranges
+        .iter()
+        .map(|r| {
+            let hi = r.hi.map_or("inf".to_string(), |h| format!("{h:.4e}"));
+            format!("{:.4e} < {free} < {hi}", r.lo)
+        })
+        .collect();
+    let ranges = if ranges.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", ranges.join("; "))
+    };
+    format!("a {}-parameter family, free: {free}{ranges}", f.dimension)
+}
+
+/// Why a structure has no equivalent set.
+pub fn no_equivalent(n: &NoEquivalent) -> String {
+    match n {
+        NoEquivalent::NoSolution { reason } => reason.to_string(),
+        NoEquivalent::NotBackSolved { error } => format!("not back-solved: {error}"),
+    }
+}
+
 fn readable(x: f64, decimals: usize) -> String {
     if x.is_finite() && x >= 1e4 {
         format!("{x:.2e}")

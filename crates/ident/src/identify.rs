@@ -44,7 +44,7 @@ use crate::notes::{CandidateNote, IdentifyNote};
 use crate::start::{feature_starts, roots, FeatureTarget};
 use frf::Frf;
 use mms::analysis::{analyze, Feature, SearchLimits, Status};
-use mms::backsolve::{back_solve, BackSolution, Target};
+use mms::backsolve::{back_solve, BackSolution, NoSolution, Target};
 use mms::response::Parameters;
 use mms::xorshift::XorShift;
 use mms::{Model, Output};
@@ -169,11 +169,77 @@ pub struct Equivalent {
     /// Finitely many sets (two for A4 and B1, Tab. 7), in the order of
     /// `parameters`.
     pub sets: Vec<Vec<f64>>,
-    /// A family instead: its description (free parameters and their
-    /// range), with sample members in `sets`.
-    pub family: Option<String>,
+    /// A family instead (its free parameters and their ranges), with
+    /// sample members in `sets`.
+    pub family: Option<EquivalentFamily>,
     /// Why there is none, if there is none.
-    pub none: Option<String>,
+    pub none: Option<NoEquivalent>,
+}
+
+/// A family of equivalent parameter sets of one structure.
+///
+/// ```
+/// use ident::identify::{EquivalentFamily, FreeRange};
+///
+/// let f = EquivalentFamily {
+///     dimension: 1,
+///     free: vec!["m1".into()],
+///     ranges: vec![FreeRange { lo: 0.5, hi: None }],
+/// };
+/// assert_eq!(
+///     serde_json::to_string(&f)?,
+///     r#"{"dimension":1,"free":["m1"],"ranges":[{"lo":0.5,"hi":null}]}"#
+/// );
+/// # Ok::<(), serde_json::Error>(())
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EquivalentFamily {
+    /// How many parameters are free.
+    pub dimension: usize,
+    /// The free parameters.
+    pub free: Vec<String>,
+    /// For one free parameter: the open intervals of it on which every
+    /// parameter is positive (empty for more free parameters).
+    pub ranges: Vec<FreeRange>,
+}
+
+/// An open interval of a free parameter.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FreeRange {
+    /// The lower end.
+    pub lo: f64,
+    /// The upper end; `None`: unbounded.
+    pub hi: Option<f64>,
+}
+
+/// Why a structure has no set equivalent to the best fit.
+///
+/// ```
+/// use ident::identify::NoEquivalent;
+/// use mms::backsolve::NoSolution;
+///
+/// let n = NoEquivalent::NoSolution { reason: NoSolution::Contradiction };
+/// assert_eq!(
+///     serde_json::to_string(&n)?,
+///     r#"{"kind":"no_solution","reason":{"kind":"contradiction"}}"#
+/// );
+/// # Ok::<(), serde_json::Error>(())
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum NoEquivalent {
+    /// No positive parameter set reproduces the best fit's undamped
+    /// transfer function, for this reason (proved by the back-solution).
+    NoSolution {
+        /// The reason (serialised as an object whose `kind` names it).
+        #[serde(serialize_with = "crate::notes::ser_no_solution")]
+        reason: NoSolution,
+    },
+    /// The back-solution could not run: its error.
+    NotBackSolved {
+        /// The error's message.
+        error: String,
+    },
 }
 
 /// Why identification failed.
@@ -453,38 +519,32 @@ fn equivalents(best: &CandidateFit, all: &[CandidateFit]) -> Vec<Equivalent> {
             none: None,
         };
         match back_solve(&c.model, &target) {
-            Ok(BackSolution::NoSolution(reason)) => e.none = Some(reason.to_string()),
+            Ok(BackSolution::NoSolution(reason)) => {
+                e.none = Some(NoEquivalent::NoSolution { reason })
+            }
             Ok(sol) => {
                 e.sets = sol.points().iter().map(|p| p.values.clone()).collect();
                 if let Some(f) = sol.families().first() {
-                    let ranges: Vec<String> = f
-                        .intervals
-                        .iter()
-                        .map(|iv| {
-                            format!(
-                                "{:.4e} < {} < {}",
-                                iv.lo.value,
-                                f.free.join(", "),
-                                iv.hi
-                                    .as_ref()
-                                    .map_or("inf".to_string(), |h| format!("{:.4e}", h.value))
-                            )
-                        })
-                        .collect();
-                    e.family = Some(format!(
-                        "a {}-parameter family, free: {}{}",
-                        f.dimension(),
-                        f.free.join(", "),
-                        if ranges.is_empty() {
-                            String::new()
-                        } else {
-                            format!(" ({})", ranges.join("; "))
-                        }
-                    ));
+                    e.family = Some(EquivalentFamily {
+                        dimension: f.dimension(),
+                        free: f.free.clone(),
+                        ranges: f
+                            .intervals
+                            .iter()
+                            .map(|iv| FreeRange {
+                                lo: iv.lo.value,
+                                hi: iv.hi.as_ref().map(|h| h.value),
+                            })
+                            .collect(),
+                    });
                     e.sets.extend(f.samples.iter().take(3).cloned());
                 }
             }
-            Err(err) => e.none = Some(format!("not back-solved: {err}")),
+            Err(err) => {
+                e.none = Some(NoEquivalent::NotBackSolved {
+                    error: err.to_string(),
+                })
+            }
         }
         out.push(e);
     }

@@ -404,7 +404,7 @@ pub enum SensorsNote {
 
 /// A reason without a positive back-solution as an object tagged by its
 /// `kind`; the relation and its value as their exact text.
-fn ser_no_solution<S: Serializer>(r: &NoSolution, s: S) -> Result<S::Ok, S::Error> {
+pub(crate) fn ser_no_solution<S: Serializer>(r: &NoSolution, s: S) -> Result<S::Ok, S::Error> {
     #[derive(Serialize)]
     #[serde(tag = "kind", rename_all = "snake_case")]
     enum Reason<'a> {

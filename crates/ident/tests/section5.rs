@@ -202,6 +202,27 @@ fn collocated_alternatives_of_tab7() {
             );
         }
     }
+    // A family's members lie inside its free parameter's ranges, where
+    // every parameter is positive; a structure with none has no sets and is
+    // not one the best fit's own TF came from.
+    for e in &id.equivalents {
+        if let Some(f) = &e.family {
+            assert_eq!(f.dimension, f.free.len(), "{e:?}");
+            if f.dimension == 1 && !f.ranges.is_empty() {
+                let k = e.parameters.iter().position(|p| *p == f.free[0]).unwrap();
+                let inside = |v: f64| {
+                    f.ranges
+                        .iter()
+                        .any(|r| v > r.lo && r.hi.is_none_or(|h| v < h))
+                };
+                assert!(e.sets.iter().any(|s| inside(s[k])), "{e:?}");
+            }
+        }
+        if e.none.is_some() {
+            assert!(e.sets.is_empty(), "{e:?}");
+            assert_ne!(e.id, id.candidates[0].id);
+        }
+    }
     for name in ["A1", "A4", "B1", "C1", "C3"] {
         let c = id.candidates.iter().find(|c| c.id == name).expect(name);
         assert!(
@@ -217,4 +238,32 @@ fn collocated_alternatives_of_tab7() {
             c.score_db
         );
     }
+}
+
+/// A two-mass drive read at the load shows its total mass and its
+/// resonance, three parameters from two numbers: the equivalent sets are
+/// a family with one free mass, which may take any share of the total
+/// mass. The range must end at that total (`m2 < m1 + m2`), by the physics
+/// of the free chain, not by the back-solver's own arithmetic.
+#[test]
+fn a_load_side_two_mass_drive_has_a_family_up_to_its_total_mass() {
+    let (m1, m2, c, d) = (0.02, 0.05, 4.0e3, 0.4);
+    let data = recording("N2-g0-a1.0-s2.0", &[m1, m2, c, d], 5.0, 200.0);
+    let id = identify(&data, Output::Position, &IdentifyOptions::default()).unwrap();
+    let best = &id.candidates[0];
+    assert_eq!(best.id, "N2-g0-a1.0-s2.0");
+    let e = id.equivalents.iter().find(|e| e.id == best.id).unwrap();
+    let f = e.family.as_ref().expect("a family");
+    assert_eq!(
+        (f.dimension, f.free.as_slice()),
+        (1, ["m2".to_string()].as_slice())
+    );
+    let total: f64 = best.fit.parameters.values()[..2].iter().sum();
+    assert!((total / (m1 + m2) - 1.0).abs() < 1e-3, "{total}");
+    assert_eq!(f.ranges.len(), 1, "{f:?}");
+    let r = f.ranges[0];
+    assert_eq!(r.lo, 0.0);
+    let hi = r.hi.expect("bounded");
+    assert!((hi / total - 1.0).abs() < 1e-9, "{hi} vs {total}");
+    assert!(e.none.is_none() && !e.sets.is_empty());
 }

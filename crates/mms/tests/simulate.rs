@@ -107,15 +107,24 @@ fn every_chain_length_matches_frf() {
         for f in [4.0, 13.0] {
             let w = 2.0 * PI * f;
             let u: Vec<f64> = (0..6000).map(|k| (w * k as f64 / fs).sin()).collect();
-            let y = simulate(&file(m, Output::Position, p.clone(), Effects::default()), &u, fs)
-                .unwrap();
+            let y = simulate(
+                &file(m, Output::Position, p.clone(), Effects::default()),
+                &u,
+                fs,
+            )
+            .unwrap();
             let t: Vec<f64> = (3000..6000).map(|k| k as f64 / fs).collect();
             let got = sine_amplitude(&y[3000..], &t, w);
-            let g = ChainResponse::new(&m, Output::Position).eval(&p, f).unwrap();
+            let g = ChainResponse::new(&m, Output::Position)
+                .eval(&p, f)
+                .unwrap();
             let x = w / (2.0 * fs);
             let want = g * Complex64::from_polar(x.sin() / x, -x) * Complex64::new(0.0, -1.0);
             let err = (got - want).norm() / want.norm();
-            assert!(err < 2e-3, "{n} masses, {f} Hz: {got} vs {want} ({err:.2e})");
+            assert!(
+                err < 2e-3,
+                "{n} masses, {f} Hz: {got} vs {want} ({err:.2e})"
+            );
         }
     }
 }
