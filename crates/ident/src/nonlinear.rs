@@ -1338,24 +1338,6 @@ fn diagnose(
     })
 }
 
-/// `100 x` with three significant digits (at least two decimals): a
-/// closed loop leaves errors of a few millionths of the output RMS.
-///
-/// ```
-/// assert_eq!(ident::nonlinear::percent(0.25), "25.00");
-/// assert_eq!(ident::nonlinear::percent(6.772e-5), "0.00677");
-/// ```
-pub fn percent(x: f64) -> String {
-    let p = 100.0 * x;
-    let digits = if p.abs() >= 1.0 || p == 0.0 || !p.is_finite() {
-        2
-    } else {
-        // Three significant digits below 1 %.
-        (2 - p.abs().log10().floor() as i64).max(2) as usize
-    };
-    format!("{p:.digits$}")
-}
-
 /// Lines worth comparing: coherence of at least 0.5 (all lines if the
 /// estimate has none, or none qualifies).
 fn good_lines(frf: &Frf) -> Vec<usize> {
