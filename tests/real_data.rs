@@ -1008,12 +1008,16 @@ fn tue2018_both_encoders_name_the_same_friction() {
 }
 
 /// `mms diagnose standstill --model (moving's) --operating-point moving`
-/// on the TU/e 2025 runs: both diagnoses name a dead time, and the two
-/// values, from two independent recordings of one drive, agree within
-/// 10 %; the extra mass that only the standstill's diagnosis adds sits at
-/// the pre-sliding resonance the feature comparison names (one finding
-/// seen by two methods). --validate and --operating-point together are
-/// refused (exit 2).
+/// on the TU/e 2025 runs: both diagnoses name the drive's phase lag (a
+/// dead time in one, a first-order lag in the other, one lag of the same
+/// size: within 15 %, the lag's delay being exact only well below its
+/// corner), from two independent recordings of one drive; the standstill's
+/// diagnosis names pre-sliding friction, a spring to ground on the
+/// moving run's structure, and the feature comparison names it in the same
+/// recording (one finding seen by two methods; their stiffnesses within a
+/// factor 2, one with the diagnosis's calibrated chain, the other with the
+/// moving run's low-band inertia). --validate and --operating-point
+/// together are refused (exit 2).
 #[test]
 fn tue_diagnosis_at_two_operating_points() {
     let dir = temp_dir("tue-operating");
@@ -1038,21 +1042,34 @@ fn tue_diagnosis_at_two_operating_points() {
     json_args.extend_from_slice(&["--format", "json"]);
     let v = json(&json_args);
     let c = &v["operating_point"]["comparison"];
-    let delay = c["effects"]
+    let lag = c["effects"]
         .as_array()
         .unwrap()
         .iter()
-        .find(|e| e["kind"] == "time_delay")
+        .find(|e| e["kind"] == "time_delay" || e["kind"] == "lowpass")
         .unwrap_or_else(|| panic!("{}", c["effects"]));
-    assert_eq!(delay["holds_for"], "both", "{delay}");
-    let (a, b) = (num(&delay["values"][0]), num(&delay["values"][1]));
-    assert!((a / b - 1.0).abs() < 0.1, "{a} vs {b}");
+    assert_eq!(lag["holds_for"], "both", "{lag}");
+    let (a, b) = (num(&lag["values"][0]), num(&lag["values"][1]));
+    assert!((a / b - 1.0).abs() < 0.15, "{a} vs {b}");
     let friction = &c["features"]["findings"][0];
     assert_eq!(friction["kind"], "pre_sliding_friction", "{c}");
-    let r = num(&c["pre_sliding_as_extra_mode"]);
+    assert_eq!(friction["recording"], "first", "{friction}");
+    let named = c["effects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["kind"] == "pre_sliding_friction")
+        .unwrap_or_else(|| panic!("{}", c["effects"]));
+    assert_eq!(named["holds_for"], "first", "{named}");
+    let twice = &c["pre_sliding_named"];
+    assert_eq!(twice["recording"], "first", "{c}");
+    let (fitted, features) = (
+        num(&twice["fitted_n_per_m"]),
+        num(&twice["from_features_n_per_m"]),
+    );
     assert!(
-        (r / num(&friction["freq_hz"])).ln().abs() < 1.25f64.ln(),
-        "{r}"
+        (fitted / features).ln().abs() < 2f64.ln(),
+        "{fitted} vs {features}"
     );
     args.extend_from_slice(&["--validate", &moving]);
     let (code, _, err) = mms(&args);

@@ -570,7 +570,10 @@ fn operating_markdown(name: &str, other: &str, c: &OperatingPointDiagnosis) -> S
             let _ = writeln!(
                 s,
                 "| {} | {} | {} | {} | {} |",
-                e.kind.as_str(),
+                match e.other_kind {
+                    Some(o) => format!("{} / {}", e.kind.as_str(), o.as_str()),
+                    None => e.kind.as_str().to_string(),
+                },
                 e.parameter,
                 value(e.values.0),
                 value(e.values.1),
@@ -589,6 +592,33 @@ fn operating_markdown(name: &str, other: &str, c: &OperatingPointDiagnosis) -> S
              of the comparison below, seen twice: a stiffness to ground, which the chain can \
              take only as one more mass.",
             crate::identify::fmt_sig(r)
+        );
+    }
+    if c.effects.iter().any(|e| e.other_kind.is_some()) {
+        s.push_str(
+            "\nA dead time and a first-order lag are one phase lag here: `lag_s` is the dead \
+             time, or the lag's 1 / (2 pi f_c), its delay well below the corner.\n",
+        );
+    }
+    if let Some(p) = &c.pre_sliding_named {
+        let which = match p.recording {
+            ident::operating::Recording::First => "first",
+            ident::operating::Recording::Second => "second",
+        };
+        let _ = writeln!(
+            s,
+            "\nThe pre-sliding friction the {which} diagnosis names (a spring to ground of {}) \
+             is the finding of the comparison below, seen by two methods: the resonance at {} Hz \
+             that only the {which} recording has{}.",
+            crate::identify::fmt_sig(p.fitted_n_per_m),
+            crate::identify::fmt_sig(p.freq_hz),
+            match p.from_features_n_per_m {
+                Some(k) => format!(
+                    ", a stiffness of {} with the other recording's rigid-body inertia",
+                    crate::identify::fmt_sig(k)
+                ),
+                None => String::new(),
+            }
         );
     }
     match &c.features {

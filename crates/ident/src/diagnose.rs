@@ -161,6 +161,13 @@ pub enum EffectKind {
     /// Viscous friction: a damper from the driven mass to the ground;
     /// parameter `viscous_ns_per_m`.
     ViscousFriction,
+    /// The pre-sliding stiffness of friction at rest: a spring from the
+    /// driven mass to the ground (a rigid-body mode becomes a resonance);
+    /// parameter `pre_sliding_n_per_m`. Friction at rest also damps what
+    /// it holds, so unless the model (or an effect kept before) has viscous
+    /// friction, the hypothesis fits that damper with the spring and
+    /// reports it as `viscous_ns_per_m` too.
+    PreSlidingFriction,
     /// Coulomb (dry) friction on the driven mass, a force of constant size
     /// against the velocity (time domain only, [`crate::nonlinear`] and
     /// [`crate::idim`]); parameter `coulomb_n`.
@@ -183,32 +190,37 @@ pub enum EffectKind {
 
 impl EffectKind {
     /// The hypotheses tried, in a fixed order (ties keep it).
-    pub const HYPOTHESES: [EffectKind; 5] = [
+    pub const HYPOTHESES: [EffectKind; 6] = [
         EffectKind::TimeDelay,
         EffectKind::Lowpass,
         EffectKind::GainError,
         EffectKind::HystereticDamping,
         EffectKind::ViscousFriction,
+        EffectKind::PreSlidingFriction,
     ];
 
     /// Every kind with one parameter that a model file can hold.
-    pub const WITH_PARAMETER: [EffectKind; 8] = [
+    pub const WITH_PARAMETER: [EffectKind; 9] = [
         EffectKind::TimeDelay,
         EffectKind::Lowpass,
         EffectKind::GainError,
         EffectKind::HystereticDamping,
         EffectKind::ViscousFriction,
+        EffectKind::PreSlidingFriction,
         EffectKind::CoulombFriction,
         EffectKind::Backlash,
         EffectKind::Offset,
     ];
 
     /// The section of a model file's `[effects]` table that holds this
-    /// effect's parameter: `friction` for both frictions (a damper and a
-    /// dry force on the same mass), else the JSON name.
+    /// effect's parameter: `friction` for the three kinds of friction (a
+    /// damper, a spring at rest and a dry force on the same mass), else the
+    /// JSON name.
     pub fn model_file_section(self) -> &'static str {
         match self {
-            EffectKind::ViscousFriction | EffectKind::CoulombFriction => "friction",
+            EffectKind::ViscousFriction
+            | EffectKind::PreSlidingFriction
+            | EffectKind::CoulombFriction => "friction",
             other => other.as_str(),
         }
     }
@@ -221,6 +233,7 @@ impl EffectKind {
             EffectKind::GainError => "gain_error",
             EffectKind::HystereticDamping => "hysteretic_damping",
             EffectKind::ViscousFriction => "viscous_friction",
+            EffectKind::PreSlidingFriction => "pre_sliding_friction",
             EffectKind::CoulombFriction => "coulomb_friction",
             EffectKind::Backlash => "backlash",
             EffectKind::Offset => "offset",
@@ -239,6 +252,7 @@ impl EffectKind {
             EffectKind::GainError => Some("factor"),
             EffectKind::HystereticDamping => Some("loss_factor"),
             EffectKind::ViscousFriction => Some("viscous_ns_per_m"),
+            EffectKind::PreSlidingFriction => Some("pre_sliding_n_per_m"),
             EffectKind::CoulombFriction => Some("coulomb_n"),
             EffectKind::Backlash => Some("gap"),
             EffectKind::Offset => Some("force_n"),
@@ -255,6 +269,7 @@ impl EffectKind {
             EffectKind::GainError => e.gain_factor = Some(value),
             EffectKind::HystereticDamping => e.loss_factor = Some(value),
             EffectKind::ViscousFriction => e.viscous_friction = Some(value),
+            EffectKind::PreSlidingFriction => e.pre_sliding_stiffness = Some(value),
             EffectKind::CoulombFriction => e.coulomb_friction = Some(value),
             EffectKind::Backlash => e.backlash_gap = Some(value),
             EffectKind::Offset => e.offset_force = Some(value),
@@ -271,6 +286,7 @@ impl EffectKind {
             EffectKind::GainError => base.gain_factor,
             EffectKind::HystereticDamping => base.loss_factor,
             EffectKind::ViscousFriction => base.viscous_friction,
+            EffectKind::PreSlidingFriction => base.pre_sliding_stiffness,
             EffectKind::CoulombFriction => base.coulomb_friction,
             EffectKind::Backlash => base.backlash_gap,
             EffectKind::Offset => base.offset_force,
@@ -1014,7 +1030,10 @@ pub fn diagnose(
             .chain([EffectKind::ExtraMode])
         {
             if kept.contains(&kind)
+                || base.kinds.contains(&kind)
                 || (kind == EffectKind::ExtraMode && base.extended)
+                || (kind == EffectKind::PreSlidingFriction
+                    && !rests_on_friction(&base.problem.file.model))
                 || (step > 1 && !earned_alone.contains(&kind))
             {
                 continue;
@@ -1029,7 +1048,11 @@ pub fn diagnose(
                 _ => add_effect(base, kind, &e_base, &ctx),
             };
             let Some(fitted) = fitted else { continue };
-            let n_new = if kind == EffectKind::ExtraMode { 3 } else { 1 };
+            let n_new = if kind == EffectKind::ExtraMode {
+                3
+            } else {
+                fitted.kinds.len() - base.kinds.len()
+            };
             let score = if holdout {
                 (base.test_cost - fitted.test_cost) / misfit - o.margin
             } else {
@@ -1125,6 +1148,15 @@ pub fn diagnose(
     })
 }
 
+/// True if the driven mass moves as a rigid body (it lies on the free side
+/// of the chain's gap), so that friction at rest can ground it: a mass
+/// already held by the chain's own spring to the ground has no rigid-body
+/// mode for a pre-sliding stiffness to turn into a resonance, and a spring
+/// added there would only copy that spring's calibration.
+fn rests_on_friction(model: &mms::Model) -> bool {
+    model.actuator().plus > model.gap()
+}
+
 /// Why the band cannot resolve hypothesis `kind` fitted in `fitted` on
 /// top of `kept`, if it cannot: a dead time and a first-order lag whose
 /// corner lies above the band (either added to the other), or an extra
@@ -1181,6 +1213,12 @@ impl Context<'_> {
                 1e-4 * self.total_mass * 2.0 * PI * self.f_lo,
                 1e2 * self.total_mass * 2.0 * PI * self.f_hi,
             ),
+            // The total mass on the spring resonates from a tenth of the
+            // band's lowest line (0.1 dB there) to its highest.
+            EffectKind::PreSlidingFriction => (
+                self.total_mass * (2.0 * PI * 0.1 * self.f_lo).powi(2),
+                self.total_mass * (2.0 * PI * self.f_hi).powi(2),
+            ),
             EffectKind::ExtraMode
             | EffectKind::CoulombFriction
             | EffectKind::Backlash
@@ -1225,6 +1263,19 @@ impl Fitted<'_> {
             kind.parameter_name(),
         ) {
             out.insert(name.to_string(), self.state.x[np + i].exp());
+            // The damper a pre-sliding spring brought with it (a viscous
+            // friction cannot be added after it).
+            if kind == EffectKind::PreSlidingFriction {
+                if let Some(j) = self.kinds[i..]
+                    .iter()
+                    .position(|&k| k == EffectKind::ViscousFriction)
+                {
+                    out.insert(
+                        "viscous_ns_per_m".to_string(),
+                        self.state.x[np + i + j].exp(),
+                    );
+                }
+            }
         }
         if kind == EffectKind::ExtraMode {
             if let Some(mode) = self.added_mode(ctx) {
@@ -1307,6 +1358,15 @@ fn add_effect<'a>(
     }
     let mut kinds = base.kinds.clone();
     kinds.push(kind);
+    // Friction at rest holds and damps: its spring comes with a damper
+    // unless one is there already (a damping ratio of 0.05 to start).
+    let damper = kind == EffectKind::PreSlidingFriction
+        && !kinds.contains(&EffectKind::ViscousFriction)
+        && problem.file.effects.viscous_friction.is_none();
+    if damper {
+        kinds.push(EffectKind::ViscousFriction);
+    }
+    let (lo_v, hi_v) = ctx.bounds(EffectKind::ViscousFriction);
     let mut best: Option<(f64, Vec<f64>)> = None;
     for s in starts {
         if !s.is_finite() {
@@ -1314,6 +1374,11 @@ fn add_effect<'a>(
         }
         let mut x = base.state.x.clone();
         x.push(s.clamp(lo_e, hi_e).ln());
+        if damper {
+            let k = s.clamp(lo_e, hi_e);
+            let b = 0.1 * (k * ctx.total_mass).sqrt();
+            x.push(b.clamp(lo_v, hi_v).ln());
+        }
         let Ok(r) = problem.residuals(&kinds, &x, None) else {
             continue;
         };

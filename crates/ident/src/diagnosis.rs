@@ -964,6 +964,19 @@ pub fn validate(
     })
 }
 
+/// The low-frequency phase lag of a dead time (its delay) or a
+/// first-order lag (`1 / (2 pi f_c)`), s; `None` for other effects.
+fn phase_lag(e: &EffectVerdict) -> Option<f64> {
+    match e.kind {
+        EffectKind::TimeDelay => e.parameters.get("delay_s").copied(),
+        EffectKind::Lowpass => e
+            .parameters
+            .get("corner_hz")
+            .map(|f| 1.0 / (2.0 * std::f64::consts::PI * f)),
+        _ => None,
+    }
+}
+
 /// Which of two operating points a verdict holds for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -979,8 +992,14 @@ pub enum HoldsFor {
 /// One effect's parameter at two operating points.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct EffectAcross {
-    /// The effect.
+    /// The effect (in the first recording that names it).
     pub kind: EffectKind,
+    /// The other recording's kind where it differs: a dead time in one
+    /// and a first-order lag in the other are one phase lag, compared by
+    /// the parameter `lag_s` (the dead time, or the lag's `1 / (2 pi f_c)`,
+    /// its delay at frequencies well below the corner).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub other_kind: Option<EffectKind>,
     /// Its parameter.
     pub parameter: String,
     /// Its value at the first and the second operating point, where that
@@ -1005,8 +1024,28 @@ pub struct OperatingPointDiagnosis {
     /// twice (the chain can take a stiffness to ground only as one more
     /// mass).
     pub pre_sliding_as_extra_mode: Option<f64>,
+    /// The pre-sliding friction one diagnosis names, where the feature
+    /// comparison names it in the same recording: one finding seen by two
+    /// methods.
+    pub pre_sliding_named: Option<PreSlidingSeenTwice>,
     /// The structure of the model after each diagnosis.
     pub structures: (String, String),
+}
+
+/// The pre-sliding friction named by a diagnosis (a fitted spring to the
+/// ground) and by the feature comparison (a resonance that only one
+/// operating point has).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct PreSlidingSeenTwice {
+    /// The recording both name it in.
+    pub recording: Recording,
+    /// The stiffness the diagnosis fitted (with its calibrated chain).
+    pub fitted_n_per_m: f64,
+    /// The stiffness from the resonance and the other recording's
+    /// rigid-body inertia, if that could be read.
+    pub from_features_n_per_m: Option<f64>,
+    /// The resonance the feature comparison read (Hz).
+    pub freq_hz: f64,
 }
 
 /// Compares the diagnoses `first` (of `first_frf`) and `second` (of
@@ -1062,26 +1101,44 @@ pub fn compare_operating_diagnoses(
     }
     let (ours, theirs) = (named(first), named(second));
     // One effect at both operating points: the same kind; for an extra
-    // mass also the same added resonance (another mode is another effect).
+    // mass also the same added resonance (another mode is another effect);
+    // a dead time and a first-order lag with the same low-frequency lag are
+    // one phase lag.
     let same = |a: &EffectVerdict, b: &EffectVerdict| {
-        a.kind == b.kind
-            && (a.kind != EffectKind::ExtraMode
-                || match (
-                    a.parameters.get("resonance_hz"),
-                    b.parameters.get("resonance_hz"),
-                ) {
-                    (Some(&x), Some(&y)) => within_pairing_range(x, y),
-                    _ => false,
-                })
+        if a.kind != b.kind {
+            return match (phase_lag(a), phase_lag(b)) {
+                (Some(x), Some(y)) => within_pairing_range(x, y),
+                _ => false,
+            };
+        }
+        a.kind != EffectKind::ExtraMode
+            || match (
+                a.parameters.get("resonance_hz"),
+                b.parameters.get("resonance_hz"),
+            ) {
+                (Some(&x), Some(&y)) => within_pairing_range(x, y),
+                _ => false,
+            }
     };
     let mut effects: Vec<EffectAcross> = Vec::new();
     let across = |e: &EffectVerdict, other: Option<&EffectVerdict>, first: bool| {
+        if let Some(o) = other.filter(|o| o.kind != e.kind) {
+            let (a, b) = (phase_lag(e), phase_lag(o));
+            return vec![EffectAcross {
+                kind: e.kind,
+                other_kind: Some(o.kind),
+                parameter: "lag_s".to_string(),
+                values: if first { (a, b) } else { (b, a) },
+                holds_for: HoldsFor::Both,
+            }];
+        }
         e.parameters
             .iter()
             .map(|(p, &v)| {
                 let w = other.and_then(|o| o.parameters.get(p).copied());
                 EffectAcross {
                     kind: e.kind,
+                    other_kind: None,
                     parameter: p.clone(),
                     values: if first { (Some(v), w) } else { (w, Some(v)) },
                     holds_for: match (other.is_some(), first) {
@@ -1133,10 +1190,41 @@ pub fn compare_operating_diagnoses(
                 .find(|&r| within_pairing_range(r, *freq_hz))
         })
     });
+    let pre_sliding_named = features.as_ref().and_then(|f| {
+        f.findings.iter().find_map(|finding| {
+            let Finding::PreSlidingFriction {
+                recording,
+                freq_hz,
+                stiffness,
+            } = finding
+            else {
+                return None;
+            };
+            let d = match recording {
+                Recording::First => first,
+                Recording::Second => second,
+            };
+            let fitted = d
+                .verdict
+                .effects
+                .iter()
+                .find(|e| e.kind == EffectKind::PreSlidingFriction)?
+                .parameters
+                .get("pre_sliding_n_per_m")
+                .copied()?;
+            Some(PreSlidingSeenTwice {
+                recording: *recording,
+                fitted_n_per_m: fitted,
+                from_features_n_per_m: *stiffness,
+                freq_hz: *freq_hz,
+            })
+        })
+    });
     OperatingPointDiagnosis {
         effects,
         features,
         pre_sliding_as_extra_mode,
+        pre_sliding_named,
         structures: (first.model_after.model.id(), second.model_after.model.id()),
     }
 }

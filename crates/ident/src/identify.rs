@@ -436,11 +436,7 @@ pub fn identify_with_progress(
             notes,
         });
     }
-    fits.sort_by(|a, b| {
-        a.score_db
-            .total_cmp(&b.score_db)
-            .then_with(|| a.model.cmp(&b.model))
-    });
+    fits.sort_by(|a, b| by_score(a.score_db, b.score_db).then_with(|| a.model.cmp(&b.model)));
     for (i, f) in fits.iter_mut().enumerate() {
         f.rank = i + 1;
     }
@@ -567,6 +563,18 @@ pub(crate) struct Measured {
     /// The lines read, when more than [`MAX_LINES`] were averaged into
     /// bins.
     pub binned_from: Option<usize>,
+}
+
+/// Candidates whose scores differ by less than this (dB) tie: structures
+/// with the same FRF, where the optimiser's last digits decide nothing.
+const TIE_DB: f64 = 1e-6;
+
+/// The ranking of two candidates' scores, ties (on a grid of [`TIE_DB`],
+/// so the order stays transitive) equal: the caller breaks them by the
+/// structure's order, where a free chain (gap 0, the plain drive whose
+/// driven mass is the motor) comes before a grounded equivalent.
+pub(crate) fn by_score(a: f64, b: f64) -> std::cmp::Ordering {
+    (a / TIE_DB).round().total_cmp(&(b / TIE_DB).round())
 }
 
 /// Most lines an identification works on: a finer FRF is averaged into

@@ -473,9 +473,7 @@ pub fn identify_sensors_with_progress(
         total: candidates.len(),
     });
     fits.sort_by(|a, b| {
-        a.score_db
-            .total_cmp(&b.score_db)
-            .then_with(|| a.models.cmp(&b.models))
+        crate::identify::by_score(a.score_db, b.score_db).then_with(|| a.models.cmp(&b.models))
     });
     for (i, f) in fits.iter_mut().enumerate() {
         f.rank = i + 1;

@@ -176,7 +176,12 @@ fn draw_many(seed: u64, kinds: &[EffectKind]) -> Case {
         // it to the ground, friction is only a larger damper (a parameter
         // error), so those structures do not carry a friction case.
         let driven_grounded = s.model.actuator().plus == 1 && s.model.gap() != 0;
-        if !(kinds.contains(&EffectKind::ViscousFriction) && driven_grounded) {
+        // A pre-sliding stiffness needs a driven mass that moves as a rigid
+        // body (on the free side of the gap) to turn into a resonance.
+        let rigid = s.model.actuator().plus > s.model.gap();
+        if !(kinds.contains(&EffectKind::ViscousFriction) && driven_grounded)
+            && (rigid || !kinds.contains(&EffectKind::PreSlidingFriction))
+        {
             break s;
         }
     };
@@ -211,6 +216,17 @@ fn draw_many(seed: u64, kinds: &[EffectKind]) -> Case {
                 let b = 2.0 * std::f64::consts::PI * f_lo * total_mass * rng.log_uniform(0.1, 1.0);
                 effects.viscous_friction = Some(b);
                 b
+            }
+            EffectKind::PreSlidingFriction => {
+                // The total mass on the spring resonates between 1.5 and 4
+                // times the lowest line, damped by a little viscous
+                // friction as friction at rest is (a damping ratio of
+                // 0.05; an undamped line would be a singular reading).
+                let w = 2.0 * std::f64::consts::PI * f_lo * rng.log_uniform(1.5, 4.0);
+                let k = total_mass * w * w;
+                effects.pre_sliding_stiffness = Some(k);
+                effects.viscous_friction = Some(0.1 * total_mass * w);
+                k
             }
             EffectKind::GainError => {
                 // Factors within the calibration tolerance are a common
@@ -304,7 +320,7 @@ fn reported(v: &ident::diagnose::EffectVerdict) -> Option<f64> {
     }
 }
 
-const KINDS: [EffectKind; 7] = [
+const KINDS: [EffectKind; 8] = [
     EffectKind::None,
     EffectKind::TimeDelay,
     EffectKind::Lowpass,
@@ -312,6 +328,7 @@ const KINDS: [EffectKind; 7] = [
     EffectKind::HystereticDamping,
     EffectKind::ViscousFriction,
     EffectKind::ExtraMode,
+    EffectKind::PreSlidingFriction,
 ];
 
 #[test]

@@ -19,7 +19,7 @@
 //!
 //! [effects]                  # optional; filled by the diagnosis
 //! time_delay = { delay_s = 2e-4 }
-//! friction = { viscous_ns_per_m = 0.5, coulomb_n = 0.2 }   # either or both
+//! friction = { viscous_ns_per_m = 0.5, coulomb_n = 0.2 }   # and pre_sliding_n_per_m
 //! backlash = { gap = 1e-4 }  # m (or rad): dead zone in a spring
 //! offset = { force_n = -3.2 } # N (or N m), either sign: a constant force bias
 //! ```
@@ -124,7 +124,10 @@ const EFFECT_KEYS: [(&str, &[&str]); 7] = [
     ("lowpass", &["corner_hz"]),
     ("gain_error", &["factor"]),
     ("hysteretic_damping", &["loss_factor"]),
-    ("friction", &["viscous_ns_per_m", "coulomb_n"]),
+    (
+        "friction",
+        &["viscous_ns_per_m", "coulomb_n", "pre_sliding_n_per_m"],
+    ),
     ("backlash", &["gap"]),
     ("offset", &["force_n"]),
 ];
@@ -437,6 +440,7 @@ impl ModelFile {
                         "loss_factor" => effects.loss_factor = Some(x),
                         "viscous_ns_per_m" => effects.viscous_friction = Some(x),
                         "coulomb_n" => effects.coulomb_friction = Some(x),
+                        "pre_sliding_n_per_m" => effects.pre_sliding_stiffness = Some(x),
                         "force_n" => effects.offset_force = Some(x),
                         _ => effects.backlash_gap = Some(x),
                     }
@@ -500,6 +504,7 @@ impl ModelFile {
                 &[
                     ("viscous_ns_per_m", e.viscous_friction),
                     ("coulomb_n", e.coulomb_friction),
+                    ("pre_sliding_n_per_m", e.pre_sliding_stiffness),
                 ],
                 &[("gap", e.backlash_gap)],
                 &[("force_n", e.offset_force)],

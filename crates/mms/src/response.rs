@@ -207,6 +207,15 @@ pub struct Effects {
     /// (the actuator's `plus` mass) to the ground, damping the rigid-body
     /// motion.
     pub viscous_friction: Option<f64>,
+    /// `friction {pre_sliding_n_per_m}`: the pre-sliding stiffness of the
+    /// friction on the driven mass, a spring from that mass to the ground,
+    /// N/m (or N m/rad). At rest, friction holds the rubbing surfaces in
+    /// micro-slip, where its force grows with the displacement like a
+    /// spring's until they break away (Dahl's pre-sliding regime), so under
+    /// a small excitation at standstill the rigid-body mode becomes a
+    /// resonance. Linear: the FRF has it, and [`crate::simulate`] takes it
+    /// as a linear spring (the break-away into sliding is not modelled).
+    pub pre_sliding_stiffness: Option<f64>,
     /// `friction {coulomb_n}`: Coulomb (dry) friction `F_c sign(v)` of the
     /// driven mass against the ground, N (or N m). Nonlinear: the FRF
     /// ignores it; [`crate::simulate`] models it in the time domain.
@@ -282,7 +291,7 @@ pub struct ChainResponse {
     sensor: Vec<f64>,
     output: Output,
     effects: Effects,
-    /// The mass a viscous friction damper grounds (1-based).
+    /// The mass the friction's damper and spring ground (1-based).
     driven: usize,
 }
 
@@ -424,6 +433,9 @@ impl ChainResponse {
         let spring = Complex64::new(1.0, self.effects.loss_factor.unwrap_or(0.0));
         if let Some(b) = self.effects.viscous_friction {
             d[self.driven - 1] += Complex64::new(0.0, omega * b);
+        }
+        if let Some(k) = self.effects.pre_sliding_stiffness {
+            d[self.driven - 1] += Complex64::new(k, 0.0);
         }
         for (k, l) in self.links.iter().enumerate() {
             let y = spring * values[n + k] + Complex64::new(0.0, omega * values[n + nl + k]);
@@ -622,6 +634,7 @@ mod tests {
                     gain_factor: Some(1.3),
                     loss_factor: Some(0.02),
                     viscous_friction: Some(0.5),
+                    pre_sliding_stiffness: Some(40.0),
                     ..Effects::default()
                 };
                 for (output, effects) in

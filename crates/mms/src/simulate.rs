@@ -32,6 +32,9 @@
 //! - **Offset** (`offset {force_n}`): a constant force `-force_n` on the
 //!   driven mass (the inverse dynamics `F = M q'' + ... + offset`); at rest
 //!   Coulomb friction balances it like any other force.
+//! - **Pre-sliding stiffness** (`friction {pre_sliding_n_per_m}`): a linear
+//!   spring from the driven mass to the ground, the small-motion regime of
+//!   friction at rest; the break-away into sliding is not modelled.
 //! - **Closed loop** ([`Simulator::run_closed_loop`]): a sampled position
 //!   [`Controller`] computes the input from the simulated sensor reading
 //!   and a reference, as the real controller did from the measured one.
@@ -128,6 +131,8 @@ pub struct Simulator {
     scale: f64,
     /// Viscous friction of `driven` (0-based), N s/m.
     viscous: f64,
+    /// Pre-sliding stiffness of `driven`, N/m (0: none).
+    pre_sliding: f64,
     driven: usize,
     /// Coulomb force and its mass (0-based).
     coulomb: f64,
@@ -253,6 +258,11 @@ impl Simulator {
         };
         let viscous = check("friction.viscous_ns_per_m", effects.viscous_friction, true)?;
         let coulomb = check("friction.coulomb_n", effects.coulomb_friction, true)?;
+        let pre_sliding = check(
+            "friction.pre_sliding_n_per_m",
+            effects.pre_sliding_stiffness,
+            true,
+        )?;
         let gap = check("backlash.gap", effects.backlash_gap, true)?;
         let offset = match effects.offset_force {
             Some(f) if !f.is_finite() => {
@@ -307,6 +317,7 @@ impl Simulator {
             }
         }
         d_row[driven] += viscous;
+        k_row[driven] += pre_sliding;
         let rate = (0..n)
             .map(|i| (k_row[i] * inv_m[i]).sqrt() + d_row[i] * inv_m[i])
             .fold(lag, f64::max);
@@ -325,6 +336,7 @@ impl Simulator {
             output,
             scale: gain * gain_factor,
             viscous,
+            pre_sliding,
             driven,
             coulomb,
             friction_mass,
@@ -881,6 +893,9 @@ impl<const L: usize> Kernel<'_, L> {
             *o = i * f;
         }
         out[sim.driven + 1] -= sim.viscous * v[sim.driven + 1] + sim.offset;
+        if sim.pre_sliding > 0.0 {
+            out[sim.driven + 1] -= sim.pre_sliding * x[sim.driven + 1];
+        }
         let (backlash, half) = self.backlash;
         for a in 0..L - 1 {
             if !self.link[a] {

@@ -61,7 +61,7 @@ time_delay = { delay_s = 2.5e-4 }
 lowpass = { corner_hz = 800 }
 gain_error = { factor = 0.9 }
 hysteretic_damping = { loss_factor = 0.01 }
-friction = { viscous_ns_per_m = 3 }
+friction = { viscous_ns_per_m = 3, pre_sliding_n_per_m = 450 }
 "#;
     let f = ModelFile::parse(text).unwrap();
     assert_eq!(f.model.id(), "N4-g1-a2.1-s4.1");
@@ -72,6 +72,7 @@ friction = { viscous_ns_per_m = 3 }
     assert_eq!(f.effects.gain_factor, Some(0.9));
     assert_eq!(f.effects.loss_factor, Some(0.01));
     assert_eq!(f.effects.viscous_friction, Some(3.0));
+    assert_eq!(f.effects.pre_sliding_stiffness, Some(450.0));
     let written = f.to_toml();
     assert_eq!(ModelFile::parse(&written).unwrap(), f);
     // Deterministic: writing the re-read file gives the same bytes.
@@ -143,7 +144,7 @@ fn effect_errors() {
         ),
         (
             "friction = { coulomb = 1 }\n",
-            "line 12: unknown key 'coulomb' in effect 'friction' (expected viscous_ns_per_m or coulomb_n)",
+            "line 12: unknown key 'coulomb' in effect 'friction' (expected viscous_ns_per_m or coulomb_n or pre_sliding_n_per_m)",
         ),
         (
             "friction = {}\n",

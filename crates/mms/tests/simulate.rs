@@ -129,6 +129,40 @@ fn every_chain_length_matches_frf() {
     }
 }
 
+/// A pre-sliding stiffness is a spring to the ground: one mass on it,
+/// damped by viscous friction, settles under a constant force at Hooke's
+/// `F / k`, rings at `sqrt(k / m)` first, and its FRF is the closed form
+/// `1 / (k - m w^2 + j w d)`.
+#[test]
+fn pre_sliding_stiffness_is_a_spring_to_ground() {
+    let (m, k, d, force) = (2.0, 800.0, 8.0, 3.0);
+    let model = Model::new(1, 0, Port::new(1, 0), Port::new(1, 0)).unwrap();
+    let effects = Effects {
+        pre_sliding_stiffness: Some(k),
+        viscous_friction: Some(d),
+        ..Effects::default()
+    };
+    let f = file(model, Output::Position, vec![m], effects);
+    let fs = 2000.0;
+    let y = simulate(&f, &vec![force; 20000], fs).unwrap();
+    // Settled to e^-20 of the step after 10 s (zeta w_n = 2 / s).
+    assert!((y[19999] / (force / k) - 1.0).abs() < 1e-7, "{}", y[19999]);
+    // The first overshoot at half the damped period.
+    let (wn, zeta) = ((k / m).sqrt(), d / (2.0 * (k * m).sqrt()));
+    let wd = wn * (1.0 - zeta * zeta).sqrt();
+    let peak = (0..4000).max_by(|&a, &b| y[a].total_cmp(&y[b])).unwrap();
+    let want = PI / wd * fs;
+    assert!((peak as f64 - want).abs() <= 2.0, "{peak} vs {want}");
+    for hz in [1.0, 3.2, 10.0] {
+        let w = 2.0 * PI * hz;
+        let g = ChainResponse::with_effects(&model, Output::Position, &effects)
+            .eval(&[m], hz)
+            .unwrap();
+        let want = Complex64::new(1.0, 0.0) / Complex64::new(k - m * w * w, w * d);
+        assert!((g / want - 1.0).norm() < 1e-12, "{hz} Hz: {g} vs {want}");
+    }
+}
+
 fn one_mass(m: f64, coulomb: f64, output: Output) -> ModelFile {
     let model = Model::new(1, 0, Port::new(1, 0), Port::new(1, 0)).unwrap();
     file(
