@@ -28,12 +28,89 @@ struct Parser<'a> {
 const MAX_DEPTH: usize = 200;
 const MAX_EXPONENT: u32 = 10_000;
 
+/// The largest polynomial a product or power may build, in bits: terms
+/// times (coefficient bits + 64 for the exponents), about 16 MiB. Every
+/// polynomial of the 8-mass analyses is far below it (some 15 000 terms of
+/// small coefficients); `(m1 + m2 + m3 + c12 + c23 + Omega)^10000` would
+/// have 1e21 terms.
+pub const MAX_EXPANDED_BITS: f64 = (1u64 << 27) as f64;
+
+/// An upper bound of a polynomial's size: terms, total degree, the bits of
+/// its largest coefficient, and its variables.
+struct Bound<'p> {
+    terms: f64,
+    degree: f64,
+    bits: f64,
+    vars: &'p [String],
+}
+
+impl<'p> Bound<'p> {
+    fn of(p: &'p Poly) -> Bound<'p> {
+        let bits = p
+            .terms()
+            .iter()
+            .map(|t| (t.coef.numer().bits() + t.coef.denom().bits()) as f64)
+            .fold(0.0, f64::max);
+        Bound {
+            terms: p.num_terms() as f64,
+            degree: p.total_degree() as f64,
+            bits,
+            vars: p.vars(),
+        }
+    }
+
+    /// `ln` of the number of monomials of total degree at most `d` in `v`
+    /// variables, `C(v + d, v)`.
+    fn ln_monomials(v: usize, d: f64) -> f64 {
+        (1..=v).map(|i| ((d + i as f64) / i as f64).ln()).sum()
+    }
+
+    /// The size bound (bits) of a result with at most `ln_terms` (natural
+    /// log) terms and coefficients of `bits`, in `v` variables up to total
+    /// degree `d`.
+    fn size(ln_terms: f64, v: usize, d: f64, bits: f64) -> f64 {
+        let ln_t = ln_terms.min(Self::ln_monomials(v, d));
+        ln_t.exp() * (bits + 64.0)
+    }
+
+    /// The bound of `self * other`.
+    fn product(&self, other: &Bound) -> f64 {
+        let v = self.vars.len() + other.vars.iter().filter(|x| !self.vars.contains(x)).count();
+        let bits = self.bits + other.bits + self.terms.min(other.terms).max(1.0).log2();
+        Self::size(
+            self.terms.max(1.0).ln() + other.terms.max(1.0).ln(),
+            v,
+            self.degree + other.degree,
+            bits,
+        )
+    }
+
+    /// The bound of `self^e`.
+    fn power(&self, e: u32) -> f64 {
+        let e = e as f64;
+        let bits = e * (self.bits + self.terms.max(1.0).log2());
+        Self::size(
+            e * self.terms.max(1.0).ln(),
+            self.vars.len(),
+            e * self.degree,
+            bits,
+        )
+    }
+}
+
 impl<'a> Parser<'a> {
     fn err<T>(&self, msg: impl Into<String>) -> Result<T, ParsePolyError> {
         Err(ParsePolyError {
             offset: self.pos,
             message: msg.into(),
         })
+    }
+
+    fn too_large<T>(&self, size_bits: f64) -> Result<T, ParsePolyError> {
+        self.err(format!(
+            "the expanded polynomial could take up to {size_bits:.1e} bits, above the limit of \
+             {MAX_EXPANDED_BITS:.1e}"
+        ))
     }
 
     fn skip_ws(&mut self) {
@@ -85,7 +162,14 @@ impl<'a> Parser<'a> {
             match c {
                 b'*' => {
                     self.pos += 1;
-                    acc = &acc * &self.factor()?;
+                    let at = self.pos;
+                    let f = self.factor()?;
+                    let size = Bound::of(&acc).product(&Bound::of(&f));
+                    if size > MAX_EXPANDED_BITS {
+                        self.pos = at;
+                        return self.too_large(size);
+                    }
+                    acc = &acc * &f;
                 }
                 b'/' => {
                     self.pos += 1;
@@ -130,7 +214,15 @@ impl<'a> Parser<'a> {
                     }
                     let txt = std::str::from_utf8(&self.s[start..self.pos]).unwrap_or("");
                     match txt.parse::<u32>() {
-                        Ok(e) if e <= MAX_EXPONENT => Ok(base.pow(e)),
+                        Ok(e) if e <= MAX_EXPONENT => {
+                            let size = Bound::of(&base).power(e);
+                            if size > MAX_EXPANDED_BITS {
+                                self.pos = start;
+                                self.too_large(size)
+                            } else {
+                                Ok(base.pow(e))
+                            }
+                        }
                         Ok(_) => self.err(format!("exponent above {MAX_EXPONENT}")),
                         Err(_) => self.err("expected a non-negative integer exponent"),
                     }
@@ -237,5 +329,31 @@ mod tests {
         assert!("x^99999".parse::<Poly>().is_err());
         assert!("(x".parse::<Poly>().is_err());
         assert!("((((((((((((((((((((".repeat(20).parse::<Poly>().is_err());
+    }
+
+    /// Expressions that would expand beyond the limit are refused before
+    /// they are expanded (each in well under a second), at the power or
+    /// product that would build them; the expansions of real analyses and
+    /// exact powers of size within it are read.
+    #[test]
+    fn expansions_beyond_the_limit_are_refused_first() {
+        let start = std::time::Instant::now();
+        for (s, at) in [
+            ("(m1+m2+m3+c12+c23+Omega)^10000", 25),
+            ("((x+y)^100)^100", 12),
+            ("(a+b+c+d+e)^20*(f+g+h+i+j)^20", 15),
+            ("(2*x+3)^10000", 8),
+        ] {
+            let e = s.parse::<Poly>().unwrap_err();
+            assert_eq!(e.offset, at, "{s}: {e}");
+            assert!(e.message.contains("above the limit"), "{e}");
+        }
+        assert!(start.elapsed().as_secs_f64() < 5.0);
+        // The size bound holds the exact sizes: C(v + d, v) terms.
+        let p: Poly = "(a+b+c+1)^12".parse().unwrap();
+        assert_eq!(p.num_terms(), 455);
+        let q: Poly = "x^10000 * (y + 1)^50".parse().unwrap();
+        assert_eq!(q.num_terms(), 51);
+        assert_eq!(q.total_degree(), 10050);
     }
 }
