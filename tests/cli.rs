@@ -178,6 +178,26 @@ fn check_accepts_analyze_output_and_rejects_tampering() {
     assert!(err.starts_with(&prefix), "{err}");
     assert!(err.contains("definite: no_subtraction"), "{err}");
 
+    // A polynomial whose expansion would not fit in memory (a power of a
+    // sum of six variables to 10000): refused at once, not expanded.
+    let factor = v["models"][0]["types"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find_map(|t| {
+            let f = t["certificate"]["factors"].get_mut(0)?;
+            (f["kind"] == "definite").then_some(f)
+        })
+        .unwrap();
+    factor["factor"] = serde_json::json!("(m1+m2+m3+c12+c23+Omega)^10000");
+    std::fs::write(&bad, v.to_string()).unwrap();
+    let start = std::time::Instant::now();
+    let (code, out, err) = mms(&["check", bad.to_str().unwrap()]);
+    assert_eq!(code, 2, "{out}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("above the limit"), "{err}");
+    assert!(start.elapsed().as_secs() < 30);
+
     // Unreadable and malformed files: exit 2 naming the file.
     let missing = dir.join("missing.json");
     let (code, _, err) = mms(&["check", missing.to_str().unwrap()]);
