@@ -198,6 +198,12 @@ fn check_accepts_analyze_output_and_rejects_tampering() {
     assert!(err.contains("above the limit"), "{err}");
     assert!(start.elapsed().as_secs() < 30);
 
+    // A table that claims nothing is not "all valid".
+    std::fs::write(&bad, "{\"models\": []}").unwrap();
+    let (code, out, err) = mms(&["check", bad.to_str().unwrap()]);
+    assert_eq!(code, 2, "{out}");
+    assert!(err.contains("claims no model"), "{err}");
+
     // Unreadable and malformed files: exit 2 naming the file.
     let missing = dir.join("missing.json");
     let (code, _, err) = mms(&["check", missing.to_str().unwrap()]);

@@ -165,6 +165,13 @@ pub fn check_file(text: &str) -> Result<CheckReport, CheckError> {
             path: "models".into(),
             problem: "expected an array".into(),
         })?;
+    // An empty table claims nothing: "all valid" would be a wrong answer.
+    if models.is_empty() {
+        return Err(CheckError::Malformed {
+            path: "models".into(),
+            problem: "empty: the file claims no model".into(),
+        });
+    }
     let mut report = CheckReport::default();
     for (i, m) in models.iter().enumerate() {
         report.add(&check_model_at(m, &format!("models[{i}]"))?);
