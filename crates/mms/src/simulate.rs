@@ -139,7 +139,8 @@ pub struct Simulator {
     friction_mass: usize,
     /// Constant offset force on `driven` (subtracted).
     offset: f64,
-    /// Backlash: the link index in `links` and the half gap.
+    /// Backlash: the lower node of the spring that has it (0: the
+    /// ground to m1), and the half gap.
     backlash: Option<(usize, f64)>,
     /// Lag: `2 pi f_c` (0: none).
     lag: f64,
@@ -299,8 +300,7 @@ impl Simulator {
                     None => format!("{} has no spring next to the driven mass", model.name()),
                 }));
             };
-            let k = idx.iter().position(|&j| j == i).unwrap_or(0);
-            Some((k, gap / 2.0))
+            Some((i, gap / 2.0))
         } else {
             None
         };
@@ -535,17 +535,13 @@ impl Simulator {
             link: [false; L],
             spring: [0.0; L],
             damper: [0.0; L],
-            backlash: (L, 0.0),
+            backlash: self.backlash.unwrap_or((L, 0.0)),
         };
         kernel.input[1..].copy_from_slice(&self.input);
         kernel.inv_m[1..].copy_from_slice(&self.inv_m);
-        for (k, &(a, b, c, d)) in self.links.iter().enumerate() {
+        for &(a, b, c, d) in &self.links {
             debug_assert_eq!(b, a + 1, "a chain links neighbours");
             (kernel.link[a], kernel.spring[a], kernel.damper[a]) = (true, c, d);
-            if let Some((kb, half)) = self.backlash.filter(|&(kb, _)| kb == k) {
-                debug_assert_eq!(kb, k);
-                kernel.backlash = (a, half);
-            }
         }
         let v0 = match start {
             Start::Rest => 0.0,
