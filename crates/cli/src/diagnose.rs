@@ -601,10 +601,7 @@ fn operating_markdown(name: &str, other: &str, c: &OperatingPointDiagnosis) -> S
         );
     }
     if let Some(p) = &c.pre_sliding_named {
-        let which = match p.recording {
-            ident::operating::Recording::First => "first",
-            ident::operating::Recording::Second => "second",
-        };
+        let which = crate::identify::recording_name(p.recording);
         let _ = writeln!(
             s,
             "\nThe pre-sliding friction the {which} diagnosis names (a spring to ground of {}) \

@@ -251,6 +251,15 @@ fn operating_points(
     Ok(out)
 }
 
+/// "first" or "second": how the reports name the recordings of an
+/// operating-point comparison.
+pub fn recording_name(r: OperatingRecording) -> &'static str {
+    match r {
+        OperatingRecording::First => "first",
+        OperatingRecording::Second => "second",
+    }
+}
+
 /// The report section of the operating-point comparisons.
 pub fn operating_markdown(
     name: &str,
@@ -262,10 +271,7 @@ pub fn operating_markdown(
             s,
             "\n## Operating points: `{name}` (first) and `{other}` (second)\n"
         );
-        let which = |r: OperatingRecording| match r {
-            OperatingRecording::First => "first",
-            OperatingRecording::Second => "second",
-        };
+        let which = recording_name;
         if c.paired.is_empty() {
             s.push_str(
                 "The types of the two recordings share no feature: they cannot be compared \

@@ -1167,57 +1167,54 @@ pub fn compare_operating_diagnoses(
     let features = classified(first, first_frf)
         .zip(classified(second, second_frf))
         .map(|(a, b)| compare_operating_points(&a, first_frf, &b, second_frf));
-    let pre_sliding_as_extra_mode = features.as_ref().and_then(|f| {
-        f.findings.iter().find_map(|finding| {
-            let Finding::PreSlidingFriction {
-                recording, freq_hz, ..
-            } = finding
-            else {
-                return None;
-            };
-            let holds = match recording {
-                Recording::First => HoldsFor::First,
-                Recording::Second => HoldsFor::Second,
-            };
-            effects
-                .iter()
-                .filter(|e| {
-                    e.kind == EffectKind::ExtraMode
-                        && e.parameter == "resonance_hz"
-                        && e.holds_for == holds
-                })
-                .filter_map(|e| e.values.0.or(e.values.1))
-                .find(|&r| within_pairing_range(r, *freq_hz))
-        })
-    });
-    let pre_sliding_named = features.as_ref().and_then(|f| {
-        f.findings.iter().find_map(|finding| {
-            let Finding::PreSlidingFriction {
-                recording,
-                freq_hz,
-                stiffness,
-            } = finding
-            else {
-                return None;
-            };
-            let d = match recording {
-                Recording::First => first,
-                Recording::Second => second,
-            };
-            let fitted = d
-                .verdict
-                .effects
-                .iter()
-                .find(|e| e.kind == EffectKind::PreSlidingFriction)?
-                .parameters
-                .get("pre_sliding_n_per_m")
-                .copied()?;
-            Some(PreSlidingSeenTwice {
-                recording: *recording,
-                fitted_n_per_m: fitted,
-                from_features_n_per_m: *stiffness,
-                freq_hz: *freq_hz,
+    // The pre-sliding frictions the feature comparison names: the recording,
+    // the resonance and the stiffness from the other's inertia.
+    let pre_sliding = || {
+        features
+            .iter()
+            .flat_map(|f| &f.findings)
+            .filter_map(|finding| match finding {
+                Finding::PreSlidingFriction {
+                    recording,
+                    freq_hz,
+                    stiffness,
+                } => Some((*recording, *freq_hz, *stiffness)),
+                _ => None,
             })
+    };
+    let pre_sliding_as_extra_mode = pre_sliding().find_map(|(recording, freq_hz, _)| {
+        let holds = match recording {
+            Recording::First => HoldsFor::First,
+            Recording::Second => HoldsFor::Second,
+        };
+        effects
+            .iter()
+            .filter(|e| {
+                e.kind == EffectKind::ExtraMode
+                    && e.parameter == "resonance_hz"
+                    && e.holds_for == holds
+            })
+            .filter_map(|e| e.values.0.or(e.values.1))
+            .find(|&r| within_pairing_range(r, freq_hz))
+    });
+    let pre_sliding_named = pre_sliding().find_map(|(recording, freq_hz, stiffness)| {
+        let d = match recording {
+            Recording::First => first,
+            Recording::Second => second,
+        };
+        let fitted = d
+            .verdict
+            .effects
+            .iter()
+            .find(|e| e.kind == EffectKind::PreSlidingFriction)?
+            .parameters
+            .get("pre_sliding_n_per_m")
+            .copied()?;
+        Some(PreSlidingSeenTwice {
+            recording,
+            fitted_n_per_m: fitted,
+            from_features_n_per_m: stiffness,
+            freq_hz,
         })
     });
     OperatingPointDiagnosis {
