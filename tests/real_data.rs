@@ -965,6 +965,21 @@ fn tue2018_both_encoders_name_the_same_friction() {
     assert!(num(&friction["spread"]) < 0.05, "{friction}");
     let fc = num(&friction["values"][0]);
     assert!((0.0076 / 2.0..4.0 * 0.0076).contains(&fc), "{fc}");
+    // Both outputs at once, with one parameter set: this closed-loop H1
+    // leaves the chain far from both FRFs (the joint identification's own
+    // fit is 4.3 dB / 40 deg), so the report must call it not informative.
+    let after = &v["joint"]["fit"]["after"];
+    let log_error = ((num(&after["rms_db"]) * std::f64::consts::LN_10 / 20.0).powi(2)
+        + num(&after["rms_deg"]).to_radians().powi(2))
+    .sqrt();
+    assert!(log_error > 0.5, "{after}");
+    let mut args = vec!["diagnose", path.as_str()];
+    args.extend_from_slice(&signals);
+    args.extend_from_slice(&["--model", model.to_str().unwrap()]);
+    let (code, report, err) = mms(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(report.contains("## All outputs at once"), "{report}");
+    assert!(report.contains("Not informative: with one parameter set"), "{report}");
     // The identification wrote each output's sensor into the model file:
     // the outputs given without their places read them from there, and
     // the diagnosis is the same.

@@ -14,13 +14,15 @@ use crate::identify::{
 use crate::notes::sensors_note;
 use crate::recording::SensorRecording;
 use ident::classify::feature_name;
-use ident::diagnose::EffectKind;
-use ident::diagnosis::{diagnose_recording, RecordingDiagnosis};
+use ident::diagnose::Diagnosis;
+use ident::diagnose::{EffectKind, EffectVerdict};
+use ident::diagnosis::{
+    diagnose_sensors, log_error_after, OutputRecording, RecordingDiagnosis, INFORMATIVE_LOG_ERROR,
+};
 use ident::identify::IdentifyOptions;
 use ident::joint::{
     identify_sensors_with_progress, RuledOutBy, SensorOutput, SensorsIdentification,
 };
-use mms::model_file::ModelFile;
 use mms::response::ChainResponse;
 use mms::{Model, Output, Port};
 use plot::{Bode, Style};
@@ -372,7 +374,8 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     }
     let chain = model.model;
     let n = chain.n_masses();
-    let mut runs: Vec<(&SensorRecording, Port, RecordingDiagnosis)> = Vec::new();
+    let mut ports = Vec::with_capacity(outputs.len());
+    let mut inputs = Vec::with_capacity(outputs.len());
     for o in &outputs {
         let port = match o.location {
             Some(l) => l.port(n).ok_or_else(|| {
@@ -392,20 +395,24 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
                 location_name(port)
             )
         })?;
-        let file = ModelFile {
-            model: m,
-            ..model.clone()
-        };
-        let d = diagnose_recording(
-            &o.recording.frf,
-            o.recording.samples.as_ref(),
-            &file,
-            None,
-            &options,
-        )
-        .map_err(|e| format!("{name}: --y {}: {e}", o.signal))?;
-        runs.push((o, port, d));
+        ports.push(port);
+        inputs.push(OutputRecording {
+            frf: &o.recording.frf,
+            samples: o.recording.samples.as_ref(),
+            chain: m,
+        });
     }
+    let diagnosis = diagnose_sensors(&inputs, &model, &options).map_err(|e| match e.output {
+        Some(i) => format!("{name}: --y {}: {}", outputs[i].signal, e.error),
+        None => format!("{name}: all outputs at once: {}", e.error),
+    })?;
+    let joint = diagnosis.joint;
+    let runs: Vec<(&SensorRecording, Port, RecordingDiagnosis)> = outputs
+        .iter()
+        .zip(ports)
+        .zip(diagnosis.outputs)
+        .map(|((o, p), d)| (o, p, d))
+        .collect();
     let common = common_effects(&runs);
     let mut plot = Bode::new(format!(
         "{} outputs and the model after each diagnosis",
@@ -450,6 +457,10 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
             let v = json!({
                 "version": crate::diagnose::JSON_VERSION,
                 "outputs": each,
+                "joint": match &joint {
+                    Some(j) => serde_json::to_value(j).map_err(|e| format!("JSON: {e}"))?,
+                    None => Value::Null,
+                },
                 "common_effects": common.iter().map(|c| json!({
                     "kind": c.kind.as_str(),
                     "parameter": c.parameter,
@@ -466,7 +477,7 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
                 &name,
                 &source_text,
                 &runs,
-                &common,
+                (&common, joint.as_ref()),
                 (args.format == IdentifyFormat::Md && args.out.is_some()).then_some("bode.svg"),
             );
             if args.format == IdentifyFormat::Md {
@@ -535,7 +546,7 @@ fn diagnose_markdown(
     name: &str,
     source: &str,
     runs: &[(&SensorRecording, Port, RecordingDiagnosis)],
-    common: &[CommonEffect],
+    (common, joint): (&[CommonEffect], Option<&Diagnosis>),
     plot: Option<&str>,
 ) -> String {
     let mut s = String::new();
@@ -602,6 +613,7 @@ fn diagnose_markdown(
             }
         }
     }
+    joint_markdown(&mut s, runs, joint);
     if let Some(p) = plot {
         let _ = writeln!(s, "![Bode plot: every output and its model after]({p})\n");
     }
@@ -622,4 +634,75 @@ fn diagnose_markdown(
         }
     }
     s
+}
+
+/// The diagnosis of every output at once: what it names with one
+/// parameter set, and how the FRF error of all outputs falls.
+fn joint_markdown(
+    s: &mut String,
+    runs: &[(&SensorRecording, Port, RecordingDiagnosis)],
+    joint: Option<&Diagnosis>,
+) {
+    s.push_str(
+        "## All outputs at once
+
+",
+    );
+    let Some(j) = joint else {
+        s.push_str(
+            "Not diagnosed: an output has no informative band, or the outputs have fewer \
+             lines than the model has parameters.\n\n",
+        );
+        return;
+    };
+    let bands: Vec<String> = runs
+        .iter()
+        .filter_map(|(o, _, d)| {
+            d.band_hz
+                .map(|(lo, hi)| format!("{} {lo:.4} to {hi:.4} Hz", o.signal))
+        })
+        .collect();
+    let named: Vec<&EffectVerdict> = j
+        .effects
+        .iter()
+        .filter(|e| e.kind != EffectKind::None)
+        .collect();
+    let _ = write!(
+        s,
+        "One parameter set and one set of effects fitted to the FRFs of every output \
+         together ({}), each line weighted by its uncertainty, each output read at its own \
+         sensor. ",
+        bands.join("; ")
+    );
+    if named.is_empty() {
+        s.push_str("Nothing is named: no effect earns its parameters on all outputs together");
+    } else {
+        let names: Vec<String> = named
+            .iter()
+            .map(|e| {
+                let p: Vec<String> = e
+                    .parameters
+                    .iter()
+                    .map(|(k, v)| format!("{k} = {v:.4e}"))
+                    .collect();
+                format!("**{}** ({})", e.kind.as_str(), p.join(", "))
+            })
+            .collect();
+        let _ = write!(s, "Named: {}", names.join(", then "));
+    }
+    let _ = writeln!(
+        s,
+        "; the FRF error of all outputs goes from {:.3} dB / {:.2} deg to {:.3} dB / {:.2} deg \
+         RMS.\n",
+        j.fit.before.rms_db, j.fit.before.rms_deg, j.fit.after.rms_db, j.fit.after.rms_deg
+    );
+    let log_error = log_error_after(j);
+    if log_error > INFORMATIVE_LOG_ERROR {
+        let _ = writeln!(
+            s,
+            "Not informative: with one parameter set the model still misses the outputs' FRFs \
+             by {log_error:.2} nepers RMS (more than {INFORMATIVE_LOG_ERROR}), so what it names \
+             is no finding about the rig.\n"
+        );
+    }
 }

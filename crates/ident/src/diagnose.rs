@@ -547,10 +547,24 @@ pub fn model_from_simulation(sim: &Frf, output: mms::Output) -> Result<ModelFile
     }))
 }
 
+/// The lines of one output in a [`Problem`]: the chain read at that
+/// output's sensor, and the end of its lines (they follow the previous
+/// output's).
+#[derive(Clone, Debug)]
+struct Segment {
+    chain: mms::Model,
+    end: usize,
+}
+
 /// The fitting problem shared by the calibration and every hypothesis.
+/// Its lines are those of one output, or of several one after another,
+/// each compared with the chain read at its own sensor ([`Segment`]); the
+/// parameters and effects are one set for all.
 #[derive(Clone)]
 struct Problem<'a> {
+    /// The model; its chain is the first output's.
     file: ModelFile,
+    segments: Vec<Segment>,
     freq: &'a [f64],
     data: &'a [Complex64],
     /// `1 / sigma_k` per line in the fits (zero on held-out lines).
@@ -612,16 +626,24 @@ impl Problem<'_> {
     /// Unweighted log errors `ln(G/H)` at state `x`.
     fn errors(&self, kinds: &[EffectKind], x: &[f64]) -> Result<Vec<Complex64>, ResponseError> {
         let p: Vec<f64> = x[..self.np()].iter().map(|v| v.exp()).collect();
-        let r = ChainResponse::with_effects(
-            &self.file.model,
-            self.file.output,
-            &self.effects(kinds, x),
-        );
-        self.freq
-            .iter()
-            .zip(self.data)
-            .map(|(&f, &h)| Ok((r.eval(&p, f)? * self.file.gain / h).ln()))
-            .collect()
+        let effects = self.effects(kinds, x);
+        let mut out = Vec::with_capacity(self.freq.len());
+        for (s, lines) in self.segment_lines() {
+            let r = ChainResponse::with_effects(&s.chain, self.file.output, &effects);
+            for k in lines {
+                out.push((r.eval(&p, self.freq[k])? * self.file.gain / self.data[k]).ln());
+            }
+        }
+        Ok(out)
+    }
+
+    /// Each output's segment and its line indices.
+    fn segment_lines(&self) -> impl Iterator<Item = (&Segment, std::ops::Range<usize>)> {
+        self.segments.iter().scan(0, |start, s| {
+            let lines = *start..s.end;
+            *start = s.end;
+            Some((s, lines))
+        })
     }
 
     /// Weighted residuals (data rows, then prior rows) and, if asked, the
@@ -635,17 +657,16 @@ impl Problem<'_> {
         let np = self.np();
         let nx = x.len();
         let p: Vec<f64> = x[..np].iter().map(|v| v.exp()).collect();
-        let resp = ChainResponse::with_effects(
-            &self.file.model,
-            self.file.output,
-            &self.effects(kinds, x),
-        );
+        let effects = self.effects(kinds, x);
         let mut r = Vec::with_capacity(2 * self.freq.len() + np);
         let Some(jac) = jac else {
-            for ((&f, &h), &w) in self.freq.iter().zip(self.data).zip(&self.inv_sigma) {
-                let e = (resp.eval(&p, f)? * self.file.gain / h).ln();
-                r.push(w * e.re);
-                r.push(w * e.im);
+            for (s, lines) in self.segment_lines() {
+                let resp = ChainResponse::with_effects(&s.chain, self.file.output, &effects);
+                for k in lines {
+                    let e = (resp.eval(&p, self.freq[k])? * self.file.gain / self.data[k]).ln();
+                    r.push(self.inv_sigma[k] * e.re);
+                    r.push(self.inv_sigma[k] * e.im);
+                }
             }
             r.extend(self.prior_rows(x));
             return Ok(r);
@@ -654,37 +675,41 @@ impl Problem<'_> {
         // the effects enter the solver in several places, and one extra
         // evaluation per line and effect is cheap next to the gradient.
         const STEP: f64 = 1e-6;
-        let shifted: Vec<ChainResponse> = (0..kinds.len())
+        let shifted_effects: Vec<Effects> = (0..kinds.len())
             .map(|i| {
                 let mut xs = x.to_vec();
                 xs[np + i] += STEP;
-                ChainResponse::with_effects(
-                    &self.file.model,
-                    self.file.output,
-                    &self.effects(kinds, &xs),
-                )
+                self.effects(kinds, &xs)
             })
             .collect();
         jac.clear();
         jac.reserve((2 * self.freq.len() + np) * nx);
         let mut grad = vec![Complex64::new(0.0, 0.0); np];
-        for ((&f, &h), &w) in self.freq.iter().zip(self.data).zip(&self.inv_sigma) {
-            let g = resp.eval_with_gradient(&p, f, &mut grad)?;
-            let e = (g * self.file.gain / h).ln();
-            r.push(w * e.re);
-            r.push(w * e.im);
-            let base = jac.len();
-            jac.resize(base + 2 * nx, 0.0);
-            for i in 0..np {
-                // d ln G / d ln p = p (dG/dp) / G.
-                let d = grad[i] * p[i] / g;
-                jac[base + i] = w * d.re;
-                jac[base + nx + i] = w * d.im;
-            }
-            for (i, s) in shifted.iter().enumerate() {
-                let d = (s.eval(&p, f)? / g).ln() / STEP;
-                jac[base + np + i] = w * d.re;
-                jac[base + nx + np + i] = w * d.im;
+        for (s, lines) in self.segment_lines() {
+            let resp = ChainResponse::with_effects(&s.chain, self.file.output, &effects);
+            let shifted: Vec<ChainResponse> = shifted_effects
+                .iter()
+                .map(|e| ChainResponse::with_effects(&s.chain, self.file.output, e))
+                .collect();
+            for k in lines {
+                let (f, h, w) = (self.freq[k], self.data[k], self.inv_sigma[k]);
+                let g = resp.eval_with_gradient(&p, f, &mut grad)?;
+                let e = (g * self.file.gain / h).ln();
+                r.push(w * e.re);
+                r.push(w * e.im);
+                let base = jac.len();
+                jac.resize(base + 2 * nx, 0.0);
+                for i in 0..np {
+                    // d ln G / d ln p = p (dG/dp) / G.
+                    let d = grad[i] * p[i] / g;
+                    jac[base + i] = w * d.re;
+                    jac[base + nx + i] = w * d.im;
+                }
+                for (i, s) in shifted.iter().enumerate() {
+                    let d = (s.eval(&p, f)? / g).ln() / STEP;
+                    jac[base + np + i] = w * d.re;
+                    jac[base + nx + np + i] = w * d.im;
+                }
             }
         }
         r.extend(self.prior_rows(x));
@@ -845,7 +870,92 @@ pub fn diagnose(
     model: &ModelFile,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis, DiagnoseError> {
+    diagnose_outputs(
+        &[OutputFrf {
+            frf: data,
+            chain: model.model,
+        }],
+        model,
+        options,
+    )
+}
+
+/// One output of [`diagnose_outputs`]: its FRF and the model's chain read
+/// at that output's sensor.
+#[derive(Clone, Copy, Debug)]
+pub struct OutputFrf<'a> {
+    /// The output's FRF (the lines to compare).
+    pub frf: &'a Frf,
+    /// The model's chain with this output's sensor.
+    pub chain: mms::Model,
+}
+
+/// Diagnoses what `model` misses of several outputs of one recording at
+/// once: one parameter set and one set of effects for all, each output
+/// compared with the chain read at its own sensor, every line weighted by
+/// its own uncertainty (or, without one, by its output's residual scatter).
+/// An effect is named when it earns its parameters on all outputs
+/// together. The mismatch bands are the first output's.
+///
+/// ```
+/// use frf::Frf;
+/// use ident::diagnose::{diagnose_outputs, DiagnoseOptions, OutputFrf};
+/// use mms::model_file::ModelFile;
+/// use mms::response::{ChainResponse, Effects};
+/// use mms::{Model, Output, Port};
+///
+/// // A free two-mass drive read at the motor and at the load, both with a
+/// // dead time of 1 ms that the model lacks.
+/// let text = "masses = 2\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\n\
+///             output = \"position\"\n[parameters]\nm1 = 0.02\nm2 = 0.05\n\
+///             c12 = 3000\nd12 = 0.2\n";
+/// let model = ModelFile::parse(text)?;
+/// let load = Model::new(2, 0, Port::new(1, 0), Port::new(2, 0))?;
+/// let delay = Effects { time_delay_s: Some(1e-3), ..Effects::default() };
+/// let f: Vec<f64> = (0..300).map(|k| 5.0 * 1.012f64.powi(k)).collect();
+/// let frf = |m: &Model| -> Result<Frf, Box<dyn std::error::Error>> {
+///     let r = ChainResponse::with_effects(m, Output::Position, &delay);
+///     let h = f.iter().map(|&f| r.eval(model.parameters.values(), f)).collect::<Result<_, _>>()?;
+///     Ok(Frf::new(f.clone(), h, None)?)
+/// };
+/// let (motor, at_load) = (frf(&model.model)?, frf(&load)?);
+/// let d = diagnose_outputs(
+///     &[
+///         OutputFrf { frf: &motor, chain: model.model },
+///         OutputFrf { frf: &at_load, chain: load },
+///     ],
+///     &model,
+///     &DiagnoseOptions::default(),
+/// )?;
+/// assert_eq!(d.effects[0].kind.as_str(), "time_delay");
+/// assert!((d.effects[0].parameters["delay_s"] / 1e-3 - 1.0).abs() < 0.01);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn diagnose_outputs(
+    outputs: &[OutputFrf],
+    model: &ModelFile,
+    options: &DiagnoseOptions,
+) -> Result<Diagnosis, DiagnoseError> {
     let o = options;
+    if outputs.is_empty() {
+        return Err(DiagnoseError::Options("no output to compare".into()));
+    }
+    for out in outputs {
+        let c = &out.chain;
+        if (c.n_masses(), c.gap(), c.actuator())
+            != (
+                model.model.n_masses(),
+                model.model.gap(),
+                model.model.actuator(),
+            )
+        {
+            return Err(DiagnoseError::Options(format!(
+                "output chain {} is not the model's chain {} read at another sensor",
+                c.id(),
+                model.model.id()
+            )));
+        }
+    }
     for (name, ok) in [
         ("tolerance", o.tolerance > 0.0 && o.tolerance.is_finite()),
         (
@@ -864,8 +974,25 @@ pub fn diagnose(
     if !(model.gain.is_finite() && model.gain != 0.0) {
         return Err(DiagnoseError::Options(format!("model gain {}", model.gain)));
     }
-    let freq = data.freq_hz();
-    let h = data.response();
+    let freq_all: Vec<f64> = outputs
+        .iter()
+        .flat_map(|out| out.frf.freq_hz().iter().copied())
+        .collect();
+    let h_all: Vec<Complex64> = outputs
+        .iter()
+        .flat_map(|out| out.frf.response().iter().copied())
+        .collect();
+    let segments: Vec<Segment> = outputs
+        .iter()
+        .scan(0, |end, out| {
+            *end += out.frf.len();
+            Some(Segment {
+                chain: out.chain,
+                end: *end,
+            })
+        })
+        .collect();
+    let (freq, h) = (&freq_all[..], &h_all[..]);
     if let Some(k) = h
         .iter()
         .position(|z| !(z.norm() > 0.0 && z.norm().is_finite()))
@@ -874,9 +1001,9 @@ pub fn diagnose(
     }
     let names = model.model.parameters();
     let np = names.len();
-    if data.len() < np + 2 {
+    if freq.len() < np + 2 {
         return Err(DiagnoseError::TooFewLines {
-            lines: data.len(),
+            lines: freq.len(),
             parameters: np + 1,
         });
     }
@@ -904,6 +1031,7 @@ pub fn diagnose(
         .collect();
     let mut problem = Problem {
         file: model.clone(),
+        segments: segments.clone(),
         freq,
         data: h,
         inv_sigma: vec![1.0; freq.len()],
@@ -920,19 +1048,33 @@ pub fn diagnose(
     // coherence and the averages), else the scatter of the nominal
     // residual, then again of the calibrated one (a badly wrong nominal
     // model can have sharp residual features at its resonances).
-    let measured_sigma: Option<Vec<f64>> = (data.std_dev().is_some() || data.coherence().is_some())
-        .then(|| {
-            frf::uncertainty::line_uncertainty(data, Some(o.averages))
-                .relative
-                .iter()
-                .map(|s| s.max(1e-6))
-                .collect()
-        });
+    // Output by output: the noise of two sensors need not be alike.
+    let measured_sigma: Vec<Option<Vec<f64>>> = outputs
+        .iter()
+        .map(|out| {
+            let data = out.frf;
+            (data.std_dev().is_some() || data.coherence().is_some()).then(|| {
+                frf::uncertainty::line_uncertainty(data, Some(o.averages))
+                    .relative
+                    .iter()
+                    .map(|s| s.max(1e-6))
+                    .collect()
+            })
+        })
+        .collect();
     let set_sigma = |p: &mut Problem, e: &[Complex64]| -> Vec<f64> {
-        let sigma = match &measured_sigma {
-            Some(s) => s.clone(),
-            None => vec![scatter(e).max(1e-6); e.len()],
-        };
+        let mut sigma = Vec::with_capacity(e.len());
+        let mut start = 0;
+        for (seg, measured) in segments.iter().zip(&measured_sigma) {
+            match measured {
+                Some(s) => sigma.extend_from_slice(s),
+                None => sigma.extend(std::iter::repeat_n(
+                    scatter(&e[start..seg.end]).max(1e-6),
+                    seg.end - start,
+                )),
+            }
+            start = seg.end;
+        }
         p.inv_sigma = sigma
             .iter()
             .zip(&held)
@@ -954,7 +1096,13 @@ pub fn diagnose(
     let calibrated = problem.fit(&[], first.x, &lo, &hi, o.max_iterations)?;
     let e_before = problem.errors(&[], &calibrated.x)?;
     let before = summary(&e_before);
-    let mismatch = bands(freq, &e_before, &sigma, o);
+    let first_lines = segments[0].end;
+    let mismatch = bands(
+        &freq[..first_lines],
+        &e_before[..first_lines],
+        &sigma[..first_lines],
+        o,
+    );
 
     let mut calibration = Vec::new();
     for i in 0..np {
@@ -1416,7 +1564,7 @@ enum Source {
 /// mass (free chains), or between two masses (or the ground and the first
 /// mass) that a spring joins, splitting it in two. Each placement is the
 /// extended model and, for every parameter of it, its [`Source`].
-fn extended_models(m: &mms::Model) -> Vec<(mms::Model, Vec<Source>)> {
+fn extended_models(m: &mms::Model) -> Vec<(mms::Model, Vec<Source>, usize)> {
     let n = m.n_masses();
     if n >= mms::MAX_MASSES {
         return Vec::new();
@@ -1431,8 +1579,7 @@ fn extended_models(m: &mms::Model) -> Vec<(mms::Model, Vec<Source>)> {
         if p < n && !split && !(p == 0 && m.gap() == 0) {
             continue;
         }
-        let up = |i: usize| if i > p { i + 1 } else { i };
-        let shift = |q: mms::Port| mms::Port::new(up(q.plus), up(q.minus));
+        let shift = |q: mms::Port| shifted_port(q, p);
         let gap = if m.gap() > p { m.gap() + 1 } else { m.gap() };
         let Ok(e) = mms::Model::new(n + 1, gap, shift(m.actuator()), shift(m.sensor())) else {
             continue;
@@ -1442,7 +1589,7 @@ fn extended_models(m: &mms::Model) -> Vec<(mms::Model, Vec<Source>)> {
             let (kind, rest) = name.split_at(1);
             if kind == "m" {
                 let i: usize = rest.parse().unwrap_or(0);
-                names.insert(mms::mass_name(up(i)), Source::Old(j));
+                names.insert(mms::mass_name(shifted_node(i, p)), Source::Old(j));
                 continue;
             }
             let link = |i: usize| {
@@ -1457,7 +1604,7 @@ fn extended_models(m: &mms::Model) -> Vec<(mms::Model, Vec<Source>)> {
                 names.insert(link(p), Source::Split(j));
                 names.insert(link(p + 1), Source::Split(j));
             } else {
-                names.insert(link(up(i)), Source::Old(j));
+                names.insert(link(shifted_node(i, p)), Source::Old(j));
             }
         }
         let map = e
@@ -1465,9 +1612,49 @@ fn extended_models(m: &mms::Model) -> Vec<(mms::Model, Vec<Source>)> {
             .iter()
             .map(|q| names.get(q).copied().unwrap_or(Source::New))
             .collect();
-        out.push((e, map));
+        out.push((e, map, p));
     }
     out
+}
+
+/// Node `i` of a chain once a mass is inserted as node `at + 1`.
+fn shifted_node(i: usize, at: usize) -> usize {
+    if i > at {
+        i + 1
+    } else {
+        i
+    }
+}
+
+/// Port `q` of a chain once a mass is inserted as node `at + 1`.
+fn shifted_port(q: mms::Port, at: usize) -> mms::Port {
+    mms::Port::new(shifted_node(q.plus, at), shifted_node(q.minus, at))
+}
+
+/// The outputs' segments on the chain `ext`, which has a mass inserted as
+/// node `at + 1` ([`extended_models`]), each ending at `end(old end)`.
+fn extended_segments(
+    segments: &[Segment],
+    ext: &mms::Model,
+    at: usize,
+    end: impl Fn(usize) -> usize,
+) -> Option<Vec<Segment>> {
+    segments
+        .iter()
+        .map(|s| {
+            let chain = mms::Model::new(
+                ext.n_masses(),
+                ext.gap(),
+                ext.actuator(),
+                shifted_port(s.chain.sensor(), at),
+            )
+            .ok()?;
+            Some(Segment {
+                chain,
+                end: end(s.end),
+            })
+        })
+        .collect()
 }
 
 /// The lower node index of a link name's digits (`1` -> 0, `12` -> 1,
@@ -1524,9 +1711,9 @@ fn extra_mode<'a>(
     let sub_inv: Vec<f64> = sub.iter().map(|&k| problem.inv_sigma[k]).collect();
     let sub_test = vec![0.0; sub.len()];
     // (screened cost, placement, its start values, screened state).
-    type Screened = (f64, mms::Model, Vec<Source>, Vec<f64>, Vec<f64>);
+    type Screened = (f64, mms::Model, Vec<Source>, Vec<f64>, Vec<f64>, usize);
     let mut screened: Vec<Screened> = Vec::new();
-    if let Some((ext, map, fitted)) = reuse {
+    if let Some((ext, map, fitted, at)) = reuse {
         // A later step: the placement and the new parameters of the first
         // step's fit, the old parameters of the base (no screening).
         let values: Vec<f64> = map
@@ -1539,14 +1726,14 @@ fn extra_mode<'a>(
             .collect();
         let mut x: Vec<f64> = values.iter().map(|v| v.ln()).collect();
         x.extend_from_slice(effect_x);
-        screened.push((0.0, *ext, map.clone(), values, x));
+        screened.push((0.0, *ext, map.clone(), values, x, *at));
     }
     let placements = if reuse.is_some() {
         Vec::new()
     } else {
         extended_models(&file.model)
     };
-    for (ext, map) in placements {
+    for (ext, map, at) in placements {
         let n_ext = ext.n_masses();
         let n_links = ext.springs().len();
         // The spring a split placement halves (its stiffness sets the new
@@ -1582,7 +1769,9 @@ fn extra_mode<'a>(
                 })
                 .collect();
             let screen = |lines| -> Option<State> {
-                let p = extended_problem(problem, ext, &map, &values, lines)?;
+                // Every second line of each output.
+                let segments = extended_segments(&problem.segments, &ext, at, |e| e.div_ceil(2))?;
+                let p = extended_problem(problem, ext, segments, &map, &values, lines)?;
                 let mut x0: Vec<f64> = values.iter().map(|v| v.ln()).collect();
                 x0.extend_from_slice(effect_x);
                 let (lo, hi) = ctx.state_bounds(&p, &base.kinds);
@@ -1595,7 +1784,7 @@ fn extra_mode<'a>(
             else {
                 continue;
             };
-            screened.push((state.cost, ext, map.clone(), values, state.x));
+            screened.push((state.cost, ext, map.clone(), values, state.x, at));
         }
     }
     // Stable: equal costs keep the order of placements and peaks.
@@ -1604,8 +1793,8 @@ fn extra_mode<'a>(
     // the band (a fit can also spend the extra mass on a mode far outside
     // it, which the band cannot resolve); else the first finished.
     let mut first: Option<(Fitted<'a>, Placement)> = None;
-    for (_, ext, map, values, x) in screened.into_iter().take(FINISHED_SCREENS) {
-        let Some(done) = finish_extra_mode(base, ctx, ext, map, &values, x) else {
+    for (_, ext, map, values, x, at) in screened.into_iter().take(FINISHED_SCREENS) {
+        let Some(done) = finish_extra_mode(base, ctx, (ext, map, at), &values, x) else {
             continue;
         };
         if done.0.added_mode(ctx).is_some_and(|m| m.in_band) {
@@ -1651,15 +1840,16 @@ const FINISHED_SCREENS: usize = 3;
 fn finish_extra_mode<'a>(
     base: &Fitted<'a>,
     ctx: &Context,
-    ext: mms::Model,
-    map: Vec<Source>,
+    (ext, map, at): (mms::Model, Vec<Source>, usize),
     values: &[f64],
     x: Vec<f64>,
 ) -> Option<(Fitted<'a>, Placement)> {
     let problem = &base.problem;
+    let segments = extended_segments(&problem.segments, &ext, at, |e| e)?;
     let ext_problem = extended_problem(
         problem,
         ext,
+        segments,
         &map,
         values,
         (
@@ -1683,13 +1873,13 @@ fn finish_extra_mode<'a>(
             state,
             test_cost,
         },
-        (ext, map, fitted),
+        (ext, map, fitted, at),
     ))
 }
 
 /// An extra mass's placement: the extended model, the sources of its
 /// parameters and their fitted values.
-type Placement = (mms::Model, Vec<Source>, Vec<f64>);
+type Placement = (mms::Model, Vec<Source>, Vec<f64>, usize);
 
 /// The problem of one extra-mass placement started at `values`, on the
 /// given lines (frequencies, data, fit weights, held-out weights); the old
@@ -1697,6 +1887,7 @@ type Placement = (mms::Model, Vec<Source>, Vec<f64>);
 fn extended_problem<'b>(
     problem: &Problem,
     ext: mms::Model,
+    segments: Vec<Segment>,
     map: &[Source],
     values: &[f64],
     lines: (&'b [f64], &'b [Complex64], &[f64], &[f64]),
@@ -1714,6 +1905,7 @@ fn extended_problem<'b>(
             parameters,
             ..problem.file.clone()
         },
+        segments,
         freq: lines.0,
         data: lines.1,
         inv_sigma: lines.2.to_vec(),

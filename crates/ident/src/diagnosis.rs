@@ -179,6 +179,14 @@ pub enum Reason {
 /// as the time domain's is when it leaves at most half of the output.
 pub const INFORMATIVE_LOG_ERROR: f64 = 0.5;
 
+/// The RMS log error (nepers, magnitude and phase together) by which the
+/// model after a frequency-domain diagnosis misses the FRF: informative up
+/// to [`INFORMATIVE_LOG_ERROR`].
+pub fn log_error_after(d: &Diagnosis) -> f64 {
+    let a = d.fit.after;
+    ((a.rms_db * std::f64::consts::LN_10 / 20.0).powi(2) + a.rms_deg.to_radians().powi(2)).sqrt()
+}
+
 /// The reconciled verdict.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Verdict {
@@ -376,6 +384,162 @@ pub fn diagnose_recording(
     })
 }
 
+/// One output of a recording with several sensors: its FRF, its samples
+/// (for a time-domain recording) and the model's chain read at its sensor.
+#[derive(Clone, Copy, Debug)]
+pub struct OutputRecording<'a> {
+    /// The output's FRF.
+    pub frf: &'a Frf,
+    /// The samples it was estimated from, if any.
+    pub samples: Option<&'a Samples>,
+    /// The model's chain with this output's sensor.
+    pub chain: mms::Model,
+}
+
+/// The diagnosis of a recording with several sensors
+/// ([`diagnose_sensors`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct SensorsDiagnosis {
+    /// Each output's own diagnosis ([`diagnose_recording`] with the chain
+    /// read at its sensor), in the order given.
+    pub outputs: Vec<RecordingDiagnosis>,
+    /// One frequency-domain diagnosis of every output at once, over each
+    /// output's band: one parameter set and one set of effects
+    /// ([`crate::diagnose::diagnose_outputs`]). `None` when an output has
+    /// no informative band or too few lines for the model.
+    pub joint: Option<Diagnosis>,
+}
+
+/// Why [`diagnose_sensors`] cannot run: the output (its index) whose
+/// diagnosis failed, or `None` for the joint one.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{error}")]
+pub struct SensorsDiagnosisError {
+    /// The output at fault, if one is.
+    pub output: Option<usize>,
+    /// What went wrong.
+    pub error: DiagnosisError,
+}
+
+/// Diagnoses what `model` misses of a recording with several sensors:
+/// each output on its own, as [`diagnose_recording`] does, and then all
+/// of them at once in the frequency domain, so that the rig gets one
+/// verdict in which every output weighs by its own lines' uncertainty.
+/// Each output's chain must be `model`'s chain read at its sensor.
+///
+/// ```
+/// use frf::Frf;
+/// use ident::diagnose::EffectKind;
+/// use ident::diagnosis::{diagnose_sensors, DiagnosisOptions, OutputRecording};
+/// use mms::model_file::ModelFile;
+/// use mms::response::{ChainResponse, Effects};
+/// use mms::{Model, Output, Port};
+///
+/// // Motor and load encoder of a free two-mass drive with a 0.5 ms dead
+/// // time the model lacks.
+/// let text = "masses = 2\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\n\
+///             output = \"position\"\n[parameters]\nm1 = 0.02\nm2 = 0.05\n\
+///             c12 = 3000\nd12 = 0.2\n";
+/// let model = ModelFile::parse(text)?;
+/// let load = Model::new(2, 0, Port::new(1, 0), Port::new(2, 0))?;
+/// let delay = Effects { time_delay_s: Some(5e-4), ..Effects::default() };
+/// let f: Vec<f64> = (0..300).map(|k| 5.0 * 1.012f64.powi(k)).collect();
+/// let frf = |m: &Model| -> Result<Frf, Box<dyn std::error::Error>> {
+///     let r = ChainResponse::with_effects(m, Output::Position, &delay);
+///     let h = f.iter().map(|&f| r.eval(model.parameters.values(), f)).collect::<Result<_, _>>()?;
+///     Ok(Frf::new(f.clone(), h, None)?)
+/// };
+/// let (motor, at_load) = (frf(&model.model)?, frf(&load)?);
+/// let outputs = [
+///     OutputRecording { frf: &motor, samples: None, chain: model.model },
+///     OutputRecording { frf: &at_load, samples: None, chain: load },
+/// ];
+/// let d = diagnose_sensors(&outputs, &model, &DiagnosisOptions::default())?;
+/// assert_eq!(d.outputs.len(), 2);
+/// let joint = d.joint.expect("both outputs have a band");
+/// assert_eq!(joint.effects[0].kind, EffectKind::TimeDelay);
+/// assert!((joint.effects[0].parameters["delay_s"] / 5e-4 - 1.0).abs() < 0.01);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn diagnose_sensors(
+    outputs: &[OutputRecording],
+    model: &ModelFile,
+    options: &DiagnosisOptions,
+) -> Result<SensorsDiagnosis, SensorsDiagnosisError> {
+    let mut each = Vec::with_capacity(outputs.len());
+    for (i, out) in outputs.iter().enumerate() {
+        let file = ModelFile {
+            model: out.chain,
+            ..model.clone()
+        };
+        let d =
+            diagnose_recording(out.frf, out.samples, &file, None, options).map_err(|error| {
+                SensorsDiagnosisError {
+                    output: Some(i),
+                    error,
+                }
+            })?;
+        each.push(d);
+    }
+    let joint = joint_frequency_part(outputs, &each, model, options).map_err(|error| {
+        SensorsDiagnosisError {
+            output: None,
+            error,
+        }
+    })?;
+    Ok(SensorsDiagnosis {
+        outputs: each,
+        joint,
+    })
+}
+
+/// The frequency-domain diagnosis of every output at once, each over the
+/// band its own diagnosis compared (`None` if one has none).
+fn joint_frequency_part(
+    outputs: &[OutputRecording],
+    each: &[RecordingDiagnosis],
+    model: &ModelFile,
+    o: &DiagnosisOptions,
+) -> Result<Option<Diagnosis>, DiagnosisError> {
+    let mut lines = Vec::with_capacity(outputs.len());
+    for (out, d) in outputs.iter().zip(each) {
+        let Some((lo, hi)) = d.band_hz else {
+            return Ok(None);
+        };
+        let data = out
+            .frf
+            .band(lo.max(f64::MIN_POSITIVE), hi)
+            .ok_or(DiagnosisError::EmptyBand(lo, hi))?;
+        lines.push(data);
+    }
+    let frfs: Vec<crate::diagnose::OutputFrf> = lines
+        .iter()
+        .zip(outputs)
+        .map(|(frf, out)| crate::diagnose::OutputFrf {
+            frf,
+            chain: out.chain,
+        })
+        .collect();
+    let linear = ModelFile {
+        effects: model.effects.linear(),
+        ..model.clone()
+    };
+    match crate::diagnose::diagnose_outputs(&frfs, &linear, &frequency_options(o)) {
+        Ok(f) => Ok(Some(f)),
+        Err(DiagnoseError::TooFewLines { .. }) => Ok(None),
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// The frequency-domain options of the recording's.
+fn frequency_options(o: &DiagnosisOptions) -> DiagnoseOptions {
+    DiagnoseOptions {
+        tolerance: o.tolerance,
+        selection: o.selection,
+        ..DiagnoseOptions::default()
+    }
+}
+
 /// The lines to compare: the user's band, else the informative one.
 fn band_of(frf: &Frf, model: &ModelFile, o: &DiagnosisOptions) -> Option<(f64, f64)> {
     match o.band_hz {
@@ -406,12 +570,7 @@ fn frequency_part(
         effects: model.effects.linear(),
         ..model.clone()
     };
-    let fd_options = DiagnoseOptions {
-        tolerance: o.tolerance,
-        selection: o.selection,
-        ..DiagnoseOptions::default()
-    };
-    match diagnose(&data, &linear, &fd_options) {
+    match diagnose(&data, &linear, &frequency_options(o)) {
         Ok(f) => Ok(Some(f)),
         Err(DiagnoseError::TooFewLines { .. }) => Ok(None),
         Err(e) => Err(e.into()),
@@ -708,10 +867,7 @@ fn reconcile(
         };
         return verdict(fd_names.then_some(Domain::Frequency), reason);
     }
-    let a = fd.fit.after;
-    let log_error = ((a.rms_db * std::f64::consts::LN_10 / 20.0).powi(2)
-        + a.rms_deg.to_radians().powi(2))
-    .sqrt();
+    let log_error = log_error_after(fd);
     if log_error > INFORMATIVE_LOG_ERROR && names(&td.effects) {
         return verdict(
             Some(Domain::Time),
