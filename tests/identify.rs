@@ -992,3 +992,101 @@ fn diagnose_blames_a_model_that_cannot_be_evaluated() {
     assert!(err.contains(m) && !err.contains(c), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `mms diagnose` with two encoders of a drive inside a position loop
+/// closed on the first (the motor's): each output is simulated inside the
+/// loop closed on the motor and both name the Coulomb friction the record
+/// was made with; the law is checked on the output it reads.
+#[test]
+fn diagnose_two_encoders_in_a_loop_closed_on_the_first() {
+    use mms::model_file::ModelFile;
+    use mms::simulate::{ClosedLoop, Controller, Feedback, SimOptions, Simulator};
+    let dir = temp_dir("two-encoders-loop");
+    let fs = 1000.0;
+    let n = 6000;
+    let r: Vec<f64> = (0..n)
+        .map(|k| {
+            let t = k as f64 / fs;
+            let w = 2.0 * std::f64::consts::PI;
+            0.05 * (1.0 - (w * 0.5 * t).cos()) + 0.01 * (w * 1.7 * t).sin()
+        })
+        .collect();
+    let c = Controller::new(40.0, 30.0);
+    let model = |m1: f64, m2: f64, k: f64, sensor: usize| {
+        format!(
+            "masses = 2\ngap = 0\nactuator = [1, 0]\nsensor = [{sensor}, 0]\n\
+             output = \"position\"\ngain = 10.0\n[parameters]\nm1 = {m1:?}\nm2 = {m2:?}\n\
+             c12 = {k:?}\nd12 = 3.0\n[effects]\nfriction = {{ viscous_ns_per_m = 5.0 }}\n"
+        )
+    };
+    let truth = |sensor: usize| {
+        let mut f = ModelFile::parse(&model(1.0, 2.0, 20000.0, sensor)).unwrap();
+        f.effects.coulomb_friction = Some(4.0);
+        f
+    };
+    let run = |sensor: usize| {
+        Simulator::new(&truth(sensor), fs, &SimOptions::default())
+            .unwrap()
+            .run_closed_loop(&ClosedLoop {
+                feedback: Some(Feedback {
+                    sensor: mms::Port::new(1, 0),
+                    initial_position: 0.0,
+                }),
+                ..ClosedLoop::new(&c, &r)
+            })
+            .unwrap()
+    };
+    let (motor, load) = (run(1), run(2));
+    let mut rng = XorShift::new(26);
+    let mut text = String::from("t,u,y1,y2,r\n");
+    for (k, r) in r.iter().enumerate() {
+        text.push_str(&format!(
+            "{},{:e},{:e},{:e},{r:e}\n",
+            k as f64 / fs,
+            motor.u[k],
+            motor.y[k] + 2e-7 * rng.normal(),
+            load.y[k] + 2e-7 * rng.normal(),
+        ));
+    }
+    let rec = dir.join("loop.csv");
+    std::fs::write(&rec, text).unwrap();
+    let nominal = dir.join("nominal.toml");
+    std::fs::write(&nominal, model(1.05, 1.9, 21000.0, 1)).unwrap();
+    let (rec, nominal) = (rec.to_str().unwrap(), nominal.to_str().unwrap());
+    let base = [
+        "diagnose",
+        rec,
+        "--u",
+        "u",
+        "--y",
+        "y1",
+        "--y",
+        "y2@2",
+        "--model",
+        nominal,
+        "--reference",
+        "r",
+    ];
+    let mut args = base.to_vec();
+    args.extend(["--controller", "kp=40,kv=30", "--format", "json"]);
+    let (code, out, err) = mms(&args);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for k in 0..2 {
+        let d = &v["outputs"][k]["diagnosis"];
+        assert_eq!(d["time_domain"]["closed_loop"], true, "output {k}");
+        let effects = d["time_domain"]["effects"].as_array().unwrap();
+        let fc = effects
+            .iter()
+            .find(|e| e["kind"] == "coulomb_friction")
+            .and_then(|e| e["parameters"]["coulomb_n"].as_f64())
+            .unwrap_or_else(|| panic!("output {k}: {effects:?}"));
+        assert!((fc / 4.0 - 1.0).abs() < 0.05, "output {k}: {fc}");
+    }
+    // A law that does not describe the loop is refused, naming the output.
+    let mut args = base.to_vec();
+    args.extend(["--controller", "kp=40,kv=60"]);
+    let (code, _, err) = mms(&args);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("controller law"), "{err}");
+}

@@ -979,7 +979,10 @@ fn tue2018_both_encoders_name_the_same_friction() {
     let (code, report, err) = mms(&args);
     assert_eq!(code, 0, "{err}");
     assert!(report.contains("## All outputs at once"), "{report}");
-    assert!(report.contains("Not informative: with one parameter set"), "{report}");
+    assert!(
+        report.contains("Not informative: with one parameter set"),
+        "{report}"
+    );
     // The identification wrote each output's sensor into the model file:
     // the outputs given without their places read them from there, and
     // the diagnosis is the same.

@@ -48,18 +48,19 @@ pub struct LoopArgs {
 }
 
 /// The loop read from the recording.
-struct LoopData {
+pub struct LoopData {
     controller: Controller,
     reference: Vec<f64>,
     disturbance: Option<Vec<f64>>,
 }
 
 impl LoopData {
-    fn record(&self) -> LoopRecord<'_> {
+    pub fn record(&self) -> LoopRecord<'_> {
         LoopRecord {
             controller: &self.controller,
             reference: &self.reference,
             disturbance: self.disturbance.as_deref(),
+            feedback: None,
         }
     }
 }
@@ -1065,7 +1066,7 @@ fn read_other(
     Ok((other, looped))
 }
 
-fn read_loop(
+pub fn read_loop(
     rec: &RecordingArgs,
     l: &LoopArgs,
     samples: Option<&frf::Samples>,
@@ -1082,6 +1083,13 @@ fn read_loop(
     let signal = |flag: &str, var: &str| -> Result<Vec<f64>, String> {
         let args = RecordingArgs {
             u: Some(var.to_string()),
+            // The first output (its sensor's place, if given, left out).
+            y: rec
+                .y
+                .first()
+                .map(|y| y.split('@').next().unwrap_or(y).to_string())
+                .into_iter()
+                .collect(),
             ..rec.clone()
         };
         let r = args.read().map_err(|e| format!("--{flag} {var}: {e}"))?;

@@ -357,10 +357,9 @@ fn markdown(name: &str, id: &SensorsIdentification, plot: Option<&str>) -> Strin
 /// sensor, diagnosed against that output; the effects every output names.
 pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     let name = args.recording.path()?.display().to_string();
-    if !args.levels.is_empty() || args.validate.is_some() || args.closed_loop.is_some() {
+    if !args.levels.is_empty() || args.validate.is_some() {
         return Err(format!(
-            "{name}: --level, --validate and --reference compare one output; give a single --y \
-             with them"
+            "{name}: --level and --validate compare one output; give a single --y with them"
         ));
     }
     let Some(source) = args.model else {
@@ -402,9 +401,21 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
             chain: m,
         });
     }
-    let diagnosis = diagnose_sensors(&inputs, &model, &options).map_err(|e| match e.output {
-        Some(i) => format!("{name}: --y {}: {}", outputs[i].signal, e.error),
-        None => format!("{name}: all outputs at once: {}", e.error),
+    // The loop is closed on the first output.
+    let looped = match (&args.closed_loop, outputs.first()) {
+        (Some(l), Some(first)) => Some(crate::diagnose::read_loop(
+            args.recording,
+            l,
+            first.recording.samples.as_ref(),
+        )?),
+        _ => None,
+    };
+    let record = looped.as_ref().map(|l| l.record());
+    let diagnosis = diagnose_sensors(&inputs, &model, record.as_ref(), &options).map_err(|e| {
+        match e.output {
+            Some(i) => format!("{name}: --y {}: {}", outputs[i].signal, e.error),
+            None => format!("{name}: all outputs at once: {}", e.error),
+        }
     })?;
     let joint = diagnosis.joint;
     let runs: Vec<(&SensorRecording, Port, RecordingDiagnosis)> = outputs

@@ -64,8 +64,8 @@ use crate::diagnose::{
 };
 use crate::evidence::Evidence;
 use crate::nonlinear::{
-    diagnose_closed_loop, diagnose_time, held_out_error, LoopRecord, TimeDiagnoseError,
-    TimeDiagnosis, TimeOptions,
+    diagnose_closed_loop, diagnose_time, held_out_error, LoopFeedback, LoopRecord,
+    TimeDiagnoseError, TimeDiagnosis, TimeOptions,
 };
 use crate::operating::{
     compare_operating_points, within_pairing_range, Finding, OperatingPointComparison, Recording,
@@ -76,7 +76,7 @@ use frf::welch::WelchOptions;
 use frf::{Complex64, Frf, Samples};
 use mms::model_file::ModelFile;
 use mms::response::{ChainResponse, Effects};
-use mms::simulate::{ClosedLoop, SimOptions, Simulator};
+use mms::simulate::{SimOptions, Simulator};
 use serde::Serialize;
 
 /// Options of [`diagnose_recording`].
@@ -427,6 +427,11 @@ pub struct SensorsDiagnosisError {
 /// verdict in which every output weighs by its own lines' uncertainty.
 /// Each output's chain must be `model`'s chain read at its sensor.
 ///
+/// A recording taken inside a position loop (`closed_loop`) is closed on
+/// the first output: its controller reads that output, and every other
+/// output is simulated inside the same loop and compared where its own
+/// sensor sits.
+///
 /// ```
 /// use frf::Frf;
 /// use ident::diagnose::EffectKind;
@@ -454,7 +459,7 @@ pub struct SensorsDiagnosisError {
 ///     OutputRecording { frf: &motor, samples: None, chain: model.model },
 ///     OutputRecording { frf: &at_load, samples: None, chain: load },
 /// ];
-/// let d = diagnose_sensors(&outputs, &model, &DiagnosisOptions::default())?;
+/// let d = diagnose_sensors(&outputs, &model, None, &DiagnosisOptions::default())?;
 /// assert_eq!(d.outputs.len(), 2);
 /// let joint = d.joint.expect("both outputs have a band");
 /// assert_eq!(joint.effects[0].kind, EffectKind::TimeDelay);
@@ -464,6 +469,7 @@ pub struct SensorsDiagnosisError {
 pub fn diagnose_sensors(
     outputs: &[OutputRecording],
     model: &ModelFile,
+    closed_loop: Option<&LoopRecord>,
     options: &DiagnosisOptions,
 ) -> Result<SensorsDiagnosis, SensorsDiagnosisError> {
     let mut each = Vec::with_capacity(outputs.len());
@@ -472,13 +478,31 @@ pub fn diagnose_sensors(
             model: out.chain,
             ..model.clone()
         };
-        let d =
-            diagnose_recording(out.frf, out.samples, &file, None, options).map_err(|error| {
-                SensorsDiagnosisError {
-                    output: Some(i),
-                    error,
-                }
-            })?;
+        let fail = |error| SensorsDiagnosisError {
+            output: Some(i),
+            error,
+        };
+        // The loop as this output sees it: closed on the first.
+        let record = match (closed_loop, i) {
+            (None, _) => None,
+            (Some(l), 0) => Some(*l),
+            (Some(l), _) => {
+                let Some(first) = outputs[0].samples else {
+                    return Err(fail(DiagnosisError::Options(
+                        "a loop closed on the first output needs its samples".into(),
+                    )));
+                };
+                Some(LoopRecord {
+                    feedback: Some(LoopFeedback {
+                        sensor: outputs[0].chain.sensor(),
+                        y: &first.y,
+                    }),
+                    ..*l
+                })
+            }
+        };
+        let d = diagnose_recording(out.frf, out.samples, &file, record.as_ref(), options)
+            .map_err(fail)?;
         each.push(d);
     }
     let joint = joint_frequency_part(outputs, &each, model, options).map_err(|error| {
@@ -600,17 +624,8 @@ fn time_part(
     let (u, y) = (&s.u[range.clone()], &s.y[range.clone()]);
     Ok(match closed_loop {
         None => diagnose_time(u, y, s.fs, model, &to)?,
-        Some(l) => diagnose_closed_loop(u, y, s.fs, model, &loop_window(l, range), &to)?,
+        Some(l) => diagnose_closed_loop(u, y, s.fs, model, &l.window(range), &to)?,
     })
-}
-
-/// The loop `l` over the samples in `range`.
-fn loop_window<'a>(l: &LoopRecord<'a>, range: std::ops::Range<usize>) -> LoopRecord<'a> {
-    LoopRecord {
-        controller: l.controller,
-        reference: &l.reference[range.clone()],
-        disturbance: l.disturbance.map(|d| &d[range]),
-    }
 }
 
 /// How the frequency domain's model does on the held-out samples, next to
@@ -638,7 +653,7 @@ fn cross_check(
         },
         ..f.model_after.clone()
     };
-    let loop_window = closed_loop.map(|l| loop_window(l, 0..w));
+    let loop_window = closed_loop.map(|l| l.window(0..w));
     Some(HeldOutErrors {
         linear: (h.before / h.samples as f64).sqrt(),
         frequency_model: held_out_error(
@@ -955,15 +970,8 @@ fn simulated_frf(
     let (u, y) = match closed_loop {
         None => (s.u.clone(), sim.run(&s.u).map_err(TimeDiagnoseError::from)?),
         Some(l) => {
-            let q = &s.y;
             let run = sim
-                .run_closed_loop(&ClosedLoop {
-                    controller: l.controller,
-                    reference: l.reference,
-                    disturbance: l.disturbance,
-                    initial_position: q[0],
-                    initial_velocity: (q[2] - q[0]) * s.fs / 2.0,
-                })
+                .run_closed_loop(&l.closed_loop(&s.y, s.fs))
                 .map_err(TimeDiagnoseError::from)?;
             (run.u, run.y)
         }

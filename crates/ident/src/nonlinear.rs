@@ -95,7 +95,7 @@ use frf::Frf;
 use mms::model_file::ModelFile;
 use mms::response::Parameters;
 use mms::simulate::{
-    default_backlash_link, ClosedLoop, Controller, SimOptions, SimulateError, Simulator,
+    default_backlash_link, ClosedLoop, Controller, Feedback, SimOptions, SimulateError, Simulator,
 };
 use num_complex::Complex64;
 use serde::Serialize;
@@ -304,6 +304,52 @@ pub struct LoopRecord<'a> {
     pub reference: &'a [f64],
     /// A known signal added to the controller output.
     pub disturbance: Option<&'a [f64]>,
+    /// The output the controller reads, when it is not the diagnosed one
+    /// (`None`: the diagnosed output closes the loop).
+    pub feedback: Option<LoopFeedback<'a>>,
+}
+
+impl<'a> LoopRecord<'a> {
+    /// The loop around a model whose output recorded `y` (at `fs`),
+    /// starting in the recorded motion: at `y`'s first sample, every mass
+    /// at the velocity of the output the controller reads.
+    pub fn closed_loop(&self, y: &[f64], fs: f64) -> ClosedLoop<'a> {
+        let read = self.feedback.map_or(y, |f| f.y);
+        ClosedLoop {
+            controller: self.controller,
+            reference: self.reference,
+            disturbance: self.disturbance,
+            initial_position: y[0],
+            initial_velocity: (read[2] - read[0]) * fs / 2.0,
+            feedback: self.feedback.map(|f| Feedback {
+                sensor: f.sensor,
+                initial_position: f.y[0],
+            }),
+        }
+    }
+
+    /// The loop over the samples in `range`.
+    pub fn window(&self, range: std::ops::Range<usize>) -> LoopRecord<'a> {
+        LoopRecord {
+            controller: self.controller,
+            reference: &self.reference[range.clone()],
+            disturbance: self.disturbance.map(|d| &d[range.clone()]),
+            feedback: self.feedback.map(|f| LoopFeedback {
+                sensor: f.sensor,
+                y: &f.y[range],
+            }),
+        }
+    }
+}
+
+/// The output a loop is closed on, beside the one diagnosed (a motor
+/// encoder feeding the controller while the load's encoder is compared).
+#[derive(Clone, Copy, Debug)]
+pub struct LoopFeedback<'a> {
+    /// Its place in the model's chain.
+    pub sensor: mms::Port,
+    /// Its recorded samples, one per record sample.
+    pub y: &'a [f64],
 }
 
 /// The output-error problem: which parameters move, their bounds.
@@ -319,7 +365,7 @@ struct Problem<'a> {
     /// the other effects are fitted in their logarithm).
     offset_scale: f64,
     /// The loop the record was taken in, and the motion at its start.
-    closed: Option<(LoopRecord<'a>, f64, f64)>,
+    closed: Option<ClosedLoop<'a>>,
     /// How the H1 estimates of the fit figures are taken.
     welch: &'a WelchOptions,
     /// Samples left out of every fit ([`TimeOptions::holdout`]).
@@ -375,14 +421,8 @@ impl Problem<'_> {
         let sim = Simulator::new(&m, self.fs, &SimOptions::default())?;
         Ok(match &self.closed {
             None => (sim.run(self.u)?, None),
-            Some((rec, q0, v0)) => {
-                let run = sim.run_closed_loop(&ClosedLoop {
-                    controller: rec.controller,
-                    reference: rec.reference,
-                    disturbance: rec.disturbance,
-                    initial_position: *q0,
-                    initial_velocity: *v0,
-                })?;
+            Some(cl) => {
+                let run = sim.run_closed_loop(cl)?;
                 (run.y, Some(run.u))
             }
         })
@@ -768,7 +808,7 @@ pub fn held_out_error(
         fs,
         free,
         offset_scale: 1.0,
-        closed: record.map(|r| (*r, y[0], (y[2] - y[0]) * fs / 2.0)),
+        closed: record.map(|r| r.closed_loop(y, fs)),
         welch: &o.welch,
         held: held_blocks(n, true),
         trend: trend_terms(record.is_some(), model.output),
@@ -900,7 +940,7 @@ pub fn diagnose_time(
 /// let c = Controller::new(100.0, 50.0);
 /// let run = Simulator::new(&truth, fs, &SimOptions::default())?
 ///     .run_closed_loop(&ClosedLoop::new(&c, &r))?;
-/// let rec = LoopRecord { controller: &c, reference: &r, disturbance: None };
+/// let rec = LoopRecord { controller: &c, reference: &r, disturbance: None, feedback: None };
 /// let d = diagnose_closed_loop(&run.u, &run.y, fs, &nominal, &rec, &TimeOptions::default())?;
 /// assert_eq!(d.effects[0].kind, EffectKind::CoulombFriction);
 /// assert!((d.effects[0].parameters["coulomb_n"] / 4.0 - 1.0).abs() < 0.01);
@@ -958,9 +998,25 @@ fn diagnose(
                     rec.reference.len()
                 ));
             }
+            // The law reads the output it is closed on.
+            let read = match rec.feedback {
+                None => y,
+                Some(f) => {
+                    if f.y.len() != n {
+                        return bad(format!(
+                            "the controller's output has {} samples, the record {n}",
+                            f.y.len()
+                        ));
+                    }
+                    if let Some(k) = f.y.iter().position(|v| !v.is_finite()) {
+                        return bad(format!("the controller's output: sample {k} is not finite"));
+                    }
+                    f.y
+                }
+            };
             let check = rec
                 .controller
-                .check(rec.reference, y, u, rec.disturbance, fs)?;
+                .check(rec.reference, read, u, rec.disturbance, fs)?;
             let law = format!(
                 "controller law (kp = {}, kv = {}, position filter {:?}{}) on the recorded \
                  output and reference: reproduces the recorded input within {:.3} % RMS \
@@ -995,7 +1051,7 @@ fn diagnose(
                 saturated: check.saturated,
                 warning_above: CONTROLLER_WARNING,
             });
-            Some((*rec, y[0], (y[2] - y[0]) * fs / 2.0))
+            Some(rec.closed_loop(y, fs))
         }
     };
 

@@ -170,6 +170,7 @@ fn emps_closed_loop_diagnosis_finds_published_friction_and_holds_on_validation()
         controller: &e.controller,
         reference: &e.qg,
         disturbance: None,
+        feedback: None,
     };
     let d =
         diagnose_closed_loop(&e.vir, &e.qm, fs, &nominal, &rec, &TimeOptions::default()).unwrap();
@@ -212,6 +213,7 @@ fn emps_closed_loop_diagnosis_finds_published_friction_and_holds_on_validation()
                 disturbance: Some(pulses),
                 initial_position: v.qm[0],
                 initial_velocity: (v.qm[2] - v.qm[0]) * fs / 2.0,
+                feedback: None,
             })
             .unwrap()
     };
@@ -264,6 +266,7 @@ fn synthetic_closed_loop_recovers_coulomb_and_offset() {
         controller: &c,
         reference: &r,
         disturbance: None,
+        feedback: None,
     };
     let nominal = one_mass(30.0, 13.2, 65.0, None, None);
 
@@ -318,6 +321,7 @@ fn wrong_controller_is_refused() {
         controller: &wrong,
         reference: &r,
         disturbance: None,
+        feedback: None,
     };
     let e = diagnose_closed_loop(&run.u, &run.y, fs, &truth, &rec, &TimeOptions::default())
         .unwrap_err();
@@ -329,4 +333,115 @@ fn wrong_controller_is_refused() {
     assert!(
         diagnose_closed_loop(&run.u, &run.y, fs, &truth, &short, &TimeOptions::default()).is_err()
     );
+}
+
+/// A two-mass drive inside a position loop closed on its motor encoder,
+/// with a load encoder beside it. The simulator reproduces the loop from
+/// either sensor's point of view with the same controller output (the
+/// loop read at the load, closed on the motor, against the loop read at
+/// the motor itself), and the diagnosis of both outputs, the load's inside
+/// the loop closed on the motor, recovers the Coulomb friction the
+/// records were made with. The load's output alone does not satisfy the
+/// law: without the feedback output it is refused.
+#[test]
+fn loop_closed_on_the_motor_diagnosed_at_both_encoders() {
+    use frf::welch::{h1, WelchOptions};
+    use ident::diagnosis::{diagnose_sensors, DiagnosisOptions, OutputRecording};
+    use mms::simulate::Feedback;
+    use mms::{Model, Port};
+    let fs = 1000.0;
+    let n = 6000;
+    let r: Vec<f64> = (0..n)
+        .map(|k| {
+            let t = k as f64 / fs;
+            let w = 2.0 * std::f64::consts::PI;
+            0.05 * (1.0 - (w * 0.5 * t).cos()) + 0.01 * (w * 1.7 * t).sin()
+        })
+        .collect();
+    let c = Controller::new(40.0, 30.0);
+    let text = |m1: f64, m2: f64, k: f64, coulomb: Option<f64>| {
+        let mut f = ModelFile::parse(&format!(
+            "masses = 2\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\noutput = \"position\"\n\
+             gain = 10.0\n[parameters]\nm1 = {m1:?}\nm2 = {m2:?}\nc12 = {k:?}\nd12 = 3.0\n\
+             [effects]\nfriction = {{ viscous_ns_per_m = 5.0 }}\n"
+        ))
+        .unwrap();
+        f.effects.coulomb_friction = coulomb;
+        f
+    };
+    let truth = text(1.0, 2.0, 20000.0, Some(4.0));
+    let load = Model::new(2, 0, Port::new(1, 0), Port::new(2, 0)).unwrap();
+    let at_load = ModelFile {
+        model: load,
+        ..truth.clone()
+    };
+    let motor_run = Simulator::new(&truth, fs, &SimOptions::default())
+        .unwrap()
+        .run_closed_loop(&ClosedLoop::new(&c, &r))
+        .unwrap();
+    let load_run = Simulator::new(&at_load, fs, &SimOptions::default())
+        .unwrap()
+        .run_closed_loop(&ClosedLoop {
+            feedback: Some(Feedback {
+                sensor: Port::new(1, 0),
+                initial_position: 0.0,
+            }),
+            ..ClosedLoop::new(&c, &r)
+        })
+        .unwrap();
+    // The same loop: the controller saw the same readings.
+    assert_eq!(motor_run.u, load_run.u);
+    // The load lags the motor through the spring: not the same signal.
+    assert!(rms_diff(&motor_run.y, &load_run.y) > 1e-6);
+
+    let mut rng = XorShift::new(20_261_126);
+    let mut noisy = |y: &[f64]| -> Vec<f64> { y.iter().map(|v| v + 2e-7 * rng.normal()).collect() };
+    let (y1, y2) = (noisy(&motor_run.y), noisy(&load_run.y));
+    let u = motor_run.u.clone();
+    let rec = LoopRecord {
+        controller: &c,
+        reference: &r,
+        disturbance: None,
+        feedback: None,
+    };
+    // The load's output alone does not reproduce the controller's output.
+    let alone = diagnose_closed_loop(&u, &y2, fs, &truth, &rec, &TimeOptions::default());
+    assert!(alone.is_err(), "{alone:?}");
+
+    let welch = WelchOptions::default();
+    let samples = |y: &[f64]| frf::Samples {
+        u: u.clone(),
+        y: y.to_vec(),
+        fs,
+        excitation: None,
+    };
+    let (s1, s2) = (samples(&y1), samples(&y2));
+    let (h_1, h_2) = (
+        h1(&u, &y1, fs, &welch).unwrap().frf,
+        h1(&u, &y2, fs, &welch).unwrap().frf,
+    );
+    let nominal = text(1.05, 1.9, 21000.0, None);
+    let outputs = [
+        OutputRecording {
+            frf: &h_1,
+            samples: Some(&s1),
+            chain: nominal.model,
+        },
+        OutputRecording {
+            frf: &h_2,
+            samples: Some(&s2),
+            chain: load,
+        },
+    ];
+    let d = diagnose_sensors(&outputs, &nominal, Some(&rec), &DiagnosisOptions::default()).unwrap();
+    for (k, out) in d.outputs.iter().enumerate() {
+        let td = out.time_domain.as_ref().expect("time-domain diagnosis");
+        let fc = kept(td, EffectKind::CoulombFriction, "coulomb_n")
+            .unwrap_or_else(|| panic!("output {k}: {:?}", td.effects));
+        eprintln!(
+            "output {k}: Fc {fc:.4}, effects {:?}",
+            td.effects.iter().map(|e| e.kind).collect::<Vec<_>>()
+        );
+        assert!((fc / 4.0 - 1.0).abs() < 0.05, "output {k}: Fc {fc}");
+    }
 }

@@ -260,7 +260,8 @@ fn two_sensors_diagnosed_at_once() {
                     chain: *chain,
                 })
                 .collect();
-            let d = diagnose_sensors(&inputs, &nominal, &DiagnosisOptions::default()).unwrap();
+            let d =
+                diagnose_sensors(&inputs, &nominal, None, &DiagnosisOptions::default()).unwrap();
             assert_eq!(d.outputs.len(), 2, "{label}");
             let joint = d.joint.expect("both outputs have a band");
             let top = &joint.effects[0];

@@ -470,9 +470,32 @@ impl Simulator {
             return bad("the initial position and velocity must be finite".into());
         }
         cl.controller.validate()?;
+        // The controller's own sensor, when it is not the model's.
+        let feedback = match cl.feedback {
+            None => None,
+            Some(f) => {
+                let p = f.sensor;
+                if !(p.plus >= 1 && p.plus <= self.n && p.minus < p.plus) {
+                    return bad(format!(
+                        "the controller's sensor [{}, {}] is not a place on a chain of {} masses",
+                        p.plus, p.minus, self.n
+                    ));
+                }
+                if !f.initial_position.is_finite() {
+                    return bad("the initial position and velocity must be finite".into());
+                }
+                let mut v = vec![0.0; self.n];
+                v[p.plus - 1] += 1.0;
+                if p.minus > 0 {
+                    v[p.minus - 1] -= 1.0;
+                }
+                Some((v, f.initial_position))
+            }
+        };
         let fs = 1.0 / (self.h * self.substeps as f64);
         let dot = |w: &[f64], v: &[f64]| w.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
-        let mut hist = History::new(cl.controller, cl.initial_position, cl.initial_velocity, fs);
+        let q0 = feedback.as_ref().map_or(cl.initial_position, |f| f.1);
+        let mut hist = History::new(cl.controller, q0, cl.initial_velocity, fs);
         let mut y = Vec::with_capacity(n);
         let start = Start::Moving(cl.initial_velocity);
         let u = self.integrate(
@@ -480,8 +503,12 @@ impl Simulator {
             start,
             false,
             |k, x| {
-                let reading = dot(&self.sensor, &x[1..]) + cl.initial_position;
-                y.push(reading);
+                let output = dot(&self.sensor, &x[1..]) + cl.initial_position;
+                y.push(output);
+                let reading = match &feedback {
+                    Some((v, q0)) => dot(v, &x[1..]) + q0,
+                    None => output,
+                };
                 let d = cl.disturbance.map_or(0.0, |d| d[k]);
                 hist.output(cl.controller, cl.reference[k], reading, d)
             },
@@ -836,10 +863,25 @@ pub struct ClosedLoop<'a> {
     /// A known signal added to the controller's output (e.g. injected
     /// pulses), in its units.
     pub disturbance: Option<&'a [f64]>,
-    /// The sensor's position at the start.
+    /// The model's sensor's position at the start.
     pub initial_position: f64,
     /// The velocity at the start (every mass).
     pub initial_velocity: f64,
+    /// The sensor the controller reads, when it is not the model's own (a
+    /// loop closed on the motor's encoder, the model read at the load's);
+    /// `None`: the model's sensor.
+    pub feedback: Option<Feedback>,
+}
+
+/// The sensor a [`ClosedLoop`]'s controller reads when it is not the
+/// model's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Feedback {
+    /// Where it reads: the position of mass `plus` relative to `minus`
+    /// (0: the ground), masses counted as in the model.
+    pub sensor: crate::Port,
+    /// Its reading at the start.
+    pub initial_position: f64,
 }
 
 impl<'a> ClosedLoop<'a> {
@@ -851,6 +893,7 @@ impl<'a> ClosedLoop<'a> {
             disturbance: None,
             initial_position: 0.0,
             initial_velocity: 0.0,
+            feedback: None,
         }
     }
 }
