@@ -244,6 +244,30 @@ fn f16_level_1_two_mass_model_misses_modes_not_friction() {
         .find(|m| (num(&m["f_ref_hz"]) / 7.3 - 1.0).abs() < 0.01)
         .expect("the wing torsion mode");
     assert_eq!(torsion["shifts"][0]["stiffness"], "softening", "{torsion}");
+    // The level is another operating point: diagnosed with the same model,
+    // its verdict compared effect by effect with level 1's.
+    let level = &v["levels"][0];
+    assert!(level["recording"]
+        .as_str()
+        .unwrap()
+        .ends_with("f16_level7_100hz.csv"));
+    // Level 1 is the benchmark's linear data set, level 7 its nonlinear
+    // one: there the time domain names a dry-friction force where level
+    // 1's named none (below): the two-mass chain's stand-in for the
+    // friction at the payload interface that softens and damps the modes.
+    let td = &level["diagnosis"]["time_domain"];
+    let kind = td["effects"][0]["kind"].as_str().unwrap();
+    assert!(["coulomb_friction", "backlash"].contains(&kind), "{td}");
+    assert!(
+        num(&td["held_out"]["after"]) < num(&td["held_out"]["before"]),
+        "{td}"
+    );
+    for e in level["comparison"]["effects"].as_array().unwrap() {
+        assert!(
+            ["both", "first", "second"].contains(&e["holds_for"].as_str().unwrap()),
+            "{e}"
+        );
+    }
     // Time domain: no nonlinear effect earns its parameter; the linear
     // model leaves a large share of the output (the missing modes).
     let td = &v["time_domain"];

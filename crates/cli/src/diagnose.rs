@@ -126,23 +126,30 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         &options,
     )
     .map_err(|e| format!("{name}: {e}"))?;
-    let operating = match args.operating_point {
-        None => None,
-        Some(path) => {
-            let (other, looped) = read_other(args, path)?;
-            let record = looped.as_ref().map(|l| l.record());
-            let od = diagnose_recording(
-                &other.frf,
-                other.samples.as_ref(),
-                &model,
-                record.as_ref(),
-                &options,
-            )
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-            let c = compare_operating_diagnoses(&d, &rec.frf, &od, &other.frf);
-            Some((path.display().to_string(), c, od))
-        }
+    // Another operating point of the rig, and each further excitation
+    // level as one: diagnosed with the same model and compared with this
+    // recording (the levels' modes are also compared one by one, in the
+    // amplitude section).
+    let other_point = |path: &Path| -> Result<OtherPoint, String> {
+        let (other, looped) = read_other(args, path)?;
+        let record = looped.as_ref().map(|l| l.record());
+        let od = diagnose_recording(
+            &other.frf,
+            other.samples.as_ref(),
+            &model,
+            record.as_ref(),
+            &options,
+        )
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+        let c = compare_operating_diagnoses(&d, &rec.frf, &od, &other.frf);
+        Ok((path.display().to_string(), c, od))
     };
+    let operating = args.operating_point.map(other_point).transpose()?;
+    let level_points: Vec<OtherPoint> = args
+        .levels
+        .iter()
+        .map(|p| other_point(p))
+        .collect::<Result<_, _>>()?;
     let validation = match args.validate {
         None => None,
         Some(path) => {
@@ -165,12 +172,22 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         IdentifyFormat::Json => {
             let err = |e: serde_json::Error| format!("JSON: {e}");
             let mut v = json(&d, amplitude.as_ref(), validation.as_ref().map(|v| &v.1))?;
-            if let Some((other, c, od)) = &operating {
-                v["operating_point"] = serde_json::json!({
+            let point = |(other, c, od): &OtherPoint| -> Result<serde_json::Value, String> {
+                Ok(serde_json::json!({
                     "recording": other,
                     "comparison": serde_json::to_value(c).map_err(err)?,
                     "diagnosis": json(od, None, None)?,
-                });
+                }))
+            };
+            if let Some(p) = &operating {
+                v["operating_point"] = point(p)?;
+            }
+            if !level_points.is_empty() {
+                v["levels"] = level_points
+                    .iter()
+                    .map(point)
+                    .collect::<Result<Vec<_>, _>>()?
+                    .into();
             }
             let mut s = serde_json::to_string_pretty(&v).map_err(err)?;
             s.push('\n');
@@ -192,7 +209,22 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
                 m.push_str(&validation_markdown(other, v));
             }
             if let Some((other, c, _)) = &operating {
-                m.push_str(&operating_markdown(&name, other, c));
+                m.push_str(&operating_markdown(
+                    &name,
+                    other,
+                    c,
+                    "Operating points",
+                    true,
+                ));
+            }
+            for (other, c, _) in &level_points {
+                m.push_str(&operating_markdown(
+                    &name,
+                    other,
+                    c,
+                    "Excitation levels",
+                    false,
+                ));
             }
             if let Some(a) = &amplitude {
                 m.push_str(&amplitude_markdown(a));
@@ -547,11 +579,17 @@ fn spoken_list(items: &[String]) -> String {
 /// fits there.
 /// The operating-point section: each effect and which recording it holds
 /// for, then the features of the two FRFs.
-fn operating_markdown(name: &str, other: &str, c: &OperatingPointDiagnosis) -> String {
+fn operating_markdown(
+    name: &str,
+    other: &str,
+    c: &OperatingPointDiagnosis,
+    heading: &str,
+    features: bool,
+) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "\n## Operating points: the diagnoses of `{name}` (first) and `{other}` (second)\n"
+        "\n## {heading}: the diagnoses of `{name}` (first) and `{other}` (second)\n"
     );
     let _ = writeln!(
         s,
@@ -620,6 +658,10 @@ fn operating_markdown(name: &str, other: &str, c: &OperatingPointDiagnosis) -> S
         );
     }
     match &c.features {
+        // Levels: the amplitude section compares their modes one by one.
+        _ if !features => s.push_str(
+            "\nThe modes of the levels are compared one by one in the amplitude section below.\n",
+        ),
         Some(f) => s.push_str(&crate::identify::operating_markdown(
             name,
             &[(other.to_string(), f.clone())],
@@ -1047,6 +1089,10 @@ fn inverse_dynamics_section(id: &ident::idim::InverseDynamics) -> String {
 
 /// Reads the loop of `--reference`, `--controller` and `--disturbance`
 /// from the recording.
+/// Another operating point: its recording's name, the comparison of the
+/// two diagnoses, and its own diagnosis.
+type OtherPoint = (String, OperatingPointDiagnosis, RecordingDiagnosis);
+
 /// Another recording of the rig read with this one's flags, and its loop
 /// when the diagnosis runs inside one.
 fn read_other(
