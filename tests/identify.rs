@@ -619,7 +619,7 @@ fn diagnose_emps_closed_loop() {
     let (code, out, err) = mms(&args);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert_eq!(v["version"], 3);
+    assert_eq!(v["version"], 4);
     assert_eq!(v["time_domain"]["closed_loop"], true);
     assert_eq!(v["verdict"]["decided_by"], "time", "{}", v["verdict"]);
     assert_eq!(

@@ -522,7 +522,7 @@ fn sperte_motor_side_diagnosis(record: &str, other: &str) {
         "json",
     ]);
     let v = json(&args);
-    assert_eq!(v["version"], 3);
+    assert_eq!(v["version"], 4);
     let val = &v["validation"];
     assert_eq!(val["structure"], val["other_structure"], "{val}");
     // The dead time itself carries over, not only the low-frequency phase
@@ -1081,9 +1081,21 @@ fn tue_diagnosis_at_two_operating_points() {
         &moving,
     ]);
     let mut json_args = args.clone();
-    json_args.extend_from_slice(&["--format", "json"]);
+    // A further operating point: the standstill record itself, which must
+    // differ in nothing (every effect holds for both, no feature changes).
+    json_args.extend_from_slice(&["--operating-point", &still, "--format", "json"]);
     let v = json(&json_args);
-    let c = &v["operating_point"]["comparison"];
+    let same = &v["operating_points"][1]["comparison"];
+    for e in same["effects"].as_array().unwrap() {
+        assert_eq!(e["holds_for"], "both", "{e}");
+        assert_eq!(e["values"][0], e["values"][1], "{e}");
+    }
+    assert_eq!(
+        same["features"]["findings"],
+        serde_json::json!([]),
+        "{same}"
+    );
+    let c = &v["operating_points"][0]["comparison"];
     let lag = c["effects"]
         .as_array()
         .unwrap()

@@ -76,7 +76,7 @@ pub struct DiagnoseArgs<'a> {
     pub validate: Option<&'a Path>,
     /// A recording of the same rig at another operating point, diagnosed
     /// with the same model and compared.
-    pub operating_point: Option<&'a Path>,
+    pub operating_points: &'a [PathBuf],
     pub select: SelectArg,
     pub tolerance: f64,
     pub band: Option<(f64, f64)>,
@@ -93,7 +93,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     if args.recording.y.len() > 1 || args.recording.y.iter().any(|y| y.contains('@')) {
         return crate::sensors::diagnose(args);
     }
-    if args.validate.is_some() && args.operating_point.is_some() {
+    if args.validate.is_some() && !args.operating_points.is_empty() {
         return Err(format!(
             "{}: give --validate or --operating-point, not both (both diagnose the other \
              recording with this model)",
@@ -144,7 +144,11 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         let c = compare_operating_diagnoses(&d, &rec.frf, &od, &other.frf);
         Ok((path.display().to_string(), c, od))
     };
-    let operating = args.operating_point.map(other_point).transpose()?;
+    let operating: Vec<OtherPoint> = args
+        .operating_points
+        .iter()
+        .map(|p| other_point(p))
+        .collect::<Result<_, _>>()?;
     let level_points: Vec<OtherPoint> = args
         .levels
         .iter()
@@ -179,8 +183,12 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
                     "diagnosis": json(od, None, None)?,
                 }))
             };
-            if let Some(p) = &operating {
-                v["operating_point"] = point(p)?;
+            if !operating.is_empty() {
+                v["operating_points"] = operating
+                    .iter()
+                    .map(point)
+                    .collect::<Result<Vec<_>, _>>()?
+                    .into();
             }
             if !level_points.is_empty() {
                 v["levels"] = level_points
@@ -208,7 +216,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
             if let Some((other, v)) = &validation {
                 m.push_str(&validation_markdown(other, v));
             }
-            if let Some((other, c, _)) = &operating {
+            for (other, c, _) in &operating {
                 m.push_str(&operating_markdown(
                     &name,
                     other,
@@ -336,7 +344,8 @@ pub fn json(
     let err = |e: serde_json::Error| format!("JSON: {e}");
     let mut v = serde_json::to_value(d).map_err(err)?;
     // Kinds split viscous from Coulomb friction from version 2 on; the
-    // evidence is figures, not sentences, from version 3 on.
+    // evidence is figures, not sentences, from version 3 on; the other
+    // operating points are a list (`operating_points`) from version 4 on.
     v["version"] = serde_json::json!(JSON_VERSION);
     v["effects"] = serde_json::to_value(&d.verdict.effects).map_err(err)?;
     v["fit"] = match (d.verdict.decided_by, &d.frequency_domain, &d.time_domain) {
@@ -358,7 +367,7 @@ pub fn json(
 }
 
 /// The version of the JSON report of `mms diagnose`.
-pub const JSON_VERSION: u32 = 3;
+pub const JSON_VERSION: u32 = 4;
 
 /// The recording, the nominal model and the model after the diagnosis,
 /// with the mismatch bands shaded, and the residual panel.

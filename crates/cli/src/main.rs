@@ -206,9 +206,9 @@ enum Command {
         /// flags: diagnosed with the same model, the report says which
         /// effects each operating point shows, and compares the two FRFs
         /// feature by feature (mode shifts, damping changes, pre-sliding
-        /// friction at standstill).
+        /// friction at standstill). Repeat for several.
         #[arg(long = "operating-point", value_name = "FILE")]
-        operating_point: Option<PathBuf>,
+        operating_points: Vec<PathBuf>,
         /// How an effect must earn its parameters: bic (information
         /// criterion on all lines) or holdout (every 4th line held out of
         /// the fits, the effect must lower their cost).
@@ -444,7 +444,7 @@ fn run(cli: Cli) -> Result<(), String> {
             simulation,
             levels,
             validate,
-            operating_point,
+            operating_points,
             select,
             tolerance,
             band,
@@ -471,7 +471,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 model: model.as_ref(),
                 levels: &levels,
                 validate: validate.as_deref(),
-                operating_point: operating_point.as_deref(),
+                operating_points: &operating_points,
                 select,
                 tolerance,
                 band: band.as_deref().map(parse_band).transpose()?,

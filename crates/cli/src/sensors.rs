@@ -357,9 +357,10 @@ fn markdown(name: &str, id: &SensorsIdentification, plot: Option<&str>) -> Strin
 /// sensor, diagnosed against that output; the effects every output names.
 pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     let name = args.recording.path()?.display().to_string();
-    if !args.levels.is_empty() || args.validate.is_some() {
+    if !args.levels.is_empty() || args.validate.is_some() || !args.operating_points.is_empty() {
         return Err(format!(
-            "{name}: --level and --validate compare one output; give a single --y with them"
+            "{name}: --level, --validate and --operating-point compare one output; give a \
+             single --y with them"
         ));
     }
     let Some(source) = args.model else {
