@@ -1083,6 +1083,13 @@ fn diagnose_two_encoders_in_a_loop_closed_on_the_first() {
             .unwrap_or_else(|| panic!("output {k}: {effects:?}"));
         assert!((fc / 4.0 - 1.0).abs() < 0.05, "output {k}: {fc}");
     }
+    // Both encoders at once: the same friction, decided in the time domain.
+    let joint = &v["joint"];
+    assert_eq!(joint["effects"][0]["kind"], "coulomb_friction", "{joint}");
+    let fc = joint["effects"][0]["parameters"]["coulomb_n"]
+        .as_f64()
+        .unwrap();
+    assert!((fc / 4.0 - 1.0).abs() < 0.05, "joint: {fc}");
     // A law that does not describe the loop is refused, naming the output.
     let mut args = base.to_vec();
     args.extend(["--controller", "kp=40,kv=60"]);

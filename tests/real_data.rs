@@ -989,10 +989,25 @@ fn tue2018_both_encoders_name_the_same_friction() {
     assert!(num(&friction["spread"]) < 0.05, "{friction}");
     let fc = num(&friction["values"][0]);
     assert!((0.0076 / 2.0..4.0 * 0.0076).contains(&fc), "{fc}");
-    // Both outputs at once, with one parameter set: this closed-loop H1
-    // leaves the chain far from both FRFs (the joint identification's own
-    // fit is 4.3 dB / 40 deg), so the report must call it not informative.
-    let after = &v["joint"]["fit"]["after"];
+    // Both outputs at once, with one parameter set: the time domain of
+    // both encoders names the same friction as each alone; the
+    // closed-loop H1 leaves the chain far from both FRFs (the joint
+    // identification's own fit is 4.3 dB / 40 deg), so the frequency
+    // domain cannot lead.
+    let joint = &v["joint"];
+    assert_eq!(
+        joint["verdict"]["decided_by"], "time",
+        "{}",
+        joint["verdict"]
+    );
+    assert_eq!(
+        joint["effects"][0]["kind"], "coulomb_friction",
+        "{}",
+        joint["effects"]
+    );
+    let fc_joint = num(&joint["effects"][0]["parameters"]["coulomb_n"]);
+    assert!((fc_joint / fc - 1.0).abs() < 0.05, "{fc_joint} vs {fc}");
+    let after = &joint["frequency_domain"]["fit"]["after"];
     let log_error = ((num(&after["rms_db"]) * std::f64::consts::LN_10 / 20.0).powi(2)
         + num(&after["rms_deg"]).to_radians().powi(2))
     .sqrt();
@@ -1003,10 +1018,6 @@ fn tue2018_both_encoders_name_the_same_friction() {
     let (code, report, err) = mms(&args);
     assert_eq!(code, 0, "{err}");
     assert!(report.contains("## All outputs at once"), "{report}");
-    assert!(
-        report.contains("Not informative: with one parameter set"),
-        "{report}"
-    );
     // The identification wrote each output's sensor into the model file:
     // the outputs given without their places read them from there, and
     // the diagnosis is the same.

@@ -415,7 +415,7 @@ fn evidence(x: Option<f64>) -> String {
 }
 
 /// The verdict in words: what is missing, which domain decided and why.
-fn verdict_text(d: &RecordingDiagnosis) -> String {
+pub fn verdict_text(d: &RecordingDiagnosis) -> String {
     let v = &d.verdict;
     let mut s = match (v.decided_by, &d.frequency_domain, &d.time_domain) {
         (None, None, _) => "Nothing can be compared: no line of the recording carries \

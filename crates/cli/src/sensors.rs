@@ -5,7 +5,7 @@
 
 use crate::diagnose::{
     finish, json as diagnosis_json, load_model, markdown as diagnosis_markdown,
-    options as diagnose_options, DiagnoseArgs,
+    options as diagnose_options, verdict_text, DiagnoseArgs,
 };
 use crate::identify::{
     fmt_sig, html_page, model_curve, model_files, parameters_json, progress_bar, show,
@@ -14,10 +14,10 @@ use crate::identify::{
 use crate::notes::sensors_note;
 use crate::recording::SensorRecording;
 use ident::classify::feature_name;
-use ident::diagnose::Diagnosis;
-use ident::diagnose::{EffectKind, EffectVerdict};
+use ident::diagnose::EffectKind;
 use ident::diagnosis::{
-    diagnose_sensors, log_error_after, OutputRecording, RecordingDiagnosis, INFORMATIVE_LOG_ERROR,
+    diagnose_sensors, log_error_after, Domain, OutputRecording, RecordingDiagnosis,
+    INFORMATIVE_LOG_ERROR,
 };
 use ident::identify::IdentifyOptions;
 use ident::joint::{
@@ -470,7 +470,7 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
                 "version": crate::diagnose::JSON_VERSION,
                 "outputs": each,
                 "joint": match &joint {
-                    Some(j) => serde_json::to_value(j).map_err(|e| format!("JSON: {e}"))?,
+                    Some(j) => diagnosis_json(j, None, None)?,
                     None => Value::Null,
                 },
                 "common_effects": common.iter().map(|c| json!({
@@ -558,7 +558,7 @@ fn diagnose_markdown(
     name: &str,
     source: &str,
     runs: &[(&SensorRecording, Port, RecordingDiagnosis)],
-    (common, joint): (&[CommonEffect], Option<&Diagnosis>),
+    (common, joint): (&[CommonEffect], Option<&RecordingDiagnosis>),
     plot: Option<&str>,
 ) -> String {
     let mut s = String::new();
@@ -648,18 +648,15 @@ fn diagnose_markdown(
     s
 }
 
-/// The diagnosis of every output at once: what it names with one
-/// parameter set, and how the FRF error of all outputs falls.
+/// The diagnosis of every output at once: its verdict with one parameter
+/// set for the rig, which lines and samples it compared, and whether its
+/// frequency domain is informative.
 fn joint_markdown(
     s: &mut String,
     runs: &[(&SensorRecording, Port, RecordingDiagnosis)],
-    joint: Option<&Diagnosis>,
+    joint: Option<&RecordingDiagnosis>,
 ) {
-    s.push_str(
-        "## All outputs at once
-
-",
-    );
+    s.push_str("## All outputs at once\n\n");
     let Some(j) = joint else {
         s.push_str(
             "Not diagnosed: an output has no informative band, or the outputs have fewer \
@@ -674,47 +671,33 @@ fn joint_markdown(
                 .map(|(lo, hi)| format!("{} {lo:.4} to {hi:.4} Hz", o.signal))
         })
         .collect();
-    let named: Vec<&EffectVerdict> = j
-        .effects
-        .iter()
-        .filter(|e| e.kind != EffectKind::None)
-        .collect();
     let _ = write!(
         s,
-        "One parameter set and one set of effects fitted to the FRFs of every output \
-         together ({}), each line weighted by its uncertainty, each output read at its own \
-         sensor. ",
+        "One parameter set and one set of effects for every output together, each output read \
+         at its own sensor: their FRFs ({}), each line weighted by its uncertainty",
         bands.join("; ")
     );
-    if named.is_empty() {
-        s.push_str("Nothing is named: no effect earns its parameters on all outputs together");
-    } else {
-        let names: Vec<String> = named
-            .iter()
-            .map(|e| {
-                let p: Vec<String> = e
-                    .parameters
-                    .iter()
-                    .map(|(k, v)| format!("{k} = {v:.4e}"))
-                    .collect();
-                format!("**{}** ({})", e.kind.as_str(), p.join(", "))
-            })
-            .collect();
-        let _ = write!(s, "Named: {}", names.join(", then "));
+    match &j.time_domain {
+        Some(t) => {
+            let _ = write!(
+                s,
+                ", and their first {} samples, simulated once per trial and each output's error \
+                 weighted by its own noise (the time-domain figures are the first output's).",
+                t.samples
+            );
+        }
+        None => s.push('.'),
     }
-    let _ = writeln!(
-        s,
-        "; the FRF error of all outputs goes from {:.3} dB / {:.2} deg to {:.3} dB / {:.2} deg \
-         RMS.\n",
-        j.fit.before.rms_db, j.fit.before.rms_deg, j.fit.after.rms_db, j.fit.after.rms_deg
-    );
-    let log_error = log_error_after(j);
-    if log_error > INFORMATIVE_LOG_ERROR {
-        let _ = writeln!(
-            s,
-            "Not informative: with one parameter set the model still misses the outputs' FRFs \
-             by {log_error:.2} nepers RMS (more than {INFORMATIVE_LOG_ERROR}), so what it names \
-             is no finding about the rig.\n"
-        );
+    let _ = writeln!(s, "\n\n{}\n", verdict_text(j));
+    if let (Some(f), Some(Domain::Frequency)) = (&j.frequency_domain, j.verdict.decided_by) {
+        let log_error = log_error_after(f);
+        if log_error > INFORMATIVE_LOG_ERROR {
+            let _ = writeln!(
+                s,
+                "Not informative: with one parameter set the model still misses the outputs' \
+                 FRFs by {log_error:.2} nepers RMS (more than {INFORMATIVE_LOG_ERROR}), so what \
+                 it names is no finding about the rig.\n"
+            );
+        }
     }
 }

@@ -64,8 +64,8 @@ use crate::diagnose::{
 };
 use crate::evidence::Evidence;
 use crate::nonlinear::{
-    diagnose_closed_loop, diagnose_time, held_out_error, LoopFeedback, LoopRecord,
-    TimeDiagnoseError, TimeDiagnosis, TimeOptions,
+    diagnose_closed_loop, diagnose_time, diagnose_time_outputs, held_out_error, LoopFeedback,
+    LoopRecord, TimeDiagnoseError, TimeDiagnosis, TimeOptions,
 };
 use crate::operating::{
     compare_operating_points, within_pairing_range, Finding, OperatingPointComparison, Recording,
@@ -403,11 +403,15 @@ pub struct SensorsDiagnosis {
     /// Each output's own diagnosis ([`diagnose_recording`] with the chain
     /// read at its sensor), in the order given.
     pub outputs: Vec<RecordingDiagnosis>,
-    /// One frequency-domain diagnosis of every output at once, over each
-    /// output's band: one parameter set and one set of effects
-    /// ([`crate::diagnose::diagnose_outputs`]). `None` when an output has
-    /// no informative band or too few lines for the model.
-    pub joint: Option<Diagnosis>,
+    /// One diagnosis of every output at once, one parameter set and one
+    /// set of effects for the rig: in the frequency domain over each
+    /// output's band ([`crate::diagnose::diagnose_outputs`]), in the time
+    /// domain on the samples of all outputs
+    /// ([`crate::nonlinear::diagnose_time_outputs`]), reconciled as one
+    /// recording's two domains are (no band of its own, no reruns, no
+    /// curves). `None` when an output has no informative band or the
+    /// outputs have too few lines for the model.
+    pub joint: Option<RecordingDiagnosis>,
 }
 
 /// Why [`diagnose_sensors`] cannot run: the output (its index) whose
@@ -462,8 +466,8 @@ pub struct SensorsDiagnosisError {
 /// let d = diagnose_sensors(&outputs, &model, None, &DiagnosisOptions::default())?;
 /// assert_eq!(d.outputs.len(), 2);
 /// let joint = d.joint.expect("both outputs have a band");
-/// assert_eq!(joint.effects[0].kind, EffectKind::TimeDelay);
-/// assert!((joint.effects[0].parameters["delay_s"] / 5e-4 - 1.0).abs() < 0.01);
+/// assert_eq!(joint.verdict.headline, EffectKind::TimeDelay);
+/// assert!((joint.verdict.effects[0].parameters["delay_s"] / 5e-4 - 1.0).abs() < 0.01);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn diagnose_sensors(
@@ -505,7 +509,7 @@ pub fn diagnose_sensors(
             .map_err(fail)?;
         each.push(d);
     }
-    let joint = joint_frequency_part(outputs, &each, model, options).map_err(|error| {
+    let joint = joint_diagnosis(outputs, &each, model, closed_loop, options).map_err(|error| {
         SensorsDiagnosisError {
             output: None,
             error,
@@ -553,6 +557,69 @@ fn joint_frequency_part(
         Err(DiagnoseError::TooFewLines { .. }) => Ok(None),
         Err(e) => Err(e.into()),
     }
+}
+
+/// Every output at once, in both domains, reconciled (see
+/// [`SensorsDiagnosis::joint`]).
+fn joint_diagnosis(
+    outputs: &[OutputRecording],
+    each: &[RecordingDiagnosis],
+    model: &ModelFile,
+    closed_loop: Option<&LoopRecord>,
+    o: &DiagnosisOptions,
+) -> Result<Option<RecordingDiagnosis>, DiagnosisError> {
+    let Some(fd) = joint_frequency_part(outputs, each, model, o)? else {
+        return Ok(None);
+    };
+    let first = ModelFile {
+        model: outputs[0].chain,
+        ..model.clone()
+    };
+    // Samples of every output (one recording: the same input).
+    let samples: Option<Vec<&Samples>> = outputs.iter().map(|out| out.samples).collect();
+    let td = match samples {
+        None => None,
+        Some(samples) => {
+            let s = samples[0];
+            let corner = each[0].band_hz.map(|b| b.0).filter(|&f| f > 0.0);
+            let w = time_window(s.u.len(), closed_loop.is_some(), o);
+            let others: Vec<(&[f64], mms::Port)> = samples[1..]
+                .iter()
+                .zip(&outputs[1..])
+                .map(|(t, out)| (&t.y[..w.min(t.y.len())], out.chain.sensor()))
+                .collect();
+            let record = closed_loop.map(|l| l.window(0..w));
+            Some(diagnose_time_outputs(
+                &s.u[..w],
+                &s.y[..w],
+                &others,
+                s.fs,
+                &first,
+                record.as_ref(),
+                &time_options(o, corner),
+            )?)
+        }
+    };
+    let verdict = reconcile(Some(&fd), td.as_ref(), None);
+    let model_after = match (verdict.decided_by, &td) {
+        (Some(Domain::Time), Some(t)) => t.model_after.clone(),
+        _ => fd.model_after.clone(),
+    };
+    Ok(Some(RecordingDiagnosis {
+        verdict,
+        band_hz: None,
+        frequency_domain: Some(fd),
+        time_domain: td,
+        stability: None,
+        model_after,
+        curves: Curves {
+            freq_hz: Vec::new(),
+            recording: Vec::new(),
+            nominal: Vec::new(),
+            after: Vec::new(),
+            simulated: false,
+        },
+    }))
 }
 
 /// The frequency-domain options of the recording's.

@@ -325,6 +325,7 @@ impl<'a> LoopRecord<'a> {
                 sensor: f.sensor,
                 initial_position: f.y[0],
             }),
+            observed: &[],
         }
     }
 
@@ -352,11 +353,28 @@ pub struct LoopFeedback<'a> {
     pub y: &'a [f64],
 }
 
+/// A simulation's first output, its input inside a loop, and its output
+/// at each further output's place.
+type Run = (Vec<f64>, Option<Vec<f64>>, Vec<Vec<f64>>);
+
+/// A further output of the record beside the first, compared in the same
+/// output error (several sensors of one chain): its samples, its place in
+/// the chain (read as the model's output), and its weight (the first
+/// output's noise over its own).
+struct Extra<'a> {
+    y: &'a [f64],
+    place: mms::Port,
+    weight: f64,
+}
+
 /// The output-error problem: which parameters move, their bounds.
 struct Problem<'a> {
     file: &'a ModelFile,
     u: &'a [f64],
+    /// The first output: at the model's sensor.
     y: &'a [f64],
+    /// Further outputs, at their own places.
+    extra: Vec<Extra<'a>>,
     fs: f64,
     /// Indices (in the model's parameter order) of the fitted parameters;
     /// `usize::MAX` stands for the model's viscous friction.
@@ -412,24 +430,28 @@ impl Problem<'_> {
     }
 
     /// The simulated output, and in a closed loop the simulated input.
-    fn run(
-        &self,
-        kinds: &[EffectKind],
-        x: &[f64],
-    ) -> Result<(Vec<f64>, Option<Vec<f64>>), TimeDiagnoseError> {
+    /// With further outputs, also the simulated output at each of their
+    /// places.
+    fn run(&self, kinds: &[EffectKind], x: &[f64]) -> Result<Run, TimeDiagnoseError> {
         let m = self.model(kinds, x)?;
         let sim = Simulator::new(&m, self.fs, &SimOptions::default())?;
+        let places: Vec<mms::Port> = self.extra.iter().map(|e| e.place).collect();
         Ok(match &self.closed {
-            None => (sim.run(self.u)?, None),
+            None if places.is_empty() => (sim.run(self.u)?, None, Vec::new()),
+            None => {
+                let (y, at) = sim.run_at(self.u, &places)?;
+                (y, None, at)
+            }
             Some(cl) => {
-                let run = sim.run_closed_loop(cl)?;
-                (run.y, Some(run.u))
+                let observed: Vec<(mms::Port, f64)> =
+                    self.extra.iter().map(|e| (e.place, e.y[0])).collect();
+                let run = sim.run_closed_loop(&ClosedLoop {
+                    observed: &observed,
+                    ..*cl
+                })?;
+                (run.y, Some(run.u), run.at)
             }
         })
-    }
-
-    fn simulate(&self, kinds: &[EffectKind], x: &[f64]) -> Result<Vec<f64>, TimeDiagnoseError> {
-        Ok(self.run(kinds, x)?.0)
     }
 
     /// Errors of the model at `x` against the record; in a closed loop the
@@ -440,7 +462,7 @@ impl Problem<'_> {
         x: &[f64],
         measured: Option<&Frf>,
     ) -> Result<TimeFit, TimeDiagnoseError> {
-        let (y_sim, u_sim) = self.run(kinds, x)?;
+        let (y_sim, u_sim, _) = self.run(kinds, x)?;
         let start = self.initial_state(kinds, &y_sim);
         let u = u_sim.as_deref().unwrap_or(self.u);
         let mut fit = time_fit(u, self.y, (&y_sim, &start), self.fs, self.welch, measured);
@@ -503,22 +525,43 @@ impl Problem<'_> {
     /// The output error on every sample (after the initial state), or
     /// `None` if the simulation fails.
     fn errors(&self, kinds: &[EffectKind], x: &[f64]) -> Option<Vec<f64>> {
-        let s = self.simulate(kinds, x).ok()?;
+        self.all_errors(kinds, x).map(|mut e| e.swap_remove(0))
+    }
+
+    /// [`Problem::errors`] of the first output, then those of the further
+    /// outputs (each about its own slow part, times its weight).
+    fn all_errors(&self, kinds: &[EffectKind], x: &[f64]) -> Option<Vec<Vec<f64>>> {
+        let (s, _, at) = self.run(kinds, x).ok()?;
         let s = self.with_initial_state(kinds, &s);
-        Some(self.y.iter().zip(&s).map(|(a, b)| a - b).collect())
+        let mut all = Vec::with_capacity(1 + at.len());
+        all.push(self.y.iter().zip(&s).map(|(a, b)| a - b).collect());
+        for (e, sim) in self.extra.iter().zip(at) {
+            let d: Vec<f64> = e.y.iter().zip(&sim).map(|(a, b)| a - b).collect();
+            let slow = self.slow(kinds, &d);
+            all.push(
+                d.iter()
+                    .zip(&slow)
+                    .map(|(d, t)| (d - t) * e.weight)
+                    .collect(),
+            );
+        }
+        Some(all)
     }
 
     /// Residual `y - y_model` on the fitted samples and its sum of squares
     /// (infinite if the simulation fails, so a search steps away from
     /// there).
     fn residual(&self, kinds: &[EffectKind], x: &[f64]) -> (Vec<f64>, f64) {
-        match self.errors(kinds, x) {
-            Some(e) => {
-                let r: Vec<f64> = e
+        match self.all_errors(kinds, x) {
+            Some(all) => {
+                let r: Vec<f64> = all
                     .into_iter()
-                    .zip(&self.held)
-                    .filter(|(_, &h)| !h)
-                    .map(|(v, _)| v)
+                    .flat_map(|e| {
+                        e.into_iter()
+                            .zip(&self.held)
+                            .filter(|(_, &h)| !h)
+                            .map(|(v, _)| v)
+                    })
                     .collect();
                 let rss = r.iter().map(|v| v * v).sum();
                 (r, rss)
@@ -529,12 +572,16 @@ impl Problem<'_> {
 
     /// Sum of squares of the output error on the held-out samples.
     fn test_rss(&self, kinds: &[EffectKind], x: &[f64]) -> f64 {
-        match self.errors(kinds, x) {
-            Some(e) => e
+        match self.all_errors(kinds, x) {
+            Some(all) => all
                 .iter()
-                .zip(&self.held)
-                .filter(|(_, &h)| h)
-                .map(|(v, _)| v * v)
+                .map(|e| {
+                    e.iter()
+                        .zip(&self.held)
+                        .filter(|(_, &h)| h)
+                        .map(|(v, _)| v * v)
+                        .sum::<f64>()
+                })
                 .sum(),
             None => f64::INFINITY,
         }
@@ -807,6 +854,7 @@ pub fn held_out_error(
         y,
         fs,
         free,
+        extra: Vec::new(),
         offset_scale: 1.0,
         closed: record.map(|r| r.closed_loop(y, fs)),
         welch: &o.welch,
@@ -905,7 +953,7 @@ pub fn diagnose_time(
     model: &ModelFile,
     o: &TimeOptions,
 ) -> Result<TimeDiagnosis, TimeDiagnoseError> {
-    diagnose(u, y, fs, model, None, o)
+    diagnose(u, y, &[], fs, model, None, o)
 }
 
 /// The time-domain diagnosis of a record taken in a closed position loop:
@@ -954,12 +1002,60 @@ pub fn diagnose_closed_loop(
     record: &LoopRecord,
     o: &TimeOptions,
 ) -> Result<TimeDiagnosis, TimeDiagnoseError> {
-    diagnose(u, y, fs, model, Some(record), o)
+    diagnose(u, y, &[], fs, model, Some(record), o)
+}
+
+/// The time-domain diagnosis of several outputs of one record at once:
+/// `y` at the model's sensor and each of `others` at its place in the
+/// chain (read as the model's output: several encoders), with one
+/// parameter set and one set of effects, simulated once per trial (inside
+/// `record`'s loop if given, closed as it says) and compared output by
+/// output, each output's error weighted by the first output's noise over
+/// its own (from the calibrated linear model's errors). The figures of the
+/// fit (`rms_time_rel`, the FRF errors) are the first output's; the
+/// held-out samples and the information criterion count every output's.
+///
+/// ```
+/// use ident::diagnose::EffectKind;
+/// use ident::nonlinear::{diagnose_time_outputs, TimeOptions};
+/// use mms::model_file::ModelFile;
+/// use mms::simulate::{SimOptions, Simulator};
+/// use mms::Port;
+///
+/// // A free two-mass drive with dry friction on the motor, read at the
+/// // motor and at the load.
+/// let text = "masses = 2\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\n\
+///             output = \"velocity\"\n[parameters]\nm1 = 1\nm2 = 2\nc12 = 4000\nd12 = 4\n";
+/// let nominal = ModelFile::parse(text)?;
+/// let mut truth = nominal.clone();
+/// truth.effects.coulomb_friction = Some(0.5);
+/// let fs = 500.0;
+/// let u: Vec<f64> = (0..3000)
+///     .map(|k| { let t = k as f64 / fs; 2.0 * (2.0 * std::f64::consts::PI * 1.3 * t).sin() + (9.0 * t).sin() })
+///     .collect();
+/// let sim = Simulator::new(&truth, fs, &SimOptions::default())?;
+/// let (motor, at) = sim.run_at(&u, &[Port::new(2, 0)])?;
+/// let d = diagnose_time_outputs(&u, &motor, &[(&at[0], Port::new(2, 0))], fs, &nominal, None, &TimeOptions::default())?;
+/// assert_eq!(d.effects[0].kind, EffectKind::CoulombFriction);
+/// assert!((d.effects[0].parameters["coulomb_n"] / 0.5 - 1.0).abs() < 0.05);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn diagnose_time_outputs(
+    u: &[f64],
+    y: &[f64],
+    others: &[(&[f64], mms::Port)],
+    fs: f64,
+    model: &ModelFile,
+    record: Option<&LoopRecord>,
+    o: &TimeOptions,
+) -> Result<TimeDiagnosis, TimeDiagnoseError> {
+    diagnose(u, y, others, fs, model, record, o)
 }
 
 fn diagnose(
     u: &[f64],
     y: &[f64],
+    others: &[(&[f64], mms::Port)],
     fs: f64,
     model: &ModelFile,
     record: Option<&LoopRecord>,
@@ -968,6 +1064,28 @@ fn diagnose(
     let bad = |s: String| Err(TimeDiagnoseError::Input(s));
     if u.len() != y.len() {
         return bad(format!("u has {} samples, y {}", u.len(), y.len()));
+    }
+    for (i, (other, _)) in others.iter().enumerate() {
+        if other.len() != u.len() {
+            return bad(format!(
+                "output {} has {} samples, u {}",
+                i + 2,
+                other.len(),
+                u.len()
+            ));
+        }
+        if let Some(k) = other.iter().position(|v| !v.is_finite()) {
+            return bad(format!("output {} sample {k} is not finite", i + 2));
+        }
+        let (p, n) = (others[i].1, model.model.n_masses());
+        if !(p.plus >= 1 && p.plus <= n && p.minus < p.plus) {
+            return bad(format!(
+                "output {}: [{}, {}] is not a place on a chain of {n} masses",
+                i + 2,
+                p.plus,
+                p.minus
+            ));
+        }
     }
     if u.len() < 64 {
         return bad(format!("{} samples: at least 64 are needed", u.len()));
@@ -1065,6 +1183,14 @@ fn diagnose(
         file: model,
         u,
         y,
+        extra: others
+            .iter()
+            .map(|&(y, place)| Extra {
+                y,
+                place,
+                weight: 1.0,
+            })
+            .collect(),
         fs,
         free,
         offset_scale: f_max,
@@ -1075,8 +1201,10 @@ fn diagnose(
         highpass: highpass(record.is_some(), o.highpass_hz, fs),
     };
     let np = problem.free.len();
-    let n_fit = problem.held.iter().filter(|&&h| !h).count();
-    let n_test = n - n_fit;
+    // Every output's samples count.
+    let outputs = 1 + others.len();
+    let n_fit = outputs * problem.held.iter().filter(|&&h| !h).count();
+    let n_test = outputs * n - n_fit;
 
     let welch = &o.welch;
     let measured = h1(u, y, fs, welch).ok();
@@ -1088,7 +1216,32 @@ fn diagnose(
 
     // Calibration of the linear chain (with the model's own effects).
     let x_nominal = x0.clone();
-    let (x_cal, rss_cal) = problem.fit(&[], x0, &lo, &hi, o.max_iterations);
+    let (mut x_cal, mut rss_cal) = problem.fit(&[], x0, &lo, &hi, o.max_iterations);
+    if !others.is_empty() && rss_cal.is_finite() {
+        // Each further output weighs by the first's noise over its own,
+        // both read off the calibrated linear model, then the calibration
+        // is redone with those weights.
+        let fitted_rms = |e: &[f64]| {
+            let (s, k) = e
+                .iter()
+                .zip(&problem.held)
+                .filter(|(_, &h)| !h)
+                .fold((0.0, 0usize), |(s, k), (v, _)| (s + v * v, k + 1));
+            (s / k.max(1) as f64).sqrt()
+        };
+        if let Some(all) = problem.all_errors(&[], &x_cal) {
+            let first = fitted_rms(&all[0]);
+            for (e, err) in problem.extra.iter_mut().zip(&all[1..]) {
+                let own = fitted_rms(err) / e.weight;
+                e.weight = if own > 0.0 && first > 0.0 {
+                    first / own
+                } else {
+                    1.0
+                };
+            }
+        }
+        (x_cal, rss_cal) = problem.fit(&[], x_cal, &lo, &hi, o.max_iterations);
+    }
     if !rss_cal.is_finite() {
         return bad("the nominal model cannot be simulated on this record".into());
     }

@@ -214,6 +214,7 @@ fn emps_closed_loop_diagnosis_finds_published_friction_and_holds_on_validation()
                 initial_position: v.qm[0],
                 initial_velocity: (v.qm[2] - v.qm[0]) * fs / 2.0,
                 feedback: None,
+                observed: &[],
             })
             .unwrap()
     };
@@ -444,4 +445,10 @@ fn loop_closed_on_the_motor_diagnosed_at_both_encoders() {
         );
         assert!((fc / 4.0 - 1.0).abs() < 0.05, "output {k}: Fc {fc}");
     }
+    // Both encoders at once, one parameter set: the same friction.
+    let joint = d.joint.expect("both outputs have a band");
+    let td = joint.time_domain.as_ref().expect("joint time domain");
+    let fc = kept(td, EffectKind::CoulombFriction, "coulomb_n").expect("joint friction");
+    assert!((fc / 4.0 - 1.0).abs() < 0.05, "joint: Fc {fc}");
+    assert_eq!(joint.verdict.headline, EffectKind::CoulombFriction);
 }

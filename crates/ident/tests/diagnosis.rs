@@ -264,7 +264,8 @@ fn two_sensors_diagnosed_at_once() {
                 diagnose_sensors(&inputs, &nominal, None, &DiagnosisOptions::default()).unwrap();
             assert_eq!(d.outputs.len(), 2, "{label}");
             let joint = d.joint.expect("both outputs have a band");
-            let top = &joint.effects[0];
+            assert!(joint.time_domain.is_none(), "{label}: FRFs only");
+            let top = &joint.verdict.effects[0];
             eprintln!("{label}: {:?} {:?}", top.kind, top.parameters);
             if delay == 0.0 {
                 spurious += (top.kind != EffectKind::None) as usize;
@@ -277,4 +278,91 @@ fn two_sensors_diagnosed_at_once() {
     }
     assert!(spurious <= 1, "{spurious} of 10 got an effect named");
     assert!(delays_found >= 9, "the delay named in {delays_found} of 10");
+}
+
+/// Two encoders of a linear chain recorded in the time domain, nothing but
+/// parameter error and noise: the diagnosis of both at once (both domains,
+/// one parameter set) names nothing, as one output's does.
+#[test]
+fn two_sensors_in_the_time_domain_name_nothing_when_nothing_is_missing() {
+    use ident::diagnosis::{diagnose_sensors, OutputRecording};
+    use mms::simulate::{SimOptions, Simulator};
+    let mut named_count = 0;
+    for seed in 0..6u64 {
+        let mut rng = XorShift::new(400 + seed);
+        let n = 2 + (seed % 2) as usize;
+        let (truth, mut nominal) = models(&mut rng, n, Output::Position);
+        nominal.effects.time_delay_s = Some(0.5 / FS);
+        let m = truth.model;
+        let place = (1..=n)
+            .rev()
+            .map(|k| mms::Port::new(k, 0))
+            .find(|&p| p != m.sensor() && Model::new(n, m.gap(), m.actuator(), p).is_ok())
+            .expect("a second place");
+        let phases: Vec<f64> = (0..100).map(|_| 2.0 * PI * rng.uniform()).collect();
+        let one: Vec<f64> = (0..PERIOD)
+            .map(|k| {
+                (1..=100)
+                    .map(|l| (2.0 * PI * (l * k) as f64 / PERIOD as f64 + phases[l - 1]).cos())
+                    .sum::<f64>()
+                    / 7.0
+            })
+            .collect();
+        let u: Vec<f64> = (0..8).flat_map(|_| one.iter().copied()).collect();
+        let (y1, at) = Simulator::new(&truth, FS, &SimOptions::default())
+            .unwrap()
+            .run_at(&u, &[place])
+            .unwrap();
+        let welch = WelchOptions {
+            period: Some(PERIOD),
+            ..WelchOptions::default()
+        };
+        let mut noisy = |y: &[f64]| -> Vec<f64> {
+            let mean = y.iter().sum::<f64>() / y.len() as f64;
+            let rms = (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / y.len() as f64).sqrt();
+            let noise = log_uniform(&mut rng, 0.005, 0.02);
+            y.iter().map(|v| v + noise * rms * rng.normal()).collect()
+        };
+        let (y1, y2) = (noisy(&y1), noisy(&at[0]));
+        let record = |y: Vec<f64>| {
+            let frf = h1(&u, &y, FS, &welch).unwrap().frf;
+            let s = Samples {
+                u: u.clone(),
+                y,
+                fs: FS,
+                excitation: None,
+            };
+            (frf, s)
+        };
+        let ((f1, s1), (f2, s2)) = (record(y1), record(y2));
+        let second = Model::new(n, m.gap(), m.actuator(), place).unwrap();
+        let outputs = [
+            OutputRecording {
+                frf: &f1,
+                samples: Some(&s1),
+                chain: m,
+            },
+            OutputRecording {
+                frf: &f2,
+                samples: Some(&s2),
+                chain: second,
+            },
+        ];
+        let o = DiagnosisOptions {
+            welch: welch.clone(),
+            stability: false,
+            ..DiagnosisOptions::default()
+        };
+        let d = diagnose_sensors(&outputs, &nominal, None, &o).unwrap();
+        let label = format!(
+            "two sensors in time, seed {}: {} and {}",
+            400 + seed,
+            m.id(),
+            second.id()
+        );
+        if let Some(j) = &d.joint {
+            named_count += named(&label, j) as usize;
+        }
+    }
+    assert!(named_count <= 1, "{named_count} of 6 got an effect named");
 }

@@ -354,6 +354,70 @@ impl Simulator {
         self.substeps
     }
 
+    /// [`Simulator::run`], and the same quantity (position, velocity or
+    /// acceleration, as the model's output) read at each of `places` too:
+    /// several sensors of one chain, as a motor and a load encoder.
+    ///
+    /// ```
+    /// use mms::model_file::ModelFile;
+    /// use mms::simulate::{SimOptions, Simulator};
+    /// use mms::Port;
+    /// let text = "masses = 2\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\n\
+    ///             output = \"position\"\n[parameters]\nm1 = 1\nm2 = 1\nc12 = 100\nd12 = 1\n";
+    /// let sim = Simulator::new(&ModelFile::parse(text)?, 100.0, &SimOptions::default())?;
+    /// let u = [1.0; 50];
+    /// let (motor, at) = sim.run_at(&u, &[Port::new(2, 0), Port::new(2, 1)])?;
+    /// let x = sim.positions(&u)?;
+    /// assert_eq!(motor, sim.run(&u)?);
+    /// assert_eq!(at[0][49], x[49][1]);
+    /// assert_eq!(at[1][49], x[49][1] - x[49][0]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn run_at(
+        &self,
+        u: &[f64],
+        places: &[crate::Port],
+    ) -> Result<(Vec<f64>, Vec<Vec<f64>>), SimulateError> {
+        let vectors = places
+            .iter()
+            .map(|&p| self.place_vector(p))
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut y = Vec::with_capacity(u.len());
+        let mut at: Vec<Vec<f64>> = vec![Vec::with_capacity(u.len()); places.len()];
+        let dot = |w: &[f64], v: &[f64]| w.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+        let accelerations = self.output == Output::Acceleration;
+        self.open_loop(u, accelerations, |s| {
+            let q = match self.output {
+                Output::Position => &s.x[1..],
+                Output::Velocity => &s.v[1..],
+                Output::Acceleration => &s.a[1..],
+            };
+            y.push(dot(&self.sensor, q));
+            for (out, w) in at.iter_mut().zip(&vectors) {
+                out.push(dot(w, q));
+            }
+            y.last().is_some_and(|v| v.is_finite())
+        })?;
+        Ok((y, at))
+    }
+
+    /// The reading vector of a place of this chain (`+1` at `plus`, `-1`
+    /// at `minus`; the ground's entry dropped).
+    fn place_vector(&self, p: crate::Port) -> Result<Vec<f64>, SimulateError> {
+        if !(p.plus >= 1 && p.plus <= self.n && p.minus < p.plus) {
+            return Err(SimulateError::Place(format!(
+                "[{}, {}] is not a place on a chain of {} masses",
+                p.plus, p.minus, self.n
+            )));
+        }
+        let mut v = vec![0.0; self.n];
+        v[p.plus - 1] += 1.0;
+        if p.minus > 0 {
+            v[p.minus - 1] -= 1.0;
+        }
+        Ok(v)
+    }
+
     /// Simulates the sensor output for the input samples `u` (the same
     /// length), starting at rest.
     pub fn run(&self, u: &[f64]) -> Result<Vec<f64>, SimulateError> {
@@ -474,24 +538,28 @@ impl Simulator {
         let feedback = match cl.feedback {
             None => None,
             Some(f) => {
-                let p = f.sensor;
-                if !(p.plus >= 1 && p.plus <= self.n && p.minus < p.plus) {
-                    return bad(format!(
-                        "the controller's sensor [{}, {}] is not a place on a chain of {} masses",
-                        p.plus, p.minus, self.n
-                    ));
-                }
                 if !f.initial_position.is_finite() {
                     return bad("the initial position and velocity must be finite".into());
                 }
-                let mut v = vec![0.0; self.n];
-                v[p.plus - 1] += 1.0;
-                if p.minus > 0 {
-                    v[p.minus - 1] -= 1.0;
-                }
+                let v = self.place_vector(f.sensor).map_err(|e| {
+                    SimulateError::Controller(format!("the controller's sensor: {e}"))
+                })?;
                 Some((v, f.initial_position))
             }
         };
+        let observed = cl
+            .observed
+            .iter()
+            .map(|&(p, q0)| {
+                if !q0.is_finite() {
+                    return Err(SimulateError::Controller(
+                        "the initial position and velocity must be finite".into(),
+                    ));
+                }
+                Ok((self.place_vector(p)?, q0))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut at: Vec<Vec<f64>> = vec![Vec::with_capacity(n); observed.len()];
         let fs = 1.0 / (self.h * self.substeps as f64);
         let dot = |w: &[f64], v: &[f64]| w.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
         let q0 = feedback.as_ref().map_or(cl.initial_position, |f| f.1);
@@ -505,6 +573,9 @@ impl Simulator {
             |k, x| {
                 let output = dot(&self.sensor, &x[1..]) + cl.initial_position;
                 y.push(output);
+                for (out, (w, q0)) in at.iter_mut().zip(&observed) {
+                    out.push(dot(w, &x[1..]) + q0);
+                }
                 let reading = match &feedback {
                     Some((v, q0)) => dot(v, &x[1..]) + q0,
                     None => output,
@@ -514,7 +585,7 @@ impl Simulator {
             },
             |s| s.x.iter().chain(s.v).all(|v| v.is_finite()),
         )?;
-        Ok(ClosedLoopRun { y, u })
+        Ok(ClosedLoopRun { y, u, at })
     }
 
     /// Integrates `n` samples from `start`; at each sample time `input(k,
@@ -871,6 +942,9 @@ pub struct ClosedLoop<'a> {
     /// loop closed on the motor's encoder, the model read at the load's);
     /// `None`: the model's sensor.
     pub feedback: Option<Feedback>,
+    /// Further places read beside the model's sensor, each with its
+    /// position at the start ([`ClosedLoopRun::at`]).
+    pub observed: &'a [(crate::Port, f64)],
 }
 
 /// The sensor a [`ClosedLoop`]'s controller reads when it is not the
@@ -894,6 +968,7 @@ impl<'a> ClosedLoop<'a> {
             initial_position: 0.0,
             initial_velocity: 0.0,
             feedback: None,
+            observed: &[],
         }
     }
 }
@@ -905,6 +980,8 @@ pub struct ClosedLoopRun {
     pub y: Vec<f64>,
     /// Controller output (the model's input before its gain).
     pub u: Vec<f64>,
+    /// The position at each of [`ClosedLoop::observed`]'s places.
+    pub at: Vec<Vec<f64>>,
 }
 
 /// `out = s + dt * (v, a, g)`.
