@@ -198,6 +198,24 @@ fn check_accepts_analyze_output_and_rejects_tampering() {
     assert!(err.contains("above the limit"), "{err}");
     assert!(start.elapsed().as_secs() < 30);
 
+    // A pruned table (one verdict, or one model, cut out of the analysis
+    // of every class of 3 masses) is not "all valid".
+    let full = json(&["analyze", "--masses", "3", "--format", "json"]);
+    assert_eq!(full["covers"], serde_json::json!({ "masses": 3 }));
+    let mut pruned = full.clone();
+    pruned["models"][0]["types"].as_array_mut().unwrap().pop();
+    std::fs::write(&bad, pruned.to_string()).unwrap();
+    let (code, _, err) = mms(&["check", bad.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("has no verdict"), "{err}");
+    let mut pruned = full.clone();
+    pruned["models"].as_array_mut().unwrap().pop();
+    std::fs::write(&bad, pruned.to_string()).unwrap();
+    let (code, _, err) = mms(&["check", bad.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("is missing"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+
     // A table that claims nothing is not "all valid".
     std::fs::write(&bad, "{\"models\": []}").unwrap();
     let (code, out, err) = mms(&["check", bad.to_str().unwrap()]);

@@ -306,6 +306,7 @@ fn render(
     similar: &Similar,
     format: TableFormat3,
     timings: Option<&Timings>,
+    covers: &serde_json::Value,
 ) -> Result<String, String> {
     let mut s = String::new();
     match format {
@@ -340,7 +341,11 @@ fn render(
                     v
                 })
                 .collect();
-            let mut doc = json!({ "models": models });
+            let mut doc = json!({
+                "covers": covers,
+                "engine_version": mms::analysis::ENGINE_VERSION,
+                "models": models,
+            });
             if let Some(t) = timings {
                 doc["timing"] = json!({
                     "wall_seconds": t.batch.wall_seconds,
@@ -483,5 +488,15 @@ pub fn run(models: &[Model], format: TableFormat3, opts: &Options) -> Result<Str
         models: &batch.done[..models.len()],
         batch: &batch,
     });
-    render(own, &similar, format, timings.as_ref())
+    // What the file claims to cover, which `mms check` holds it to: every
+    // class of N masses, or the models given.
+    let ids: Vec<String> = models.iter().map(|m| m.id()).collect();
+    let every_class = crate::class_representatives(n)
+        .is_ok_and(|reps| reps.iter().map(|m| m.id()).eq(ids.iter().cloned()));
+    let covers = if every_class {
+        json!({ "masses": n })
+    } else {
+        json!({ "models": ids })
+    };
+    render(own, &similar, format, timings.as_ref(), &covers)
 }

@@ -43,7 +43,7 @@
 //!
 //! let a2 = mms::Model::from_id("A2")?;
 //! let analysis = analyze(&a2, &SearchLimits::default());
-//! let mut file = serde_json::json!({ "models": [analysis] });
+//! let mut file = serde_json::json!({ "covers": { "models": ["A2"] }, "models": [analysis] });
 //! let report = check_file(&file.to_string())?;
 //! assert_eq!(report.witnesses, 3); // ARR, RAR and R
 //! assert_eq!(report.to_string(), "checked 3 witnesses and 5 certificates: all valid");
@@ -172,17 +172,114 @@ pub fn check_file(text: &str) -> Result<CheckReport, CheckError> {
             problem: "empty: the file claims no model".into(),
         });
     }
+    check_coverage(&v, models)?;
     let mut report = CheckReport::default();
     for (i, m) in models.iter().enumerate() {
-        report.add(&check_model_at(m, &format!("models[{i}]"))?);
+        report.add(&check_model_at(m, &format!("models[{i}]"), true)?);
     }
     Ok(report)
 }
 
+/// The file's `covers` holds it to what it claims: `{"masses": N}`, every
+/// class of `N` masses (under renumbering) once, or `{"models": [ids]}`,
+/// exactly those models; a file that says neither is refused, since a
+/// pruned table would otherwise pass as a complete one.
+fn check_coverage(v: &Value, models: &[Value]) -> Result<(), CheckError> {
+    let malformed = |path: &str, problem: String| CheckError::Malformed {
+        path: path.into(),
+        problem,
+    };
+    let covers = v.get("covers").ok_or_else(|| {
+        malformed(
+            "file",
+            "missing key \"covers\": the file does not say what it covers (every class of N \
+             masses, or a list of models); write it with mms analyze"
+                .into(),
+        )
+    })?;
+    let mut structures = Vec::with_capacity(models.len());
+    for (i, m) in models.iter().enumerate() {
+        let path = format!("models[{i}]");
+        let id = str_field(m, "id", &path).map_err(|e| malformed(&path, e))?;
+        let model = read_model(m, &path).map_err(|e| malformed(&path, e))?;
+        structures.push((id.to_string(), model));
+    }
+    if let Some(n) = covers.get("masses") {
+        let n = n
+            .as_u64()
+            .filter(|&n| (1..=crate::model::MAX_MASSES as u64).contains(&n))
+            .ok_or_else(|| malformed("covers.masses", format!("not a number of masses: {n}")))?;
+        let classes = crate::enumerate::equivalence_classes(index(n), crate::Symmetry::Renumbering)
+            .map_err(|e| malformed("covers.masses", e.to_string()))?;
+        let mut seen: Vec<Option<String>> = vec![None; classes.len()];
+        for (id, model) in &structures {
+            let Some(c) = classes.iter().position(|c| c.contains(model)) else {
+                return Err(malformed(
+                    "models",
+                    format!("{id} is not a model of {n} masses"),
+                ));
+            };
+            if let Some(other) = &seen[c] {
+                return Err(malformed(
+                    "models",
+                    format!("{id} and {other} are the same class: a class appears twice"),
+                ));
+            }
+            seen[c] = Some(id.clone());
+        }
+        if let Some(c) = seen.iter().position(Option::is_none) {
+            return Err(malformed(
+                "models",
+                format!(
+                    "the class of {} is missing: the file covers {n} masses, {} classes, and \
+                     lists {}",
+                    classes[c][0].id(),
+                    classes.len(),
+                    structures.len()
+                ),
+            ));
+        }
+        return Ok(());
+    }
+    let listed = covers
+        .get("models")
+        .and_then(Value::as_array)
+        .ok_or_else(|| {
+            malformed(
+                "covers",
+                "expected {\"masses\": N} or {\"models\": [ids]}".into(),
+            )
+        })?;
+    let ids: Vec<&str> = listed.iter().filter_map(Value::as_str).collect();
+    if ids.len() != listed.len() {
+        return Err(malformed(
+            "covers.models",
+            "expected model IDs (strings)".into(),
+        ));
+    }
+    let present: Vec<&str> = structures.iter().map(|(id, _)| id.as_str()).collect();
+    for id in &ids {
+        match present.iter().filter(|p| *p == id).count() {
+            1 => {}
+            0 => return Err(malformed("models", format!("{id} is covered but missing"))),
+            _ => return Err(malformed("models", format!("{id} appears more than once"))),
+        }
+    }
+    if let Some(extra) = present.iter().find(|p| !ids.contains(p)) {
+        return Err(malformed(
+            "models",
+            format!("{extra} is not among the models the file covers"),
+        ));
+    }
+    Ok(())
+}
+
 /// Checks one model object of such a file (an element of its `models`
-/// array: the serialized [`crate::analysis::ModelAnalysis`]).
+/// array: the serialized [`crate::analysis::ModelAnalysis`]): every verdict
+/// it lists. That it lists every type is the file's claim, which
+/// [`check_file`] holds it to.
 pub fn check_analysis(model: &Value) -> Result<CheckReport, CheckError> {
-    check_model_at(model, "model")
+    check_model_at(model, "model", false)
 }
 
 // ---------------------------------------------------------------------------
@@ -347,6 +444,58 @@ fn subs_text(subs: &[Sub]) -> String {
 
 // ---------------------------------------------------------------------------
 // FRF types
+
+/// The degrees in `Omega` of the transfer function with its common factor
+/// (for all parameters) divided out.
+fn reduced_degrees(num: &Poly, den: &Poly) -> Result<(u32, u32), String> {
+    let g = gcd(num, den);
+    let n = num
+        .div_exact(&g)
+        .ok_or("the gcd does not divide the numerator")?;
+    let d = den
+        .div_exact(&g)
+        .ok_or("the gcd does not divide the denominator")?;
+    Ok((n.degree(OMEGA), d.degree(OMEGA)))
+}
+
+/// Every FRF type a transfer function with a numerator of degree `a` and
+/// a denominator of degree `r` in `Omega` can show before anything is
+/// known of its parameters: `k` of its poles cancelled by zeros, the other
+/// `r - k` poles in runs of coincident ones, any number of the other
+/// `a - k` zeros positive (in runs) and the rest off the positive axis
+/// (`(nm)`), runs of zeros and poles in any order. Written here from that
+/// definition, apart from the prover's enumeration.
+fn a_priori_types(a: u32, r: u32) -> Vec<Ty> {
+    fn runs(poles: u32, zeros: u32, seq: &mut Vec<Tok>, nm: bool, out: &mut Vec<Ty>) {
+        if poles == 0 && zeros == 0 {
+            let t = Ty {
+                toks: seq.clone(),
+                nm,
+            };
+            if !out.contains(&t) {
+                out.push(t);
+            }
+            return;
+        }
+        for mult in 1..=poles {
+            seq.push(Tok { zero: false, mult });
+            runs(poles - mult, zeros, seq, nm, out);
+            seq.pop();
+        }
+        for mult in 1..=zeros {
+            seq.push(Tok { zero: true, mult });
+            runs(poles, zeros - mult, seq, nm, out);
+            seq.pop();
+        }
+    }
+    let mut out = Vec::new();
+    for k in 0..=a.min(r) {
+        for positive in 0..=a - k {
+            runs(r - k, positive, &mut Vec::new(), positive < a - k, &mut out);
+        }
+    }
+    out
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Tok {
@@ -735,7 +884,7 @@ struct ModelChecker {
     proofs: usize,
 }
 
-fn check_model_at(m: &Value, path: &str) -> Result<CheckReport, CheckError> {
+fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, CheckError> {
     let id = m
         .get("id")
         .and_then(Value::as_str)
@@ -799,6 +948,30 @@ fn check_model_at(m: &Value, path: &str) -> Result<CheckReport, CheckError> {
                     "{vpath}.status: unknown status {other:?}"
                 )))
             }
+        }
+    }
+    if complete {
+        // Every type a TF of these degrees can show a priori must have its
+        // verdict here, once: a table with a verdict cut out claims less.
+        let mut listed: Vec<Ty> = Vec::with_capacity(types.len());
+        for (j, verdict) in types.iter().enumerate() {
+            let vpath = format!("types[{j}]");
+            let name = str_field(verdict, "type", &vpath).map_err(model_err)?;
+            let t = Ty::parse(name).map_err(|e| model_err(format!("{vpath}: {e}")))?;
+            if listed.contains(&t) {
+                return Err(model_err(format!("{vpath}: type {t} appears twice")));
+            }
+            listed.push(t);
+        }
+        let (a, r) = reduced_degrees(&checker.num, &checker.den).map_err(model_err)?;
+        if let Some(t) = a_priori_types(a, r)
+            .into_iter()
+            .find(|t| !listed.contains(t))
+        {
+            return Err(model_err(format!(
+                "type {t} has no verdict: every type of a numerator of degree {a} and a \
+                 denominator of degree {r} in Omega must have one"
+            )));
         }
     }
     report.proofs = checker.proofs;
@@ -2981,4 +3154,29 @@ fn check_case(
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The checker's own enumeration of the types a TF can show a priori
+    /// against the prover's (`candidate_types`): the same set, reached by
+    /// another route (runs chosen one at a time, not compositions merged).
+    #[test]
+    fn a_priori_types_match_the_provers_candidates() {
+        for a in 0..5 {
+            for r in 1..6 {
+                let mut ours: Vec<String> =
+                    a_priori_types(a, r).iter().map(Ty::to_string).collect();
+                let mut theirs: Vec<String> = crate::analysis::candidate_types(a, r)
+                    .iter()
+                    .map(|t| t.to_string())
+                    .collect();
+                ours.sort();
+                theirs.sort();
+                assert_eq!(ours, theirs, "a = {a}, r = {r}");
+            }
+        }
+    }
 }

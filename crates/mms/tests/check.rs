@@ -8,7 +8,7 @@ use mms::{Model, PAPER_IDS};
 use serde_json::{json, Value};
 use std::sync::OnceLock;
 
-/// `{"models": [...]}` for the eleven paper models, serialized like
+/// `{"covers": ..., "models": [...]}` for the eleven paper models, serialized like
 /// `mms analyze --format json` does.
 fn paper_file() -> &'static Value {
     static FILE: OnceLock<Value> = OnceLock::new();
@@ -21,7 +21,8 @@ fn paper_file() -> &'static Value {
                 serde_json::to_value(analyze(&m, &limits)).unwrap()
             })
             .collect();
-        json!({ "models": models })
+        // The paper's eleven models are the eleven classes of three masses.
+        json!({ "covers": { "masses": 3 }, "models": models })
     })
 }
 
@@ -944,4 +945,48 @@ fn cancelled_double_and_triple_zeros_get_exact_witnesses() {
         }
         assert_eq!(g.degree(mms::OMEGA), 1, "{t}: {reduced}");
     }
+}
+
+/// The file is held to what it says it covers: a verdict cut out, a model
+/// cut out or listed twice, and a file that does not say what it covers
+/// are refused, each naming what is missing.
+#[test]
+fn a_pruned_table_is_refused() {
+    let full = paper_file();
+    check(full).unwrap_or_else(|e| panic!("{e}"));
+    // One verdict removed (an impossible type of A1).
+    let mut v = full.clone();
+    let ptr = verdict_ptr("A1", "AARR");
+    let (types, j) = ptr.rsplit_once('/').unwrap();
+    v.pointer_mut(types)
+        .unwrap()
+        .as_array_mut()
+        .unwrap()
+        .remove(j.parse().unwrap());
+    let e = check(&v).unwrap_err().to_string();
+    assert!(e.contains("type AARR has no verdict"), "{e}");
+    // One model removed.
+    let mut v = full.clone();
+    v["models"].as_array_mut().unwrap().remove(4);
+    let e = check(&v).unwrap_err().to_string();
+    assert!(e.contains("is missing") && e.contains("11 classes"), "{e}");
+    // One model twice (in place of another).
+    let mut v = full.clone();
+    let first = v["models"][0].clone();
+    v["models"][1] = first;
+    let e = check(&v).unwrap_err().to_string();
+    assert!(e.contains("same class"), "{e}");
+    // No statement of what it covers.
+    let mut v = full.clone();
+    v.as_object_mut().unwrap().remove("covers");
+    let e = check(&v).unwrap_err().to_string();
+    assert!(e.contains("\"covers\""), "{e}");
+    // A list of models: exactly those.
+    let mut v = full.clone();
+    v["covers"] = json!({ "models": ["A1", "A2"] });
+    let e = check(&v).unwrap_err().to_string();
+    assert!(e.contains("is not among the models the file covers"), "{e}");
+    let one = json!({ "covers": { "models": ["A2"] }, "models": [full["models"][1].clone()] });
+    assert_eq!(one["models"][0]["id"], "A2");
+    check(&one).unwrap_or_else(|e| panic!("{e}"));
 }
