@@ -215,6 +215,20 @@ fn check_accepts_analyze_output_and_rejects_tampering() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("is missing"), "{err}");
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    // The similar systems `mms analyze` lists (its own lookup) agree with
+    // the checker's, recomputed from the verdicts; one edited out does not.
+    let mut edited = full.clone();
+    let entry = edited["models"][1]["similar"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|e| !e["models"].as_array().unwrap().is_empty())
+        .unwrap();
+    entry["models"].as_array_mut().unwrap().pop();
+    std::fs::write(&bad, edited.to_string()).unwrap();
+    let (code, _, err) = mms(&["check", bad.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("its verdicts give"), "{err}");
 
     // A table that claims nothing is not "all valid".
     std::fs::write(&bad, "{\"models\": []}").unwrap();

@@ -177,7 +177,83 @@ pub fn check_file(text: &str) -> Result<CheckReport, CheckError> {
     for (i, m) in models.iter().enumerate() {
         report.add(&check_model_at(m, &format!("models[{i}]"), true)?);
     }
+    // With every class present, the similar systems follow from the
+    // verdicts just checked.
+    if v.get("covers").and_then(|c| c.get("masses")).is_some() {
+        check_similar(models)?;
+    }
     Ok(report)
+}
+
+/// Every model's `similar`, where given: for each type it can show, the
+/// other models of the file (another structure) that can show it too, in
+/// the file's order, recomputed from the file's (checked) verdicts.
+fn check_similar(models: &[Value]) -> Result<(), CheckError> {
+    let mut possible: Vec<(String, String, Vec<String>)> = Vec::with_capacity(models.len());
+    for (i, m) in models.iter().enumerate() {
+        let path = format!("models[{i}]");
+        let bad = |e: String| CheckError::Malformed {
+            path: path.clone(),
+            problem: e,
+        };
+        let id = str_field(m, "id", &path).map_err(bad)?.to_string();
+        let generic = str_field(m, "generic_id", &path).map_err(bad)?.to_string();
+        let mut types = Vec::new();
+        for (j, t) in arr_field(m, "types", &path)
+            .map_err(bad)?
+            .iter()
+            .enumerate()
+        {
+            let vpath = format!("{path}.types[{j}]");
+            if str_field(t, "status", &vpath).map_err(bad)? == "possible" {
+                types.push(str_field(t, "type", &vpath).map_err(bad)?.to_string());
+            }
+        }
+        possible.push((id, generic, types));
+    }
+    for (i, m) in models.iter().enumerate() {
+        let (id, generic, types) = &possible[i];
+        let err = |step: String| CheckError::Model {
+            model: id.clone(),
+            step,
+        };
+        let path = format!("models[{i}]");
+        // Optional: a file without it claims no similar systems.
+        if m.get("similar").is_none() {
+            continue;
+        }
+        let listed = arr_field(m, "similar", &path).map_err(err)?;
+        if listed.len() != types.len() {
+            return Err(err(format!(
+                "similar: {} entries for {} possible types",
+                listed.len(),
+                types.len()
+            )));
+        }
+        for (t, entry) in types.iter().zip(listed) {
+            let spath = format!("similar[{t}]");
+            let ty = str_field(entry, "type", &spath).map_err(err)?;
+            if ty != t {
+                return Err(err(format!("similar: {ty} where {t} was expected")));
+            }
+            let want: Vec<&str> = possible
+                .iter()
+                .filter(|(_, g, ts)| g != generic && ts.contains(t))
+                .map(|(other, ..)| other.as_str())
+                .collect();
+            let have: Vec<&str> = arr_field(entry, "models", &spath)
+                .map_err(err)?
+                .iter()
+                .filter_map(Value::as_str)
+                .collect();
+            if have != want {
+                return Err(err(format!(
+                    "similar[{t}]: the file lists {have:?}, its verdicts give {want:?}"
+                )));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The file's `covers` holds it to what it claims: `{"masses": N}`, every
@@ -440,6 +516,55 @@ fn subs_key(subs: &[Sub]) -> String {
 
 fn subs_text(subs: &[Sub]) -> String {
     format!("[{}]", subs_key(subs))
+}
+
+/// Every pole-zero cancellation the file lists (`pzc`): its condition is
+/// the wall of its substitution, the transfer function there equals the
+/// listed reduced one up to a factor free of `Omega`, and a pole really
+/// cancels
+/// (the listed denominator has a lower degree in `Omega` than the reduced
+/// transfer function's off the wall).
+fn check_pzc(m: &Value, path: &str, num: &Poly, den: &Poly) -> Result<(), String> {
+    let (_, r) = reduced_degrees(num, den)?;
+    for (i, e) in arr_field(m, "pzc", path)?.iter().enumerate() {
+        let epath = format!("pzc[{i}]");
+        let sub = Sub::parse(
+            field(e, "substitution", &epath)?,
+            &format!("{epath}.substitution"),
+        )?;
+        let condition = poly_field(e, "condition", &epath)?;
+        if !proportional(&condition, &sub.wall_poly()) {
+            return Err(format!(
+                "{epath}: condition {condition} is not the wall {} of {sub}",
+                sub.wall_poly()
+            ));
+        }
+        let (n_l, d_l) = (poly_field(e, "num", &epath)?, poly_field(e, "den", &epath)?);
+        if d_l.is_zero() {
+            return Err(format!("{epath}.den: zero"));
+        }
+        // num / den at var = beta/alpha is apply(num) alpha^dd / (apply(den)
+        // alpha^dn): cross-multiplied with the listed quotient, which may
+        // differ from it by a factor free of Omega (the reduction divides
+        // out parameters too), which changes no root in Omega.
+        let (dn, dd) = (num.degree(&sub.var), den.degree(&sub.var));
+        let lhs = &(&n_l * &sub.apply(den)) * &sub.alpha.pow(dn);
+        let rhs = &(&d_l * &sub.apply(num)) * &sub.alpha.pow(dd);
+        let g = gcd(&lhs, &rhs);
+        let free_of_omega = |p: &Poly| p.div_exact(&g).is_some_and(|q| q.degree(OMEGA) == 0);
+        if lhs.is_zero() || rhs.is_zero() || !free_of_omega(&lhs) || !free_of_omega(&rhs) {
+            return Err(format!(
+                "{epath}: ({n_l})/({d_l}) is not the transfer function on {sub}"
+            ));
+        }
+        if d_l.degree(OMEGA) >= r {
+            return Err(format!(
+                "{epath}: no pole cancels on {sub}: the denominator keeps degree {} in Omega",
+                d_l.degree(OMEGA)
+            ));
+        }
+    }
+    Ok(())
 }
 
 // ---------------------------------------------------------------------------
@@ -949,6 +1074,9 @@ fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, 
                 )))
             }
         }
+    }
+    if m.get("pzc").is_some() {
+        check_pzc(m, path, &checker.num, &checker.den).map_err(model_err)?;
     }
     if complete {
         // Every type a TF of these degrees can show a priori must have its

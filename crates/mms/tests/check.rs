@@ -990,3 +990,32 @@ fn a_pruned_table_is_refused() {
     assert_eq!(one["models"][0]["id"], "A2");
     check(&one).unwrap_or_else(|e| panic!("{e}"));
 }
+
+/// The pole-zero cancellations a file lists are recomputed: A2's (its
+/// antiresonance cancels the resonance of m2-m3 on the wall c12 m3 =
+/// c23 m1, the paper's eq. for A2) is accepted as written, and refused
+/// with its reduced denominator or its condition edited.
+#[test]
+fn pole_zero_cancellations_are_recomputed() {
+    let full = paper_file();
+    let ptr = format!("{}/pzc/0", model_ptr("A2"));
+    assert_eq!(full.pointer(&ptr).unwrap()["condition"], "c12*m3 - c23*m1");
+    let mut v = full.clone();
+    v.pointer_mut(&ptr).unwrap()["den"] = "Omega*m2*m3 - c12*m3 - c23*m2".into();
+    let e = check(&v).unwrap_err().to_string();
+    assert!(e.contains("is not the transfer function"), "{e}");
+    let mut v = full.clone();
+    v.pointer_mut(&ptr).unwrap()["condition"] = "c12*m3 - c23*m2".into();
+    let e = check(&v).unwrap_err().to_string();
+    assert!(e.contains("is not the wall"), "{e}");
+    // The TF on the wall left unreduced (substituted by hand, times c23):
+    // right as a function, but it claims no cancellation.
+    let mut v = full.clone();
+    let entry = v.pointer_mut(&ptr).unwrap();
+    entry["num"] = "-Omega*c12*m3 + c12*c23".into();
+    entry["den"] = "Omega^2*c12*m2*m3^2 - Omega*c12^2*m3^2 - 2*Omega*c12*c23*m2*m3 \
+                    - Omega*c12*c23*m3^2 + c12^2*c23*m3 + c12*c23^2*m2 + c12*c23^2*m3"
+        .into();
+    let e = check(&v).unwrap_err().to_string();
+    assert!(e.contains("no pole cancels"), "{e}");
+}
