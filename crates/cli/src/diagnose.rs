@@ -117,30 +117,26 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         Some(l) => Some(read_loop(args.recording, l, rec.samples.as_ref())?),
         None => None,
     };
-    let record = looped.as_ref().map(|l| l.record());
-    let d = diagnose_recording(
-        &rec.frf,
-        rec.samples.as_ref(),
-        &model,
-        record.as_ref(),
-        &options,
-    )
-    .map_err(|e| format!("{name}: {e}"))?;
+    // A recording of the rig (inside its loop) diagnosed with the model.
+    let diagnosed = |r: &frf::Recording, looped: Option<&LoopData>, name: &str| {
+        let record = looped.map(|l| l.record());
+        diagnose_recording(
+            &r.frf,
+            r.samples.as_ref(),
+            &model,
+            record.as_ref(),
+            &options,
+        )
+        .map_err(|e| format!("{name}: {e}"))
+    };
+    let d = diagnosed(&rec, looped.as_ref(), &name)?;
     // Another operating point of the rig, and each further excitation
     // level as one: diagnosed with the same model and compared with this
     // recording (the levels' modes are also compared one by one, in the
     // amplitude section).
     let other_point = |path: &Path| -> Result<OtherPoint, String> {
         let (other, looped) = read_other(args, path)?;
-        let record = looped.as_ref().map(|l| l.record());
-        let od = diagnose_recording(
-            &other.frf,
-            other.samples.as_ref(),
-            &model,
-            record.as_ref(),
-            &options,
-        )
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+        let od = diagnosed(&other, looped.as_ref(), &path.display().to_string())?;
         let c = compare_operating_diagnoses(&d, &rec.frf, &od, &other.frf);
         Ok((path.display().to_string(), c, od))
     };

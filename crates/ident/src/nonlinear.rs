@@ -953,7 +953,7 @@ pub fn diagnose_time(
     model: &ModelFile,
     o: &TimeOptions,
 ) -> Result<TimeDiagnosis, TimeDiagnoseError> {
-    diagnose(u, y, &[], fs, model, None, o)
+    diagnose_time_outputs(u, y, &[], fs, model, None, o)
 }
 
 /// The time-domain diagnosis of a record taken in a closed position loop:
@@ -1002,7 +1002,7 @@ pub fn diagnose_closed_loop(
     record: &LoopRecord,
     o: &TimeOptions,
 ) -> Result<TimeDiagnosis, TimeDiagnoseError> {
-    diagnose(u, y, &[], fs, model, Some(record), o)
+    diagnose_time_outputs(u, y, &[], fs, model, Some(record), o)
 }
 
 /// The time-domain diagnosis of several outputs of one record at once:
@@ -1041,18 +1041,6 @@ pub fn diagnose_closed_loop(
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn diagnose_time_outputs(
-    u: &[f64],
-    y: &[f64],
-    others: &[(&[f64], mms::Port)],
-    fs: f64,
-    model: &ModelFile,
-    record: Option<&LoopRecord>,
-    o: &TimeOptions,
-) -> Result<TimeDiagnosis, TimeDiagnoseError> {
-    diagnose(u, y, others, fs, model, record, o)
-}
-
-fn diagnose(
     u: &[f64],
     y: &[f64],
     others: &[(&[f64], mms::Port)],

@@ -74,6 +74,18 @@ fn kept(d: &TimeDiagnosis, kind: EffectKind, name: &str) -> Option<f64> {
         .map(|e| e.parameters[name])
 }
 
+/// A position reference that goes out and back (5 cm at 0.5 Hz) with a
+/// faster wiggle on top (1 cm at 1.7 Hz), `n` samples at `fs`.
+fn back_and_forth(fs: f64, n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|k| {
+            let t = k as f64 / fs;
+            let w = 2.0 * std::f64::consts::PI;
+            0.05 * (1.0 - (w * 0.5 * t).cos()) + 0.01 * (w * 1.7 * t).sin()
+        })
+        .collect()
+}
+
 /// Relative RMS of `a - b` over `a`.
 fn rel(a: &[f64], b: &[f64]) -> f64 {
     let e: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
@@ -245,14 +257,7 @@ fn emps_closed_loop_diagnosis_finds_published_friction_and_holds_on_validation()
 #[test]
 fn synthetic_closed_loop_recovers_coulomb_and_offset() {
     let fs = 1000.0;
-    let n = 6000;
-    let r: Vec<f64> = (0..n)
-        .map(|k| {
-            let t = k as f64 / fs;
-            let w = 2.0 * std::f64::consts::PI;
-            0.05 * (1.0 - (w * 0.5 * t).cos()) + 0.01 * (w * 1.7 * t).sin()
-        })
-        .collect();
+    let r = back_and_forth(fs, 6000);
     let c = Controller::new(120.0, 60.0);
     let mut rng = XorShift::new(20_261_122);
     let record = |truth: &ModelFile, rng: &mut XorShift| {
@@ -351,14 +356,7 @@ fn loop_closed_on_the_motor_diagnosed_at_both_encoders() {
     use mms::simulate::Feedback;
     use mms::{Model, Port};
     let fs = 1000.0;
-    let n = 6000;
-    let r: Vec<f64> = (0..n)
-        .map(|k| {
-            let t = k as f64 / fs;
-            let w = 2.0 * std::f64::consts::PI;
-            0.05 * (1.0 - (w * 0.5 * t).cos()) + 0.01 * (w * 1.7 * t).sin()
-        })
-        .collect();
+    let r = back_and_forth(fs, 6000);
     let c = Controller::new(40.0, 30.0);
     let text = |m1: f64, m2: f64, k: f64, coulomb: Option<f64>| {
         let mut f = ModelFile::parse(&format!(

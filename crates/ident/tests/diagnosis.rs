@@ -75,6 +75,20 @@ fn frf_case(seed: u64) -> (Frf, ModelFile, String) {
     (frf, nominal, label)
 }
 
+/// A random-phase multisine on the lines 1-100 Hz, 8 periods.
+fn multisine(rng: &mut XorShift) -> Vec<f64> {
+    let phases: Vec<f64> = (0..100).map(|_| 2.0 * PI * rng.uniform()).collect();
+    let one: Vec<f64> = (0..PERIOD)
+        .map(|k| {
+            (1..=100)
+                .map(|l| (2.0 * PI * (l * k) as f64 / PERIOD as f64 + phases[l - 1]).cos())
+                .sum::<f64>()
+                / 7.0
+        })
+        .collect();
+    (0..8).flat_map(|_| one.iter().copied()).collect()
+}
+
 /// A time-domain recording of a random linear chain: a random-phase
 /// multisine on the lines 1-100 Hz, 8 periods at 1 kHz, output noise
 /// 0.5-2 % of the output's RMS about its mean.
@@ -87,16 +101,7 @@ fn time_case(seed: u64) -> (Frf, Samples, ModelFile, WelchOptions, String) {
     // held over each sample (a zero-order hold: half a sample).
     nominal.effects.time_delay_s = Some(0.5 / FS);
     let noise = log_uniform(&mut rng, 0.005, 0.02);
-    let phases: Vec<f64> = (0..100).map(|_| 2.0 * PI * rng.uniform()).collect();
-    let one: Vec<f64> = (0..PERIOD)
-        .map(|k| {
-            (1..=100)
-                .map(|l| (2.0 * PI * (l * k) as f64 / PERIOD as f64 + phases[l - 1]).cos())
-                .sum::<f64>()
-                / 7.0
-        })
-        .collect();
-    let u: Vec<f64> = (0..8).flat_map(|_| one.iter().copied()).collect();
+    let u = multisine(&mut rng);
     let clean = simulate(&truth, &u, FS).unwrap();
     let mean = clean.iter().sum::<f64>() / clean.len() as f64;
     let rms = (clean.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / clean.len() as f64).sqrt();
@@ -299,16 +304,7 @@ fn two_sensors_in_the_time_domain_name_nothing_when_nothing_is_missing() {
             .map(|k| mms::Port::new(k, 0))
             .find(|&p| p != m.sensor() && Model::new(n, m.gap(), m.actuator(), p).is_ok())
             .expect("a second place");
-        let phases: Vec<f64> = (0..100).map(|_| 2.0 * PI * rng.uniform()).collect();
-        let one: Vec<f64> = (0..PERIOD)
-            .map(|k| {
-                (1..=100)
-                    .map(|l| (2.0 * PI * (l * k) as f64 / PERIOD as f64 + phases[l - 1]).cos())
-                    .sum::<f64>()
-                    / 7.0
-            })
-            .collect();
-        let u: Vec<f64> = (0..8).flat_map(|_| one.iter().copied()).collect();
+        let u = multisine(&mut rng);
         let (y1, at) = Simulator::new(&truth, FS, &SimOptions::default())
             .unwrap()
             .run_at(&u, &[place])
