@@ -44,6 +44,23 @@ fn models(rng: &mut XorShift, n: usize, output: Output) -> (ModelFile, ModelFile
     (truth, nominal)
 }
 
+/// `g` at `values` on the lines `f`, with relative noise `noise` on the
+/// real and imaginary part of `ln H`, its standard deviation given.
+fn noisy_frf(g: &ChainResponse, values: &[f64], f: &[f64], noise: f64, rng: &mut XorShift) -> Frf {
+    let h: Vec<Complex64> = f
+        .iter()
+        .map(|&f| {
+            let h = g.eval(values, f).unwrap();
+            h * (Complex64::new(noise * rng.normal(), noise * rng.normal())).exp()
+        })
+        .collect();
+    let sd: Vec<f64> = h.iter().map(|h| noise * h.norm()).collect();
+    Frf::new(f.to_vec(), h, None)
+        .unwrap()
+        .with_std_dev(sd)
+        .unwrap()
+}
+
 /// A measured FRF of a random linear chain on 400 log-spaced lines 1-200
 /// Hz with relative noise 0.5-2 % (its standard deviation given per line).
 fn frf_case(seed: u64) -> (Frf, ModelFile, String) {
@@ -57,16 +74,7 @@ fn frf_case(seed: u64) -> (Frf, ModelFile, String) {
         .map(|k| (200f64.ln() * k as f64 / 399.0).exp())
         .collect();
     let g = ChainResponse::new(&truth.model, output);
-    let h: Vec<Complex64> = f
-        .iter()
-        .map(|&f| {
-            let h = g.eval(truth.parameters.values(), f).unwrap();
-            // Noise per real and imaginary part of ln H.
-            h * (Complex64::new(noise * rng.normal(), noise * rng.normal())).exp()
-        })
-        .collect();
-    let sd: Vec<f64> = h.iter().map(|h| noise * h.norm()).collect();
-    let frf = Frf::new(f, h, None).unwrap().with_std_dev(sd).unwrap();
+    let frf = noisy_frf(&g, truth.parameters.values(), &f, noise, &mut rng);
     let label = format!(
         "FRF seed {seed}: {} {output:?}, noise {:.2} %",
         truth.model.id(),
@@ -223,18 +231,7 @@ fn two_sensor_case(seed: u64, delay: f64) -> (Vec<(Frf, Model)>, ModelFile, Stri
     for chain in [m, other] {
         let noise = log_uniform(&mut rng, 0.005, 0.02);
         let g = ChainResponse::with_effects(&chain, Output::Position, &effects);
-        let h: Vec<Complex64> = f
-            .iter()
-            .map(|&f| {
-                let h = g.eval(truth.parameters.values(), f).unwrap();
-                h * (Complex64::new(noise * rng.normal(), noise * rng.normal())).exp()
-            })
-            .collect();
-        let sd: Vec<f64> = h.iter().map(|h| noise * h.norm()).collect();
-        let frf = Frf::new(f.clone(), h, None)
-            .unwrap()
-            .with_std_dev(sd)
-            .unwrap();
+        let frf = noisy_frf(&g, truth.parameters.values(), &f, noise, &mut rng);
         outputs.push((frf, chain));
     }
     let label = format!(
