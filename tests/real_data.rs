@@ -1057,6 +1057,19 @@ fn tue2018_both_encoders_name_the_same_friction() {
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("Data.y2"), "{err}");
+    // An output placed beyond the chain's masses: one line, exit 2.
+    for command in ["identify", "diagnose"] {
+        let mut args = vec![command, path.as_str(), "--u", "Data.u", "--y", "Data.y1@1"];
+        args.extend_from_slice(&["--y", "Data.y2@4", "--masses", "2"]);
+        if command == "diagnose" {
+            args.truncate(args.len() - 2);
+            args.extend_from_slice(&["--model", model.to_str().unwrap()]);
+        }
+        let (code, _, err) = mms(&args);
+        assert_eq!(code, 2, "{command}: {err}");
+        assert!(err.contains("lies outside"), "{command}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

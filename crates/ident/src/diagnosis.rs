@@ -427,8 +427,9 @@ pub struct SensorsDiagnosisError {
 
 /// Diagnoses what `model` misses of a recording with several sensors:
 /// each output on its own, as [`diagnose_recording`] does, and then all
-/// of them at once in the frequency domain, so that the rig gets one
-/// verdict in which every output weighs by its own lines' uncertainty.
+/// of them at once in both domains ([`SensorsDiagnosis::joint`]), so that
+/// the rig gets one verdict in which every output weighs by its own
+/// uncertainty.
 /// Each output's chain must be `model`'s chain read at its sensor.
 ///
 /// A recording taken inside a position loop (`closed_loop`) is closed on
