@@ -518,6 +518,65 @@ fn subs_text(subs: &[Sub]) -> String {
     format!("[{}]", subs_key(subs))
 }
 
+/// The critical factors of the whole orthant the file lists (`critical`):
+/// together they cover every critical polynomial of the model (leading
+/// coefficients and values at `Omega = 0` of the TF's parts, their
+/// resultants and discriminants, computed here), each divides one of them,
+/// and `cancels` says whether it divides a resultant of a numerator part
+/// and a denominator part. Their `status` words are not checked here (the
+/// certificates that rely on a sign carry its proof).
+fn check_critical(m: &Value, path: &str, top: &Stratum) -> Result<(), String> {
+    let mut factors = Vec::new();
+    for (i, e) in arr_field(m, "critical", path)?.iter().enumerate() {
+        let cpath = format!("critical[{i}]");
+        let f = poly_field(e, "factor", &cpath)?;
+        if f.is_constant() {
+            return Err(format!("{cpath}: {f} is a constant"));
+        }
+        let divides = |c: &Critical| !c.poly.is_zero() && c.poly.div_exact(&f).is_some();
+        if !top.critical.iter().any(divides) {
+            return Err(format!("{cpath}: {f} divides no critical polynomial"));
+        }
+        let cancels = top
+            .critical
+            .iter()
+            .any(|c| c.role == Role::Cancel && divides(c));
+        if bool_field(e, "cancels", &cpath)? != cancels {
+            return Err(format!(
+                "{cpath}: {f} {} a resultant of a numerator and a denominator part: cancels \
+                 must be {cancels}",
+                if cancels { "divides" } else { "divides no" }
+            ));
+        }
+        factors.push(f);
+    }
+    for c in &top.critical {
+        if c.poly.is_zero() {
+            continue;
+        }
+        let mut rest = c.poly.clone();
+        loop {
+            let mut divided = false;
+            for f in &factors {
+                while let Some(q) = rest.div_exact(f) {
+                    rest = q;
+                    divided = true;
+                }
+            }
+            if !divided {
+                break;
+            }
+        }
+        if !rest.is_constant() {
+            return Err(format!(
+                "critical: {} is not covered by the listed factors (left {rest})",
+                c.what
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Every pole-zero cancellation the file lists (`pzc`): its condition is
 /// the wall of its substitution, the transfer function there equals the
 /// listed reduced one up to a factor free of `Omega`, and a pole really
@@ -1077,6 +1136,10 @@ fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, 
     }
     if m.get("pzc").is_some() {
         check_pzc(m, path, &checker.num, &checker.den).map_err(model_err)?;
+    }
+    if m.get("critical").is_some() {
+        let top = checker.stratum(&[]).map_err(model_err)?;
+        check_critical(m, path, &top).map_err(model_err)?;
     }
     if complete {
         // Every type a TF of these degrees can show a priori must have its

@@ -1019,3 +1019,34 @@ fn pole_zero_cancellations_are_recomputed() {
     let e = check(&v).unwrap_err().to_string();
     assert!(e.contains("no pole cancels"), "{e}");
 }
+
+/// The critical factors a model lists are recomputed: A2's are accepted,
+/// and refused with one dropped (a critical polynomial left uncovered),
+/// with a factor that is not critical, and with `cancels` flipped.
+#[test]
+fn critical_factors_are_recomputed() {
+    let full = paper_file();
+    let ptr = format!("{}/critical", model_ptr("A2"));
+    let listed = full.pointer(&ptr).unwrap().as_array().unwrap().clone();
+    let wall = listed
+        .iter()
+        .position(|c| c["factor"] == "c12*m3 - c23*m1")
+        .expect("A2's cancellation wall");
+    assert_eq!(listed[wall]["cancels"], true);
+    let mut v = full.clone();
+    v.pointer_mut(&ptr)
+        .unwrap()
+        .as_array_mut()
+        .unwrap()
+        .remove(wall);
+    let e = check(&v).unwrap_err().to_string();
+    assert!(e.contains("is not covered by the listed factors"), "{e}");
+    let mut v = full.clone();
+    v.pointer_mut(&ptr).unwrap()[wall]["factor"] = "c12*m3 - c23*m2".into();
+    let e = check(&v).unwrap_err().to_string();
+    assert!(e.contains("divides no critical polynomial"), "{e}");
+    let mut v = full.clone();
+    v.pointer_mut(&ptr).unwrap()[wall]["cancels"] = false.into();
+    let e = check(&v).unwrap_err().to_string();
+    assert!(e.contains("cancels must be true"), "{e}");
+}
