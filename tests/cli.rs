@@ -229,6 +229,15 @@ fn check_accepts_analyze_output_and_rejects_tampering() {
     let (code, _, err) = mms(&["check", bad.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("its verdicts give"), "{err}");
+    // So do the moment invariants it counts (by `mms::identifiability`)
+    // and the checker's own count on the reduced TF.
+    let mut edited = full.clone();
+    let count = edited["models"][3]["moment_invariants"].as_u64().unwrap();
+    edited["models"][3]["moment_invariants"] = (count + 1).into();
+    std::fs::write(&bad, edited.to_string()).unwrap();
+    let (code, _, err) = mms(&["check", bad.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("moment_invariants: the file says"), "{err}");
 
     // A table that claims nothing is not "all valid".
     std::fs::write(&bad, "{\"models\": []}").unwrap();

@@ -577,6 +577,30 @@ fn check_critical(m: &Value, path: &str, top: &Stratum) -> Result<(), String> {
     Ok(())
 }
 
+/// How many coefficients of the reduced TF (numerator and denominator, in
+/// `Omega`), divided by the denominator's leading one, are not constants:
+/// the input-output invariants that can carry information on the
+/// parameters.
+fn nonconstant_invariants(num: &Poly, den: &Poly) -> Result<usize, String> {
+    let g = gcd(num, den);
+    let n = num
+        .div_exact(&g)
+        .ok_or("the gcd does not divide the numerator")?;
+    let d = den
+        .div_exact(&g)
+        .ok_or("the gcd does not divide the denominator")?;
+    let dc = d.coeffs_in(OMEGA);
+    let lead = dc
+        .last()
+        .filter(|c| !c.is_zero())
+        .ok_or("the denominator is zero")?;
+    Ok(n.coeffs_in(OMEGA)
+        .iter()
+        .chain(&dc)
+        .filter(|c| !c.is_zero() && !proportional(c, lead))
+        .count())
+}
+
 /// Every pole-zero cancellation the file lists (`pzc`): its condition is
 /// the wall of its substitution, the transfer function there equals the
 /// listed reduced one up to a factor free of `Omega`, and a pole really
@@ -1136,6 +1160,17 @@ fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, 
     }
     if m.get("pzc").is_some() {
         check_pzc(m, path, &checker.num, &checker.den).map_err(model_err)?;
+    }
+    if let Some(v) = m.get("moment_invariants") {
+        let listed = v
+            .as_u64()
+            .ok_or_else(|| model_err(format!("{path}.moment_invariants: expected a count")))?;
+        let own = nonconstant_invariants(&checker.num, &checker.den).map_err(model_err)?;
+        if listed != own as u64 {
+            return Err(model_err(format!(
+                "moment_invariants: the file says {listed}, the reduced TF has {own}"
+            )));
+        }
     }
     if m.get("critical").is_some() {
         let top = checker.stratum(&[]).map_err(model_err)?;
