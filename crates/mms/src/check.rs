@@ -550,24 +550,9 @@ fn check_critical(m: &Value, path: &str, top: &Stratum) -> Result<(), String> {
         }
         factors.push(f);
     }
-    for c in &top.critical {
-        if c.poly.is_zero() {
-            continue;
-        }
-        let mut rest = c.poly.clone();
-        loop {
-            let mut divided = false;
-            for f in &factors {
-                while let Some(q) = rest.div_exact(f) {
-                    rest = q;
-                    divided = true;
-                }
-            }
-            if !divided {
-                break;
-            }
-        }
-        if !rest.is_constant() {
+    let factors: Vec<&Poly> = factors.iter().collect();
+    for c in top.critical.iter().filter(|c| !c.poly.is_zero()) {
+        if let Some(rest) = uncovered(&c.poly, &factors) {
             return Err(format!(
                 "critical: {} is not covered by the listed factors (left {rest})",
                 c.what
@@ -577,18 +562,31 @@ fn check_critical(m: &Value, path: &str, top: &Stratum) -> Result<(), String> {
     Ok(())
 }
 
+/// What is left of `p` once every power of `factors` is divided out, if
+/// that is not a nonzero constant (`p` is then not covered by them).
+fn uncovered(p: &Poly, factors: &[&Poly]) -> Option<Poly> {
+    let mut rest = p.clone();
+    loop {
+        let mut divided = false;
+        for f in factors {
+            while let Some(q) = rest.div_exact(f) {
+                rest = q;
+                divided = true;
+            }
+        }
+        if !divided {
+            break;
+        }
+    }
+    (!rest.is_constant() || rest.is_zero()).then_some(rest)
+}
+
 /// How many coefficients of the reduced TF (numerator and denominator, in
 /// `Omega`), divided by the denominator's leading one, are not constants:
 /// the input-output invariants that can carry information on the
 /// parameters.
 fn nonconstant_invariants(num: &Poly, den: &Poly) -> Result<usize, String> {
-    let g = gcd(num, den);
-    let n = num
-        .div_exact(&g)
-        .ok_or("the gcd does not divide the numerator")?;
-    let d = den
-        .div_exact(&g)
-        .ok_or("the gcd does not divide the denominator")?;
+    let (n, d) = reduced(num, den)?;
     let dc = d.coeffs_in(OMEGA);
     let lead = dc
         .last()
@@ -656,6 +654,13 @@ fn check_pzc(m: &Value, path: &str, num: &Poly, den: &Poly) -> Result<(), String
 /// The degrees in `Omega` of the transfer function with its common factor
 /// (for all parameters) divided out.
 fn reduced_degrees(num: &Poly, den: &Poly) -> Result<(u32, u32), String> {
+    let (n, d) = reduced(num, den)?;
+    Ok((n.degree(OMEGA), d.degree(OMEGA)))
+}
+
+/// The transfer function with its common factor (for all parameters)
+/// divided out.
+fn reduced(num: &Poly, den: &Poly) -> Result<(Poly, Poly), String> {
     let g = gcd(num, den);
     let n = num
         .div_exact(&g)
@@ -663,7 +668,7 @@ fn reduced_degrees(num: &Poly, den: &Poly) -> Result<(u32, u32), String> {
     let d = den
         .div_exact(&g)
         .ok_or("the gcd does not divide the denominator")?;
-    Ok((n.degree(OMEGA), d.degree(OMEGA)))
+    Ok((n, d))
 }
 
 /// Every FRF type a transfer function with a numerator of degree `a` and
@@ -1401,20 +1406,7 @@ impl ModelChecker {
                 if c.poly.is_zero() {
                     return Err(err(format!("critical polynomial: {} is zero", c.what)));
                 }
-                let mut rest = c.poly.clone();
-                loop {
-                    let mut divided = false;
-                    for f in &factors {
-                        while let Some(q) = rest.div_exact(f) {
-                            rest = q;
-                            divided = true;
-                        }
-                    }
-                    if !divided {
-                        break;
-                    }
-                }
-                if !rest.is_constant() || rest.is_zero() {
+                if let Some(rest) = uncovered(&c.poly, &factors) {
                     return Err(err(format!(
                         "critical polynomial: {} is not covered by the factors (left {rest})",
                         c.what
