@@ -497,7 +497,10 @@ pub fn verdict_text(d: &RecordingDiagnosis) -> String {
 pub fn markdown(name: &str, source: &str, d: &RecordingDiagnosis, plot: Option<&str>) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Diagnosis of `{name}`\n");
-    let _ = writeln!(s, "{source}\n");
+    // A section of a report on several outputs names no model of its own.
+    if !source.is_empty() {
+        let _ = writeln!(s, "{source}\n");
+    }
     if let Some(flipped) = flipped_cuts(d) {
         let _ = writeln!(
             s,
