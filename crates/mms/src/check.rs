@@ -585,14 +585,15 @@ fn uncovered(p: &Poly, factors: &[&Poly]) -> Option<Poly> {
 /// `Omega`), divided by the denominator's leading one, are not constants:
 /// the input-output invariants that can carry information on the
 /// parameters.
-fn nonconstant_invariants(num: &Poly, den: &Poly) -> Result<usize, String> {
-    let (n, d) = reduced(num, den)?;
-    let dc = d.coeffs_in(OMEGA);
+fn nonconstant_invariants(top: &Stratum) -> Result<usize, String> {
+    let dc = top.den.coeffs_in(OMEGA);
     let lead = dc
         .last()
         .filter(|c| !c.is_zero())
         .ok_or("the denominator is zero")?;
-    Ok(n.coeffs_in(OMEGA)
+    Ok(top
+        .num
+        .coeffs_in(OMEGA)
         .iter()
         .chain(&dc)
         .filter(|c| !c.is_zero() && !proportional(c, lead))
@@ -605,8 +606,13 @@ fn nonconstant_invariants(num: &Poly, den: &Poly) -> Result<usize, String> {
 /// cancels
 /// (the listed denominator has a lower degree in `Omega` than the reduced
 /// transfer function's off the wall).
-fn check_pzc(m: &Value, path: &str, num: &Poly, den: &Poly) -> Result<(), String> {
-    let (_, r) = reduced_degrees(num, den)?;
+fn check_pzc(
+    m: &Value,
+    path: &str,
+    (num, den): (&Poly, &Poly),
+    top: &Stratum,
+) -> Result<(), String> {
+    let r = top.den_degree;
     for (i, e) in arr_field(m, "pzc", path)?.iter().enumerate() {
         let epath = format!("pzc[{i}]");
         let sub = Sub::parse(
@@ -650,26 +656,6 @@ fn check_pzc(m: &Value, path: &str, num: &Poly, den: &Poly) -> Result<(), String
 
 // ---------------------------------------------------------------------------
 // FRF types
-
-/// The degrees in `Omega` of the transfer function with its common factor
-/// (for all parameters) divided out.
-fn reduced_degrees(num: &Poly, den: &Poly) -> Result<(u32, u32), String> {
-    let (n, d) = reduced(num, den)?;
-    Ok((n.degree(OMEGA), d.degree(OMEGA)))
-}
-
-/// The transfer function with its common factor (for all parameters)
-/// divided out.
-fn reduced(num: &Poly, den: &Poly) -> Result<(Poly, Poly), String> {
-    let g = gcd(num, den);
-    let n = num
-        .div_exact(&g)
-        .ok_or("the gcd does not divide the numerator")?;
-    let d = den
-        .div_exact(&g)
-        .ok_or("the gcd does not divide the denominator")?;
-    Ok((n, d))
-}
 
 /// Every FRF type a transfer function with a numerator of degree `a` and
 /// a denominator of degree `r` in `Omega` can show before anything is
@@ -917,6 +903,9 @@ struct Part {
 struct Stratum {
     subs: Vec<Sub>,
     vars: Vec<String>,
+    /// The transfer function on the stratum, its common factor divided out.
+    num: Poly,
+    den: Poly,
     den_degree: u32,
     parts: Vec<Part>,
     critical: Vec<Critical>,
@@ -1031,6 +1020,8 @@ impl Stratum {
             subs: subs.to_vec(),
             vars,
             den_degree: den.degree(OMEGA),
+            num,
+            den,
             parts,
             critical,
         })
@@ -1163,14 +1154,16 @@ fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, 
             }
         }
     }
+    // The reduced TF (the whole orthant's stratum) for the derived fields.
+    let top = checker.stratum(&[]).map_err(model_err)?;
     if m.get("pzc").is_some() {
-        check_pzc(m, path, &checker.num, &checker.den).map_err(model_err)?;
+        check_pzc(m, path, (&checker.num, &checker.den), &top).map_err(model_err)?;
     }
     if let Some(v) = m.get("moment_invariants") {
         let listed = v
             .as_u64()
             .ok_or_else(|| model_err(format!("{path}.moment_invariants: expected a count")))?;
-        let own = nonconstant_invariants(&checker.num, &checker.den).map_err(model_err)?;
+        let own = nonconstant_invariants(&top).map_err(model_err)?;
         if listed != own as u64 {
             return Err(model_err(format!(
                 "moment_invariants: the file says {listed}, the reduced TF has {own}"
@@ -1178,7 +1171,6 @@ fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, 
         }
     }
     if m.get("critical").is_some() {
-        let top = checker.stratum(&[]).map_err(model_err)?;
         check_critical(m, path, &top).map_err(model_err)?;
     }
     if complete {
@@ -1194,7 +1186,7 @@ fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, 
             }
             listed.push(t);
         }
-        let (a, r) = reduced_degrees(&checker.num, &checker.den).map_err(model_err)?;
+        let (a, r) = (top.num.degree(OMEGA), top.den_degree);
         if let Some(t) = a_priori_types(a, r)
             .into_iter()
             .find(|t| !listed.contains(t))
