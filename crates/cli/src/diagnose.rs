@@ -101,7 +101,14 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         ));
     }
     let rec = args.recording.read()?;
-    let levels = amplitude(args, &rec)?;
+    // Each further level, read once: for the amplitude comparison and, with
+    // a model, as another operating point.
+    let level_recordings: Vec<frf::Recording> = args
+        .levels
+        .iter()
+        .map(|p| args.recording.read_file(p))
+        .collect::<Result<_, _>>()?;
+    let levels = amplitude(args, &rec, &level_recordings)?;
     let Some(model_source) = args.model else {
         return match &levels {
             Some((levels, a)) => amplitude_only(args, levels, a),
@@ -134,21 +141,22 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     // level as one: diagnosed with the same model and compared with this
     // recording (the levels' modes are also compared one by one, in the
     // amplitude section).
-    let other_point = |path: &Path| -> Result<OtherPoint, String> {
-        let (other, looped) = read_other(args, path)?;
-        let od = diagnosed(&other, looped.as_ref(), &path.display().to_string())?;
+    let other_point = |path: &Path, other: &frf::Recording| -> Result<OtherPoint, String> {
+        let looped = other_loop(args, path, other)?;
+        let od = diagnosed(other, looped.as_ref(), &path.display().to_string())?;
         let c = compare_operating_diagnoses(&d, &rec.frf, &od, &other.frf);
         Ok((path.display().to_string(), c, od))
     };
     let operating: Vec<OtherPoint> = args
         .operating_points
         .iter()
-        .map(|p| other_point(p))
+        .map(|p| other_point(p, &args.recording.read_file(p)?))
         .collect::<Result<_, _>>()?;
     let level_points: Vec<OtherPoint> = args
         .levels
         .iter()
-        .map(|p| other_point(p))
+        .zip(&level_recordings)
+        .map(|(p, other)| other_point(p, other))
         .collect::<Result<_, _>>()?;
     let validation = match args.validate {
         None => None,
@@ -1108,16 +1116,26 @@ fn read_other(
     path: &Path,
 ) -> Result<(frf::Recording, Option<LoopData>), String> {
     let other = args.recording.read_file(path)?;
+    let looped = other_loop(args, path, &other)?;
+    Ok((other, looped))
+}
+
+/// The loop of another recording `other` (at `path`) of the rig, when the
+/// diagnosis runs inside one.
+fn other_loop(
+    args: &DiagnoseArgs,
+    path: &Path,
+    other: &frf::Recording,
+) -> Result<Option<LoopData>, String> {
     let other_args = RecordingArgs {
         recording: Some(path.to_path_buf()),
         recording_flag: None,
         ..args.recording.clone()
     };
-    let looped = match &args.closed_loop {
-        Some(l) => Some(read_loop(&other_args, l, other.samples.as_ref())?),
-        None => None,
-    };
-    Ok((other, looped))
+    match &args.closed_loop {
+        Some(l) => Ok(Some(read_loop(&other_args, l, other.samples.as_ref())?)),
+        None => Ok(None),
+    }
 }
 
 pub fn read_loop(
@@ -1268,6 +1286,7 @@ pub fn finish(
 fn amplitude(
     args: &DiagnoseArgs,
     rec: &frf::Recording,
+    others: &[frf::Recording],
 ) -> Result<Option<(Vec<Level>, AmplitudeDependence)>, String> {
     if args.levels.is_empty() {
         return Ok(None);
@@ -1282,8 +1301,8 @@ fn amplitude(
     };
     let main = args.recording.path()?;
     let mut levels = vec![level(main, rec)?];
-    for path in args.levels {
-        levels.push(level(path, &args.recording.read_file(path)?)?);
+    for (path, other) in args.levels.iter().zip(others) {
+        levels.push(level(path, other)?);
     }
     let options = AmplitudeOptions {
         band_hz: args.band,
