@@ -44,6 +44,11 @@ pub const MAX_EXPANDED_BITS: f64 = (1u64 << 27) as f64;
 /// (5e8 units, 14 s).
 pub const MAX_EXPANSION_WORK: f64 = 1e7;
 
+/// The largest coefficient a product or power may build, in bits (some
+/// 79 000 decimal digits): products of far larger integers take seconds
+/// each (`2.66666664666666666668^7668^71` is a coefficient of 7.6e7 bits).
+pub const MAX_COEFFICIENT_BITS: f64 = (1u64 << 18) as f64;
+
 /// An upper bound of a polynomial's size: terms, total degree, the bits of
 /// its largest coefficient, and its variables.
 struct Bound<'p> {
@@ -78,6 +83,10 @@ impl<'p> Bound<'p> {
     /// log) terms and coefficients of `bits`, in `v` variables up to total
     /// degree `d`.
     fn size(ln_terms: f64, v: usize, d: f64, bits: f64) -> f64 {
+        if bits > MAX_COEFFICIENT_BITS {
+            // Multiplying such numbers costs more than their size says.
+            return f64::INFINITY;
+        }
         let ln_t = ln_terms.min(Self::ln_monomials(v, d));
         ln_t.exp() * (bits + 64.0)
     }
@@ -153,6 +162,11 @@ impl<'a> Parser<'a> {
     }
 
     fn too_large<T>(&self, size_bits: f64) -> Result<T, ParsePolyError> {
+        if size_bits.is_infinite() {
+            return self.err(format!(
+                "the expansion could have a coefficient of more than {MAX_COEFFICIENT_BITS:.1e} bits"
+            ));
+        }
         self.err(format!(
             "the expanded polynomial could take up to {size_bits:.1e} bits, above the limit of \
              {MAX_EXPANDED_BITS:.1e}"
@@ -420,6 +434,12 @@ mod tests {
         assert!("y^972*y^9797".parse::<Poly>().is_err());
         assert!("(y^5000)^3".parse::<Poly>().is_err());
         assert!("y^5000*y^5000".parse::<Poly>().is_ok());
+        // A coefficient too large to multiply in time (a fuzzer's find).
+        let e = "2.66666664666666666668^7668^71"
+            .parse::<Poly>()
+            .unwrap_err();
+        assert!(e.message.contains("coefficient"), "{e}");
+        assert!("3^10000".parse::<Poly>().is_ok());
         assert!("(x".parse::<Poly>().is_err());
         assert!("((((((((((((((((((((".repeat(20).parse::<Poly>().is_err());
     }
