@@ -993,6 +993,55 @@ fn diagnose_blames_a_model_that_cannot_be_evaluated() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Model values outside their physical range (mms::ranges) are that file's
+/// fault: a mass of 5e-324 kg, a spring of 1e300 N/m, a dead time of
+/// 1e300 s, a gain of 1e-300, a damper below zero. Each is one line (exit
+/// code 2) naming the model file, the line of the value and the quantity,
+/// never the recording. An FRF line at 1e300 Hz is refused the same way,
+/// naming the recording and its line.
+#[test]
+fn values_outside_their_physical_range_are_refused() {
+    let dir = temp_dir("physical-ranges");
+    let (csv, _) = recording(&dir, "A1", 0.0, 5);
+    let c = csv.to_str().unwrap();
+    let head = "masses = 2\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\noutput = \"position\"\n";
+    for (name, body, line, quantity) in [
+        ("tiny-mass", "[parameters]\nm1 = 5e-324\nm2 = 1\nc12 = 100\nd12 = 0.1\n", 7, "mass"),
+        ("stiff", "[parameters]\nm1 = 1\nm2 = 1\nc12 = 1e300\nd12 = 0.1\n", 9, "stiffness"),
+        ("negative-damper", "[parameters]\nm1 = 1\nm2 = 1\nc12 = 100\nd12 = -0.1\n", 10, "damping"),
+        (
+            "slow-delay",
+            "[parameters]\nm1 = 1\nm2 = 1\nc12 = 100\nd12 = 0.1\n[effects]\ntime_delay = { delay_s = 1e300 }\n",
+            12,
+            "time delay",
+        ),
+        ("tiny-gain", "gain = 1e-300\n[parameters]\nm1 = 1\nm2 = 1\nc12 = 100\nd12 = 0.1\n", 6, "gain"),
+    ] {
+        let model = dir.join(format!("{name}.toml"));
+        std::fs::write(&model, format!("{head}{body}")).unwrap();
+        let m = model.to_str().unwrap();
+        let (code, _, err) = mms(&["diagnose", c, "--model", m]);
+        assert_eq!(code, 2, "{name}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{name}: {err}");
+        assert!(
+            err.contains(&format!("{m}:{line}: ")) && !err.contains(c)
+                && err.contains(quantity),
+            "{name}: {err}"
+        );
+    }
+    let far = dir.join("far.csv");
+    std::fs::write(&far, "freq_hz,re,im\n1,1,0\n2,1,0\n1e300,1,0\n").unwrap();
+    let f = far.to_str().unwrap();
+    let (code, _, err) = mms(&["identify", f]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains(&format!("{f}:4: ")) && err.contains("1e300"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `mms diagnose` with two encoders of a drive inside a position loop
 /// closed on the first (the motor's): each output is simulated inside the
 /// loop closed on the motor and both name the Coulomb friction the record

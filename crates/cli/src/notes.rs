@@ -221,6 +221,9 @@ pub fn candidate_note(n: &CandidateNote) -> String {
         CandidateNote::MassSpread { factor } => {
             format!("masses span a factor {}", readable(*factor, 0))
         }
+        CandidateNote::AtRangeEnd { parameter, value } => format!(
+            "{parameter} ends at {value:e}, an end of its physical range: the fit degenerates"
+        ),
         CandidateNote::HeavilyDamped {
             damper,
             damping_ratio,
@@ -373,6 +376,13 @@ mod tests {
         assert_eq!(
             candidate_note(&CandidateNote::MassSpread { factor: 2.70e5 }),
             "masses span a factor 2.70e5"
+        );
+        assert_eq!(
+            candidate_note(&CandidateNote::AtRangeEnd {
+                parameter: "m2".into(),
+                value: 1e-12,
+            }),
+            "m2 ends at 1e-12, an end of its physical range: the fit degenerates"
         );
         assert_eq!(
             candidate_note(&CandidateNote::HeavilyDamped {

@@ -108,6 +108,14 @@ pub enum FrfError {
         /// The frequency.
         value: f64,
     },
+    /// A frequency above [`MAX_FREQUENCY_HZ`].
+    #[error("frequency at index {index} ({value:e} Hz) is above {max:e} Hz", max = MAX_FREQUENCY_HZ)]
+    FrequencyRange {
+        /// Index of the value.
+        index: usize,
+        /// The frequency.
+        value: f64,
+    },
     /// Frequencies not strictly increasing.
     #[error("frequency at index {index} ({value} Hz) does not increase")]
     NotIncreasing {
@@ -134,6 +142,17 @@ pub enum FrfError {
     },
 }
 
+/// The highest frequency an FRF line may have, Hz: the top of
+/// [`recording::SAMPLE_RATE_RANGE_HZ`]; a line above it is a unit or
+/// parsing mistake (`1e300` Hz), not a measurement.
+///
+/// ```
+/// use frf::{Complex64, Frf};
+/// let err = Frf::new(vec![1.0, 1e300], vec![Complex64::new(1.0, 0.0); 2], None).unwrap_err();
+/// assert_eq!(err.message_without_index(), "frequency 1e300 Hz is above 1e12 Hz");
+/// ```
+pub const MAX_FREQUENCY_HZ: f64 = recording::SAMPLE_RATE_RANGE_HZ.1;
+
 impl FrfError {
     /// The 0-based index of the offending value, if the error has one.
     ///
@@ -147,6 +166,7 @@ impl FrfError {
             FrfError::Empty | FrfError::Length { .. } => None,
             FrfError::NotFinite { index, .. }
             | FrfError::NegativeFrequency { index, .. }
+            | FrfError::FrequencyRange { index, .. }
             | FrfError::NotIncreasing { index, .. }
             | FrfError::CoherenceRange { index, .. }
             | FrfError::StdDevRange { index, .. } => Some(*index),
@@ -166,6 +186,9 @@ impl FrfError {
             FrfError::NotFinite { what, .. } => format!("{what} is not finite"),
             FrfError::NegativeFrequency { value, .. } => {
                 format!("frequency {value} Hz is negative")
+            }
+            FrfError::FrequencyRange { value, .. } => {
+                format!("frequency {value:e} Hz is above {MAX_FREQUENCY_HZ:e} Hz")
             }
             FrfError::NotIncreasing { value, .. } => {
                 format!("frequency {value} Hz does not increase")
@@ -208,6 +231,9 @@ impl Frf {
             }
             if f < 0.0 {
                 return Err(FrfError::NegativeFrequency { index, value: f });
+            }
+            if f > MAX_FREQUENCY_HZ {
+                return Err(FrfError::FrequencyRange { index, value: f });
             }
             if index > 0 && f <= freq_hz[index - 1] {
                 return Err(FrfError::NotIncreasing { index, value: f });

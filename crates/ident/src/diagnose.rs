@@ -1043,6 +1043,7 @@ pub fn diagnose_outputs(
         prior: width.iter().map(|w| 2.0 / w).collect(),
         nominal_ln: nominal_ln.clone(),
     };
+    within_physical_ranges(&names, &mut problem.lo, &mut problem.hi);
 
     // Noise: each line's own uncertainty (its standard deviation, else its
     // coherence and the averages), else the scatter of the nominal
@@ -1352,6 +1353,23 @@ struct Context<'a> {
 impl Context<'_> {
     /// The range searched for a one-parameter effect.
     fn bounds(&self, kind: EffectKind) -> (f64, f64) {
+        let (lo, hi) = self.searched(kind);
+        let range = match kind {
+            EffectKind::TimeDelay => &mms::ranges::TIME_DELAY,
+            EffectKind::Lowpass => &mms::ranges::CORNER_FREQUENCY,
+            EffectKind::GainError => &mms::ranges::GAIN_FACTOR,
+            EffectKind::HystereticDamping => &mms::ranges::LOSS_FACTOR,
+            EffectKind::ViscousFriction => &mms::ranges::VISCOUS_FRICTION,
+            EffectKind::PreSlidingFriction => &mms::ranges::PRE_SLIDING_STIFFNESS,
+            _ => return (lo, hi),
+        };
+        // Within the physical range, so the model written reads back.
+        let lo = lo.clamp(range.min, range.max);
+        (lo, hi.clamp(lo, range.max))
+    }
+
+    /// The range the band and the model suggest for a one-parameter effect.
+    fn searched(&self, kind: EffectKind) -> (f64, f64) {
         match kind {
             EffectKind::TimeDelay => (1e-3 / self.f_hi, 1.0 / self.f_lo),
             EffectKind::Lowpass => (0.1 * self.f_lo, 1e3 * self.f_hi),
@@ -1465,7 +1483,8 @@ impl Fitted<'_> {
             )?,
             effects: self.problem.effects(&self.kinds, &self.state.x),
             ..file.clone()
-        })
+        }
+        .within_ranges())
     }
 }
 
@@ -1899,7 +1918,7 @@ fn extended_problem<'b>(
         Source::Old(j) => Some(j),
         _ => None,
     };
-    Some(Problem {
+    let mut extended = Problem {
         file: ModelFile {
             model: ext,
             parameters,
@@ -1924,7 +1943,20 @@ fn extended_problem<'b>(
         hi: (0..values.len())
             .map(|i| index(i).map_or(start_ln[i] + wide, |j| problem.hi[j]))
             .collect(),
-    })
+    };
+    within_physical_ranges(&ext.parameters(), &mut extended.lo, &mut extended.hi);
+    Some(extended)
+}
+
+/// Narrows log bounds to the physical ranges of the parameters `names`
+/// (mms::ranges), so that no fit leaves them: the model written reads
+/// back. A range narrower than the bounds' own stays non-empty.
+fn within_physical_ranges(names: &[String], lo: &mut [f64], hi: &mut [f64]) {
+    for ((n, l), h) in names.iter().zip(lo.iter_mut()).zip(hi.iter_mut()) {
+        let (a, b) = mms::ranges::of_parameter(n).ln_bounds();
+        *l = l.clamp(a, b);
+        *h = h.clamp(*l, b);
+    }
 }
 
 /// The mode an extra mass adds: the undamped resonance of `ext` (values

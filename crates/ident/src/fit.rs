@@ -395,8 +395,23 @@ pub fn fit_outputs(
             }
         })
         .collect();
-    for (x, fl) in p.iter_mut().zip(&floor) {
-        *x = x.max(*fl);
+    // Every value stays in its physical range (mms::ranges), so the model
+    // written reads back; a parameter pinned at a bound is a degenerate fit
+    // the notes report.
+    let ln_bounds: Vec<(f64, f64)> = names
+        .iter()
+        .zip(&floor)
+        .map(|(n, fl)| {
+            let (lo, hi) = mms::ranges::of_parameter(n).ln_bounds();
+            (lo.max(fl.max(f64::MIN_POSITIVE).ln()), hi)
+        })
+        .collect();
+    for (x, (lo, hi)) in p.iter_mut().zip(&ln_bounds) {
+        *x = x.clamp(lo.exp(), hi.exp());
+    }
+    let (gain_lo, gain_hi) = mms::ranges::GAIN.ln_bounds();
+    if fit_gain {
+        gain = mms::ranges::GAIN.clamp(gain);
     }
 
     let cost = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
@@ -433,11 +448,14 @@ pub fn fit_outputs(
             };
             let mut trial = p.clone();
             for (k, &i) in problem.free.iter().enumerate() {
-                let ln = (trial[i].ln() - step[k]).max(floor[i].max(f64::MIN_POSITIVE).ln());
-                trial[i] = ln.exp();
+                let (lo, hi) = ln_bounds[i];
+                trial[i] = (trial[i].ln() - step[k]).clamp(lo, hi).exp();
             }
             let trial_gain = if fit_gain {
-                gain.signum() * (gain.abs().ln() - step[nc - 1]).exp()
+                gain.signum()
+                    * (gain.abs().ln() - step[nc - 1])
+                        .clamp(gain_lo, gain_hi)
+                        .exp()
             } else {
                 gain
             };
@@ -520,6 +538,20 @@ pub fn fit_outputs(
     } else {
         (pooled(|e| e.0), pooled(|e| e.1))
     };
+    // exp(ln(bound)) rounds to either side of the bound: a parameter at
+    // its bound is set to it exactly.
+    for (x, n) in p.iter_mut().zip(&names) {
+        let range = mms::ranges::of_parameter(n);
+        *x = range.clamp(*x);
+        if *x != 0.0 && *x <= range.min * (1.0 + 1e-9) {
+            *x = range.min;
+        } else if *x >= range.max * (1.0 - 1e-9) {
+            *x = range.max;
+        }
+    }
+    if fit_gain {
+        gain = mms::ranges::GAIN.clamp(gain);
+    }
     Ok(OutputsFit {
         fit: Fit {
             parameters: Parameters::from_values(model, p)?,

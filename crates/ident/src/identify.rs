@@ -1167,6 +1167,15 @@ fn plausibility(model: &Model, f: &Fit) -> Vec<CandidateNote> {
     let m = mn;
     let names = model.parameters();
     let n_links = model.springs().len();
+    for (name, &x) in names.iter().zip(v).take(n + n_links) {
+        let range = mms::ranges::of_parameter(name);
+        if x <= range.min || x >= range.max {
+            notes.push(CandidateNote::AtRangeEnd {
+                parameter: name.clone(),
+                value: x,
+            });
+        }
+    }
     // Damping ratio of each link on its own, against the lightest mass (a
     // bound from above on the ratio against any body the link joins).
     for k in 0..n_links {

@@ -1513,7 +1513,7 @@ pub fn diagnose_time_outputs(
     // Informative when the model, with whatever effects it earned, meets
     // most of the output.
     let informative = after.rms_time_rel <= o.informative;
-    let model_after = problem.model(&kinds, &x_base)?;
+    let model_after = problem.model(&kinds, &x_base)?.within_ranges();
     let effects = if kept.is_empty() {
         vec![none(&rejected)]
     } else {

@@ -345,6 +345,16 @@ pub enum CandidateNote {
         /// The heaviest mass over the lightest.
         factor: f64,
     },
+    /// A mass or a spring ended at an end of its physical range
+    /// (`mms::ranges`), which the fit may not leave: the data drive it
+    /// towards zero or infinity, so the structure degenerates into one with
+    /// fewer masses or a rigid link.
+    AtRangeEnd {
+        /// The parameter's name.
+        parameter: String,
+        /// Its value, the end of the range.
+        value: f64,
+    },
     /// A link's damping ratio on its own, against the lightest mass, is
     /// above 0.5.
     HeavilyDamped {

@@ -62,6 +62,7 @@ pub mod identifiability;
 mod model;
 pub mod model_file;
 pub mod paper;
+pub mod ranges;
 pub mod render;
 pub mod response;
 pub mod sensors;

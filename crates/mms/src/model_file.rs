@@ -24,12 +24,14 @@
 //! offset = { force_n = -3.2 } # N (or N m), either sign: a constant force bias
 //! ```
 //!
+//! Every value must lie in its physical range ([`crate::ranges`]).
+//!
 //! `structure = "A2"` (a paper ID, or a generic ID such as
 //! `"N4-g1-a2.1-s4.1"`) may stand in place of the four topology keys.
 //! Optional top-level keys: `gain` (the signed product of actuator and sensor
 //! constants the FRF is multiplied by; default 1) and `motion`
 //! (`"translational"` or `"rotary"`, for units in reports). Unknown keys,
-//! missing or non-positive parameters are errors that name the line.
+//! missing parameters and values outside their range are errors that name the line.
 //!
 //! ```
 //! use mms::model_file::ModelFile;
@@ -47,6 +49,7 @@
 //! ```
 
 use crate::model::{Model, Port};
+use crate::ranges::{self, PhysicalRange};
 use crate::response::{Effects, Parameters};
 use crate::tf::Output;
 use std::fmt::Write as _;
@@ -131,6 +134,21 @@ const EFFECT_KEYS: [(&str, &[&str]); 7] = [
     ("backlash", &["gap"]),
     ("offset", &["force_n"]),
 ];
+
+/// The range of an effect's value by its key in [`EFFECT_KEYS`].
+fn effect_range(key: &str) -> &'static PhysicalRange {
+    match key {
+        "delay_s" => &ranges::TIME_DELAY,
+        "corner_hz" => &ranges::CORNER_FREQUENCY,
+        "factor" => &ranges::GAIN_FACTOR,
+        "loss_factor" => &ranges::LOSS_FACTOR,
+        "viscous_ns_per_m" => &ranges::VISCOUS_FRICTION,
+        "coulomb_n" => &ranges::COULOMB_FRICTION,
+        "pre_sliding_n_per_m" => &ranges::PRE_SLIDING_STIFFNESS,
+        "force_n" => &ranges::OFFSET_FORCE,
+        _ => &ranges::BACKLASH_GAP,
+    }
+}
 
 struct Reader<'a> {
     text: &'a str,
@@ -333,9 +351,9 @@ impl ModelFile {
             Some(v) => {
                 let g = r.number("gain", v)?;
                 // Negative: a sensor or actuator mounted the other way round.
-                if g == 0.0 {
-                    return Err(r.err(v.span(), "'gain' must not be zero"));
-                }
+                ranges::GAIN
+                    .check(g)
+                    .map_err(|e| r.err(v.span(), format!("'gain': {e}")))?;
                 g
             }
             None => 1.0,
@@ -376,12 +394,9 @@ impl ModelFile {
                 .get(name.as_str())
                 .ok_or_else(|| r.err(ptable_v.span(), format!("missing parameter '{name}'")))?;
             let x = r.number(name, v)?;
-            // Same rule as `Parameters::from_values`, checked here to name the line.
-            let damper = name.starts_with('d');
-            if !(x > 0.0 || (damper && x == 0.0)) {
-                let rule = if damper { "non-negative" } else { "positive" };
-                return Err(r.err(v.span(), format!("parameter '{name}' = {x} must be {rule}")));
-            }
+            ranges::of_parameter(name)
+                .check(x)
+                .map_err(|e| r.err(v.span(), format!("parameter '{name}': {e}")))?;
             values.push(x);
         }
         let parameters = Parameters::from_values(&model, values).map_err(|e| ModelFileError {
@@ -422,17 +437,9 @@ impl ModelFile {
                 for &pname in pnames {
                     let Some(pv) = t.get(pname) else { continue };
                     let x = r.number(pname, pv)?;
-                    // Delays, damping, friction and gaps may be zero (the
-                    // effect switched off); a corner or a gain factor not;
-                    // an offset force has either sign.
-                    let ok = match pname {
-                        "corner_hz" | "factor" => x > 0.0,
-                        "force_n" => x.is_finite(),
-                        _ => x >= 0.0,
-                    };
-                    if !ok {
-                        return Err(r.err(pv.span(), format!("'{pname}' = {x} is out of range")));
-                    }
+                    effect_range(pname)
+                        .check(x)
+                        .map_err(|e| r.err(pv.span(), format!("'{pname}': {e}")))?;
                     match pname {
                         "delay_s" => effects.time_delay_s = Some(x),
                         "corner_hz" => effects.lowpass_hz = Some(x),
@@ -520,6 +527,55 @@ impl ModelFile {
             }
         }
         s
+    }
+
+    /// The same model with every value moved to the nearest point of its
+    /// physical range ([`crate::ranges`]): for writers whose values come
+    /// out of `exp(ln x)` or a fit pinned at a bound, so that the file
+    /// reads back. Values already inside are unchanged.
+    ///
+    /// ```
+    /// use mms::model_file::ModelFile;
+    /// let text = "structure = \"A1\"\noutput = \"position\"\n[parameters]\n\
+    ///             m1 = 1\nm2 = 2\nm3 = 3\nc12 = 1e4\nc23 = 2e4\nd12 = 1\nd23 = 1\n";
+    /// let mut file = ModelFile::parse(text)?;
+    /// file.effects.time_delay_s = Some(1e300);
+    /// let kept = file.within_ranges();
+    /// assert_eq!(kept.effects.time_delay_s, Some(1e3));
+    /// assert_eq!(kept.parameters, file.parameters);
+    /// assert_eq!(ModelFile::parse(&kept.to_toml())?, kept);
+    /// # Ok::<(), mms::model_file::ModelFileError>(())
+    /// ```
+    pub fn within_ranges(&self) -> ModelFile {
+        let mut out = self.clone();
+        let values: Vec<f64> = self
+            .parameters
+            .iter()
+            .map(|(name, x)| ranges::of_parameter(name).clamp(x))
+            .collect();
+        out.parameters = Parameters::from_values(&self.model, values)
+            .expect("a value clamped to its physical range is valid");
+        if self.gain != 0.0 {
+            out.gain = ranges::GAIN.clamp(self.gain);
+        }
+        let e = &mut out.effects;
+        let fields: [(&mut Option<f64>, &PhysicalRange); 9] = [
+            (&mut e.time_delay_s, &ranges::TIME_DELAY),
+            (&mut e.lowpass_hz, &ranges::CORNER_FREQUENCY),
+            (&mut e.gain_factor, &ranges::GAIN_FACTOR),
+            (&mut e.loss_factor, &ranges::LOSS_FACTOR),
+            (&mut e.viscous_friction, &ranges::VISCOUS_FRICTION),
+            (&mut e.pre_sliding_stiffness, &ranges::PRE_SLIDING_STIFFNESS),
+            (&mut e.coulomb_friction, &ranges::COULOMB_FRICTION),
+            (&mut e.backlash_gap, &ranges::BACKLASH_GAP),
+            (&mut e.offset_force, &ranges::OFFSET_FORCE),
+        ];
+        for (x, range) in fields {
+            if let Some(v) = x.as_mut().filter(|v| v.is_finite()) {
+                *v = range.clamp(*v);
+            }
+        }
+        out
     }
 
     /// The file's text: deterministic (keys in a fixed order, numbers in

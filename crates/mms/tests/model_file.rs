@@ -98,7 +98,15 @@ fn errors_name_the_line() {
         ),
         (
             "structure = \"A1\"\noutput = \"position\"\n[parameters]\nm1 = 1\nm2 = 1\nm3 = -1\n",
-            "line 6: parameter 'm3' = -1 must be positive",
+            "line 6: parameter 'm3': a mass must be positive, not -1",
+        ),
+        (
+            "structure = \"A1\"\noutput = \"position\"\n[parameters]\nm1 = 1\nm2 = 1\nm3 = 5e-324\n",
+            "line 6: parameter 'm3': 5e-324 is outside the range of a mass (1e-12 to 1e12)",
+        ),
+        (
+            "structure = \"A1\"\noutput = \"position\"\ngain = 0\n[parameters]\n",
+            "line 3: 'gain': a gain must not be zero",
         ),
         (
             "structure = \"A1\"\noutput = \"position\"\n[parameters]\nm1 = 1\nm2 = 1\nm3 = nan\n",
@@ -140,7 +148,11 @@ fn effect_errors() {
         ),
         (
             "backlash = { gap = -1e-4 }\n",
-            "line 12: 'gap' = -0.0001 is out of range",
+            "line 12: 'gap': a backlash gap must be non-negative, not -0.0001",
+        ),
+        (
+            "time_delay = { delay_s = 1e300 }\n",
+            "line 12: 'delay_s': 1e300 is outside the range of a time delay (1e-12 to 1e3)",
         ),
         (
             "friction = { coulomb = 1 }\n",
@@ -160,7 +172,7 @@ fn effect_errors() {
         ),
         (
             "lowpass = { corner_hz = 0 }\n",
-            "line 12: 'corner_hz' = 0 is out of range",
+            "line 12: 'corner_hz': a corner frequency must not be zero",
         ),
         ("lowpass = 5\n", "line 12: 'lowpass' must be a table"),
     ] {
