@@ -1,4 +1,5 @@
-//! Determinants, cofactors and adjugates of square matrices of [`Poly`].
+//! Determinants, cofactors and adjugates of square matrices of [`Poly`],
+//! and the rank of matrices over `Q` ([`rank`]).
 //!
 //! A matrix is a slice of rows, `m[i][j]` being row `i`, column `j`. Three
 //! determinant algorithms are provided and agree exactly:
@@ -24,6 +25,7 @@
 //! [`MatrixError`] instead.
 
 use crate::poly::Poly;
+use crate::rat::Rat;
 use std::collections::BTreeMap;
 
 /// Error for malformed matrix arguments.
@@ -446,8 +448,79 @@ pub fn mat_mul(a: &[Vec<Poly>], b: &[Vec<Poly>]) -> Option<Vec<Vec<Poly>>> {
     )
 }
 
+/// The rank of a matrix over `Q` (rows of equal length; 0 for no rows),
+/// by Gaussian elimination with exact rational arithmetic.
+///
+/// ```
+/// use poly::{rank, Rat};
+/// let r = |x: i64| Rat::from(x);
+/// // The third row is the sum of the first two.
+/// let m = vec![vec![r(1), r(2), r(3)], vec![r(0), r(1), r(1)], vec![r(1), r(3), r(4)]];
+/// assert_eq!(rank(m), 2);
+/// ```
+pub fn rank(mut m: Vec<Vec<Rat>>) -> usize {
+    let cols = m.first().map_or(0, Vec::len);
+    let mut r = 0;
+    for c in 0..cols {
+        let Some(p) = (r..m.len()).find(|&i| !m[i][c].is_zero()) else {
+            continue;
+        };
+        m.swap(r, p);
+        let inv = m[r][c].recip();
+        let pivot: Vec<Rat> = m[r].iter().map(|x| x * &inv).collect();
+        for row in m.iter_mut().skip(r + 1) {
+            if row[c].is_zero() {
+                continue;
+            }
+            let f = row[c].clone();
+            for (x, y) in row.iter_mut().zip(&pivot).skip(c) {
+                *x = &*x - &(&f * y);
+            }
+        }
+        r += 1;
+        if r == m.len() {
+            break;
+        }
+    }
+    r
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
+
+    /// The rank against a second route: a square matrix has full rank
+    /// exactly when its determinant (by minors) is non-zero, and a matrix
+    /// with a row repeated as a combination of others loses one.
+    #[test]
+    fn rank_agrees_with_the_determinant() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % 5) as i64 - 2
+        };
+        for n in 1..=5 {
+            for _ in 0..40 {
+                let m: Vec<Vec<i64>> = (0..n).map(|_| (0..n).map(|_| next()).collect()).collect();
+                let p: Vec<Vec<Poly>> = m
+                    .iter()
+                    .map(|r| r.iter().map(|&x| Poly::int(x)).collect())
+                    .collect();
+                let q: Vec<Vec<Rat>> = m
+                    .iter()
+                    .map(|r| r.iter().map(|&x| Rat::from(x)).collect())
+                    .collect();
+                assert_eq!(rank(q.clone()) == n, !det(&p).is_zero(), "{m:?}");
+                let mut extra = q.clone();
+                let combo: Vec<Rat> = (0..n)
+                    .map(|j| &(&q[0][j] * &Rat::from(3)) - &q[n - 1][j])
+                    .collect();
+                extra.push(combo);
+                assert_eq!(rank(extra), rank(q), "{m:?}");
+            }
+        }
+    }
     use super::*;
 
     fn p(s: &str) -> Poly {
