@@ -238,6 +238,105 @@ fn check_accepts_analyze_output_and_rejects_tampering() {
     let (code, _, err) = mms(&["check", bad.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("moment_invariants: the file says"), "{err}");
+    // The determinable parameters: the checker's own rank of its own
+    // Jacobian at a point (lower bound) against the listed unidentifiable
+    // directions, each multiplied out (upper bound). B2 (N3-g1-a2.1-s3.1)
+    // has five invariants and five parameters but rank 4 (Tab. 5 of the
+    // paper), so its bound needs the one direction.
+    let b2 = full["models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|m| m["id"] == "B2")
+        .unwrap();
+    assert_eq!(full["models"][b2]["determinable_parameters"], 4);
+    assert_eq!(full["models"][b2]["moment_invariants"], 5);
+    let refused = |edit: &dyn Fn(&mut serde_json::Value), why: &str| {
+        let mut edited = full.clone();
+        edit(&mut edited["models"][b2]);
+        std::fs::write(&bad, edited.to_string()).unwrap();
+        let (code, _, err) = mms(&["check", bad.to_str().unwrap()]);
+        assert_eq!(code, 2, "{why}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains("model B2") && err.contains(why), "{err}");
+    };
+    refused(
+        &|m| m["determinable_parameters"] = 5.into(),
+        "the file says 5, more than 4",
+    );
+    refused(
+        &|m| m["determinable_parameters"] = 3.into(),
+        "proves no bound below 4",
+    );
+    refused(
+        &|m| m["unidentifiable_directions"] = serde_json::json!([]),
+        "the file says 4 and proves no bound below 5",
+    );
+    refused(
+        &|m| m["unidentifiable_directions"][0]["m2"] = "m2*m3 + m1".into(),
+        "changes along it",
+    );
+    // The critical factors' statuses carry their proofs: a definite sign
+    // flipped, an undetermined factor called definite, a wall without its
+    // substitution.
+    let statuses = |m: &serde_json::Value| -> Vec<String> {
+        m["critical"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f["status"].as_str().unwrap().to_string())
+            .collect()
+    };
+    let with = |status: &str| {
+        full["models"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .enumerate()
+            .find_map(|(i, m)| Some((i, statuses(m).iter().position(|s| s == status)?)))
+            .unwrap()
+    };
+    for (status, edit, why) in [
+        (
+            "definite",
+            (|f: &mut serde_json::Value| f["sign"] = (-f["sign"].as_i64().unwrap()).into())
+                as fn(&mut serde_json::Value),
+            "is not shown definite",
+        ),
+        (
+            "wall",
+            |f: &mut serde_json::Value| {
+                f["status"] = "definite".into();
+                f["sign"] = 1.into();
+                f["definiteness"] = serde_json::json!({"method": "no_subtraction"});
+            },
+            "is not shown definite",
+        ),
+        (
+            "wall",
+            |f: &mut serde_json::Value| {
+                let alpha = f["substitution"]["alpha"].as_str().unwrap().to_string();
+                f["substitution"]["alpha"] = format!("2*({alpha})").into();
+            },
+            "is not a constant multiple of the wall",
+        ),
+        (
+            "definite",
+            |f: &mut serde_json::Value| f["status"] = "wall".into(),
+            "missing key \"substitution\"",
+        ),
+    ] {
+        let (i, j) = with(status);
+        let mut edited = full.clone();
+        edit(&mut edited["models"][i]["critical"][j]);
+        std::fs::write(&bad, edited.to_string()).unwrap();
+        let (code, _, err) = mms(&["check", bad.to_str().unwrap()]);
+        assert_eq!(code, 2, "{status}: {err}");
+        assert!(
+            err.contains(&format!("critical[{j}]")) && err.contains(why),
+            "{err}"
+        );
+    }
 
     // A table that claims nothing is not "all valid".
     std::fs::write(&bad, "{\"models\": []}").unwrap();

@@ -88,6 +88,8 @@ pub struct Summary {
     /// Tab. 5: determinable parameters and non-constant moment invariants.
     pub determinable_parameters: usize,
     pub moment_invariants: usize,
+    /// The proof of the upper bound of `determinable_parameters`.
+    pub unidentifiable_directions: serde_json::Value,
     /// The whole analysis as `--format json` prints it, before the similar
     /// systems and the Tab. 5 numbers are added.
     pub analysis: serde_json::Value,
@@ -108,6 +110,8 @@ impl Summary {
                 .count(),
             determinable_parameters: idf.determinable_parameters,
             moment_invariants: idf.nonconstant_invariants,
+            unidentifiable_directions: serde_json::to_value(&idf.unidentifiable_directions)
+                .map_err(|e| e.to_string())?,
             analysis: serde_json::to_value(a).map_err(|e| e.to_string())?,
         })
     }
@@ -334,6 +338,7 @@ fn render(
                     v["similar"] = json!(similar);
                     v["determinable_parameters"] = json!(a.determinable_parameters);
                     v["moment_invariants"] = json!(a.moment_invariants);
+                    v["unidentifiable_directions"] = a.unidentifiable_directions.clone();
                     if let Some(t) = timings {
                         let d = &t.models[i];
                         v["timing"] = json!({"seconds": d.seconds, "cached": d.cached});

@@ -87,6 +87,9 @@ pub struct CheckReport {
     pub proofs: usize,
     /// Types the file leaves unknown (nothing to check).
     pub unknown: usize,
+    /// Critical factors whose sign the file leaves `undetermined` (no
+    /// claim, nothing to check).
+    pub undetermined_factors: usize,
 }
 
 impl CheckReport {
@@ -96,6 +99,7 @@ impl CheckReport {
         self.certificates += other.certificates;
         self.proofs += other.proofs;
         self.unknown += other.unknown;
+        self.undetermined_factors += other.undetermined_factors;
     }
 }
 
@@ -522,11 +526,19 @@ fn subs_text(subs: &[Sub]) -> String {
 /// together they cover every critical polynomial of the model (leading
 /// coefficients and values at `Omega = 0` of the TF's parts, their
 /// resultants and discriminants, computed here), each divides one of them,
-/// and `cancels` says whether it divides a resultant of a numerator part
-/// and a denominator part. Their `status` words are not checked here (the
-/// certificates that rely on a sign carry its proof).
-fn check_critical(m: &Value, path: &str, top: &Stratum) -> Result<(), String> {
+/// `cancels` says whether it divides a resultant of a numerator part and a
+/// denominator part, and each `status` carries its proof: `definite` its
+/// `sign` and `definiteness` argument (checked as in a certificate),
+/// `wall` the `substitution` whose graph is its zero set; `undetermined`
+/// claims nothing. Returns the number of undetermined factors.
+fn check_critical(
+    m: &Value,
+    path: &str,
+    top: &Stratum,
+    checker: &mut ModelChecker,
+) -> Result<usize, String> {
     let mut factors = Vec::new();
+    let mut undetermined = 0;
     for (i, e) in arr_field(m, "critical", path)?.iter().enumerate() {
         let cpath = format!("critical[{i}]");
         let f = poly_field(e, "factor", &cpath)?;
@@ -548,6 +560,32 @@ fn check_critical(m: &Value, path: &str, top: &Stratum) -> Result<(), String> {
                 if cancels { "divides" } else { "divides no" }
             ));
         }
+        match str_field(e, "status", &cpath)? {
+            "definite" => {
+                let sign = int_field(e, "sign", &cpath)?;
+                let d = field(e, "definiteness", &cpath)?;
+                checker
+                    .check_definite(&f, sign, d, &format!("{cpath}.definiteness"))
+                    .map_err(|err| format!("{cpath}: {f} is not shown definite: {err}"))?;
+            }
+            "wall" => {
+                let sub = Sub::parse(
+                    field(e, "substitution", &cpath)?,
+                    &format!("{cpath}.substitution"),
+                )?;
+                if !checker.params.contains(&sub.var) {
+                    return Err(format!("{cpath}: {} is not a parameter", sub.var));
+                }
+                if !proportional(&f, &sub.wall_poly()) {
+                    return Err(format!(
+                        "{cpath}: {f} is not a constant multiple of the wall {}",
+                        sub.wall_poly()
+                    ));
+                }
+            }
+            "undetermined" => undetermined += 1,
+            other => return Err(format!("{cpath}.status: unknown status {other:?}")),
+        }
         factors.push(f);
     }
     let factors: Vec<&Poly> = factors.iter().collect();
@@ -559,7 +597,7 @@ fn check_critical(m: &Value, path: &str, top: &Stratum) -> Result<(), String> {
             ));
         }
     }
-    Ok(())
+    Ok(undetermined)
 }
 
 /// What is left of `p` once every power of `factors` is divided out, if
@@ -598,6 +636,148 @@ fn nonconstant_invariants(top: &Stratum) -> Result<usize, String> {
         .chain(&dc)
         .filter(|c| !c.is_zero() && !proportional(c, lead))
         .count())
+}
+
+/// The rows of the Jacobian of the non-constant invariants `c / lead`
+/// (see [`nonconstant_invariants`]) with respect to `params`, each times
+/// `lead^2` so that they are polynomials: `lead dc/dp - c dlead/dp`.
+fn invariant_jacobian(top: &Stratum, params: &[String]) -> Result<Vec<Vec<Poly>>, String> {
+    let dc = top.den.coeffs_in(OMEGA);
+    let lead = dc
+        .last()
+        .filter(|c| !c.is_zero())
+        .ok_or("the denominator is zero")?;
+    Ok(top
+        .num
+        .coeffs_in(OMEGA)
+        .iter()
+        .chain(&dc)
+        .filter(|c| !c.is_zero() && !proportional(c, lead))
+        .map(|c| {
+            params
+                .iter()
+                .map(|p| &(lead * &c.derivative(p)) - &(c * &lead.derivative(p)))
+                .collect()
+        })
+        .collect())
+}
+
+/// A point of the positive orthant for sampling ranks: small distinct
+/// integers, shifted by `shift`.
+fn rank_point(params: &[String], shift: usize) -> BTreeMap<String, Rat> {
+    params
+        .iter()
+        .enumerate()
+        .map(|(j, p)| (p.clone(), Rat::from(((5 * j + 3 * shift) % 17 + 2) as i64)))
+        .collect()
+}
+
+/// `determinable_parameters`, the generic rank of the Jacobian of the
+/// non-constant invariants with respect to the undamped parameters. Upper
+/// bound: the number of invariants, and the number of parameters less the
+/// listed `unidentifiable_directions` (each a polynomial vector field that
+/// the Jacobian maps to zero, multiplied out here; independent, checked at
+/// a point). Lower bound: the rank at a point (a non-vanishing minor there
+/// is a non-zero polynomial), at up to four points.
+fn check_determinable(
+    m: &Value,
+    path: &str,
+    top: &Stratum,
+    params: &[String],
+) -> Result<(), String> {
+    let claimed = uint_field(m, "determinable_parameters", path)? as usize;
+    let jac = invariant_jacobian(top, params)?;
+    let mut directions: Vec<Vec<Poly>> = Vec::new();
+    if m.get("unidentifiable_directions").is_some() {
+        for (i, d) in arr_field(m, "unidentifiable_directions", path)?
+            .iter()
+            .enumerate()
+        {
+            let dpath = format!("unidentifiable_directions[{i}]");
+            let obj = d
+                .as_object()
+                .ok_or_else(|| format!("{dpath}: expected an object of parameter: polynomial"))?;
+            let mut v = vec![Poly::zero(); params.len()];
+            for (name, c) in obj {
+                let j = params
+                    .iter()
+                    .position(|p| p == name)
+                    .ok_or_else(|| format!("{dpath}: {name} is not a parameter of the model"))?;
+                v[j] = poly_value(c, &format!("{dpath}.{name}"))?;
+            }
+            for (r, row) in jac.iter().enumerate() {
+                let image = row
+                    .iter()
+                    .zip(&v)
+                    .fold(Poly::zero(), |acc, (a, b)| &acc + &(a * b));
+                if !image.is_zero() {
+                    return Err(format!(
+                        "{dpath}: invariant {r} changes along it (the Jacobian maps it to {image})"
+                    ));
+                }
+            }
+            directions.push(v);
+        }
+    }
+    if !directions.is_empty() {
+        let at = rank_point(params, 0);
+        let values: Result<Vec<Vec<Rat>>, _> = directions
+            .iter()
+            .map(|v| v.iter().map(|c| c.eval(&at)).collect())
+            .collect();
+        let values = values.map_err(|e| format!("unidentifiable_directions: {e}"))?;
+        if poly::rank(values) < directions.len() {
+            return Err(format!(
+                "unidentifiable_directions: the {} directions are not independent at {}",
+                directions.len(),
+                point_text(&at)
+            ));
+        }
+    }
+    let upper = jac
+        .len()
+        .min(params.len() - directions.len().min(params.len()));
+    if claimed > upper {
+        return Err(format!(
+            "determinable_parameters: the file says {claimed}, more than {upper} ({} invariants, \
+             {} parameters, {} unidentifiable directions)",
+            jac.len(),
+            params.len(),
+            directions.len()
+        ));
+    }
+    let mut best = 0;
+    for shift in 0..4 {
+        let at = rank_point(params, shift);
+        let values: Result<Vec<Vec<Rat>>, _> = jac
+            .iter()
+            .map(|row| row.iter().map(|x| x.eval(&at)).collect())
+            .collect();
+        best = best.max(poly::rank(
+            values.map_err(|e| format!("determinable_parameters: {e}"))?,
+        ));
+        if best >= claimed {
+            break;
+        }
+    }
+    if best < claimed {
+        return Err(format!(
+            "determinable_parameters: the file says {claimed}, the Jacobian's rank at four \
+             points is at most {best}"
+        ));
+    }
+    if claimed < upper {
+        return Err(format!(
+            "determinable_parameters: the file says {claimed} and proves no bound below {upper}: \
+             list the unidentifiable directions"
+        ));
+    }
+    Ok(())
+}
+
+fn point_text(at: &BTreeMap<String, Rat>) -> String {
+    let parts: Vec<String> = at.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+    parts.join(", ")
 }
 
 /// Every pole-zero cancellation the file lists (`pzc`): its condition is
@@ -1171,7 +1351,11 @@ fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, 
         }
     }
     if m.get("critical").is_some() {
-        check_critical(m, path, &top).map_err(model_err)?;
+        report.undetermined_factors +=
+            check_critical(m, path, &top, &mut checker).map_err(model_err)?;
+    }
+    if m.get("determinable_parameters").is_some() {
+        check_determinable(m, path, &top, &checker.params).map_err(model_err)?;
     }
     if complete {
         // Every type a TF of these degrees can show a priori must have its

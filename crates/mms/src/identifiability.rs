@@ -365,6 +365,59 @@ pub struct Identifiability {
     /// degradation-free model with 3 to 5 masses; a parameter missing from
     /// the reduced transfer function of a degraded model is one).
     pub scaling_symmetries: Vec<ScalingSymmetry>,
+    /// The directions in which the parameters can move without changing
+    /// any moment invariant, hence the FRF: `parameters.len() -
+    /// determinable_parameters` of them, independent, spanning the kernel
+    /// of the Jacobian. Each is a proof of the upper bound that a checker
+    /// verifies by multiplication (the Jacobian times the direction is the
+    /// zero polynomial). Empty when every parameter is determinable, or
+    /// when the rank is only [`RankCertificate::Sampled`].
+    pub unidentifiable_directions: Vec<UnidentifiableDirection>,
+}
+
+/// A polynomial vector field on the parameters along which every moment
+/// invariant of the model is constant: moving the parameters along it
+/// leaves the FRF unchanged, so the data cannot tell those parameter sets
+/// apart.
+///
+/// ```
+/// use mms::{identifiability, Model};
+/// // B2: m2 and m3 hang on c23 beyond the sensor; only combinations of
+/// // them reach the FRF.
+/// let id = identifiability(&Model::from_id("B2")?);
+/// assert_eq!(id.unidentifiable_directions.len(), 1);
+/// let d = &id.unidentifiable_directions[0];
+/// assert_eq!(d.to_string(), "m2: -m2*m3, m3: m2*m3, c23: c23*m2 - c23*m3");
+/// # Ok::<(), mms::ModelError>(())
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnidentifiableDirection {
+    /// `(parameter, component)` in the order of the parameters; zero
+    /// components are left out.
+    pub components: Vec<(String, Poly)>,
+}
+
+impl fmt::Display for UnidentifiableDirection {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, (name, c)) in self.components.iter().enumerate() {
+            if i > 0 {
+                f.write_str(", ")?;
+            }
+            write!(f, "{name}: {c}")?;
+        }
+        Ok(())
+    }
+}
+
+impl Serialize for UnidentifiableDirection {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = s.serialize_map(Some(self.components.len()))?;
+        for (name, c) in &self.components {
+            map.serialize_entry(name, &c.to_string())?;
+        }
+        map.end()
+    }
 }
 
 /// How the number of determinable parameters (the generic rank of the
@@ -836,12 +889,24 @@ pub fn identifiability_with(model: &Model, options: &RankOptions) -> Identifiabi
     Identifiability {
         model: *model,
         nonconstant_invariants: nonconstant.len(),
-        parameters,
         invariants,
         determinable_parameters: rank.determinable,
         rank_upper_bound: rank.upper_bound,
         certificate: rank.certificate,
         scaling_symmetries: rank.scaling,
+        unidentifiable_directions: rank
+            .directions
+            .into_iter()
+            .map(|v| UnidentifiableDirection {
+                components: parameters
+                    .iter()
+                    .zip(v)
+                    .filter(|(_, c)| !c.is_zero())
+                    .map(|(n, c)| (n.clone(), c))
+                    .collect(),
+            })
+            .collect(),
+        parameters,
     }
 }
 
@@ -854,6 +919,10 @@ pub(crate) struct InvariantRank {
     pub(crate) upper_bound: usize,
     pub(crate) certificate: RankCertificate,
     pub(crate) scaling: Vec<ScalingSymmetry>,
+    /// A basis of the Jacobian's kernel as vector fields on the parameters
+    /// (see [`Identifiability::unidentifiable_directions`]); empty when the
+    /// rank is only sampled.
+    pub(crate) directions: Vec<Vec<Poly>>,
 }
 
 /// The generic rank of the Jacobian of the non-constant invariants
@@ -887,12 +956,77 @@ pub(crate) fn invariant_rank(
             None => (hint.len(), bound, RankCertificate::Sampled),
         }
     };
+    let directions = if certificate == RankCertificate::Sampled || hint.len() != determinable {
+        Vec::new()
+    } else {
+        kernel_directions(&l, parameters, &hint).unwrap_or_default()
+    };
     InvariantRank {
         determinable,
         upper_bound,
         certificate,
         scaling,
+        directions,
     }
+}
+
+/// A basis of the kernel of the scaled Jacobian `l` (rank `r`, with a
+/// non-singular `r x r` block at the pivots `hint`) as vector fields on the
+/// parameters: for each column `j` outside the block, Cramer's rule on the
+/// block's rows and columns plus `j` gives `w` with `l w = 0`, and `v_c =
+/// p_c w_c` is then a kernel vector of the unscaled Jacobian; divided by the
+/// gcd of its components. Independent, since each has a non-zero component
+/// at its own `j` and none at the others. `None` if some row of `l` does not
+/// vanish on one (the rank is then not `r`).
+fn kernel_directions(
+    l: &[Vec<Poly>],
+    params: &[String],
+    hint: &[(usize, usize)],
+) -> Option<Vec<Vec<Poly>>> {
+    let rows: Vec<usize> = hint.iter().map(|&(r, _)| r).collect();
+    let block: Vec<usize> = hint.iter().map(|&(_, c)| c).collect();
+    let mut out = Vec::new();
+    for j in (0..params.len()).filter(|j| !block.contains(j)) {
+        let cols: Vec<usize> = block.iter().copied().chain([j]).collect();
+        let mut w = vec![Poly::zero(); params.len()];
+        for (t, &c) in cols.iter().enumerate() {
+            let minor: Vec<Vec<Poly>> = rows
+                .iter()
+                .map(|&i| {
+                    cols.iter()
+                        .filter(|&&x| x != c)
+                        .map(|&x| l[i][x].clone())
+                        .collect()
+                })
+                .collect();
+            let d = if minor.is_empty() {
+                Poly::one()
+            } else {
+                poly::det(&minor)
+            };
+            w[c] = if t % 2 == 0 { d } else { -d };
+        }
+        let vanishes = |row: &Vec<Poly>| {
+            cols.iter()
+                .fold(Poly::zero(), |acc, &c| &acc + &(&row[c] * &w[c]))
+                .is_zero()
+        };
+        if !l.iter().all(vanishes) {
+            return None;
+        }
+        let v: Vec<Poly> = w
+            .iter()
+            .zip(params)
+            .map(|(x, p)| x * &Poly::var(p))
+            .collect();
+        let g = poly::gcd_many(&v);
+        out.push(
+            v.iter()
+                .map(|x| x.div_exact(&g).expect("gcd divides"))
+                .collect(),
+        );
+    }
+    Some(out)
 }
 
 /// A renaming of parameters induced by a renumbering of the masses.

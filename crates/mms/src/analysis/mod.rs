@@ -108,9 +108,19 @@ pub struct CriticalFactor {
     /// It divides a resultant of a numerator and a denominator part (a
     /// pole-zero cancellation where it vanishes).
     pub cancels: bool,
-    /// `definite` (keeps one sign), `wall` (vanishes on a graph
-    /// `alpha*x = beta`) or `undetermined` (neither shown).
+    /// `definite` (keeps one sign: `sign` and `definiteness` say which
+    /// and why), `wall` (vanishes on the graph of `substitution`) or
+    /// `undetermined` (neither shown; no claim).
     pub status: &'static str,
+    /// For a definite factor: +1 or -1.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sign: Option<i32>,
+    /// For a definite factor: the argument, as in a certificate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub definiteness: Option<Definiteness>,
+    /// For a wall: the parametrization of its zero set.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub substitution: Option<Substitution>,
 }
 
 /// The analysis of one model.
@@ -165,7 +175,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 9;
+pub const ENGINE_VERSION: u32 = 10;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
@@ -257,16 +267,20 @@ pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
     let critical = top
         .factors
         .iter()
-        .map(|f| CriticalFactor {
-            factor: f.poly.clone(),
-            cancels: f.cancels,
-            status: if f.definite.is_some() {
-                "definite"
-            } else if f.wall.is_some() {
-                "wall"
-            } else {
-                "undetermined"
-            },
+        .map(|f| {
+            let (status, sign, definiteness, substitution) = match (&f.definite, &f.wall) {
+                (Some((sign, d)), _) => ("definite", Some(*sign), Some(d.clone()), None),
+                (None, Some(w)) => ("wall", None, None, Some(w.clone())),
+                (None, None) => ("undetermined", None, None, None),
+            };
+            CriticalFactor {
+                factor: f.poly.clone(),
+                cancels: f.cancels,
+                status,
+                sign,
+                definiteness,
+                substitution,
+            }
         })
         .collect();
     ModelAnalysis {
