@@ -1167,22 +1167,8 @@ fn a_degenerate_three_mass_fit_stays_in_range_and_says_so() {
     use mms::ranges;
     let path = real_data("tue_motion_2025/motor_side_stationary.mat");
     let dir = temp_dir("degenerate-fit");
-    let args = [
-        "identify",
-        path.as_str(),
-        "--u",
-        "Data.signals.u",
-        "--y",
-        "Data.signals.y",
-        "--excitation",
-        "Data.signals.d",
-        "--nfft",
-        "10000",
-        "--band",
-        "1:150",
-        "--masses",
-        "3",
-    ];
+    let mut args = tue_fine("identify", &path);
+    args.extend_from_slice(&["--band", "1:150", "--masses", "3"]);
     let v = json(&[&args[..], &["--format", "json"]].concat());
     let mut degenerate = 0;
     for c in v["candidates"].as_array().unwrap() {

@@ -26,7 +26,12 @@
 //!    multiplicities, Descartes' rule, connected regions with sample
 //!    points, or refuted sign conditions); or one of two structural
 //!    theorems that hold on the whole orthant, whose premises it checks on
-//!    the model's matrices and polynomials.
+//!    the model's matrices and polynomials;
+//! 4. the derived fields, where present: the pole-zero cancellations, the
+//!    critical factors (coverage, `cancels`, each status's proof), the
+//!    count of moment invariants and the determinable parameters (the rank
+//!    of its own Jacobian at a point, against the listed unidentifiable
+//!    directions multiplied out).
 //!
 //! The checker relies on three theorems it cannot check by computation:
 //! the roots of the denominator are real and positive for all positive
@@ -619,44 +624,43 @@ fn uncovered(p: &Poly, factors: &[&Poly]) -> Option<Poly> {
     (!rest.is_constant() || rest.is_zero()).then_some(rest)
 }
 
-/// How many coefficients of the reduced TF (numerator and denominator, in
-/// `Omega`), divided by the denominator's leading one, are not constants:
-/// the input-output invariants that can carry information on the
-/// parameters.
-fn nonconstant_invariants(top: &Stratum) -> Result<usize, String> {
+/// The coefficients of the reduced TF (numerator and denominator, in
+/// `Omega`) that are not constant once divided by the denominator's leading
+/// one, with that leading coefficient: the input-output invariants `c /
+/// lead` that can carry information on the parameters.
+fn nonconstant_coefficients(top: &Stratum) -> Result<(Poly, Vec<Poly>), String> {
     let dc = top.den.coeffs_in(OMEGA);
     let lead = dc
         .last()
         .filter(|c| !c.is_zero())
-        .ok_or("the denominator is zero")?;
-    Ok(top
+        .ok_or("the denominator is zero")?
+        .clone();
+    let coefficients = top
         .num
         .coeffs_in(OMEGA)
-        .iter()
-        .chain(&dc)
-        .filter(|c| !c.is_zero() && !proportional(c, lead))
-        .count())
+        .into_iter()
+        .chain(dc)
+        .filter(|c| !c.is_zero() && !proportional(c, &lead))
+        .collect();
+    Ok((lead, coefficients))
+}
+
+/// How many invariants the reduced TF has ([`nonconstant_coefficients`]).
+fn nonconstant_invariants(top: &Stratum) -> Result<usize, String> {
+    Ok(nonconstant_coefficients(top)?.1.len())
 }
 
 /// The rows of the Jacobian of the non-constant invariants `c / lead`
 /// (see [`nonconstant_invariants`]) with respect to `params`, each times
 /// `lead^2` so that they are polynomials: `lead dc/dp - c dlead/dp`.
 fn invariant_jacobian(top: &Stratum, params: &[String]) -> Result<Vec<Vec<Poly>>, String> {
-    let dc = top.den.coeffs_in(OMEGA);
-    let lead = dc
-        .last()
-        .filter(|c| !c.is_zero())
-        .ok_or("the denominator is zero")?;
-    Ok(top
-        .num
-        .coeffs_in(OMEGA)
+    let (lead, coefficients) = nonconstant_coefficients(top)?;
+    Ok(coefficients
         .iter()
-        .chain(&dc)
-        .filter(|c| !c.is_zero() && !proportional(c, lead))
         .map(|c| {
             params
                 .iter()
-                .map(|p| &(lead * &c.derivative(p)) - &(c * &lead.derivative(p)))
+                .map(|p| &(&lead * &c.derivative(p)) - &(c * &lead.derivative(p)))
                 .collect()
         })
         .collect())

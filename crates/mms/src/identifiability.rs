@@ -542,42 +542,6 @@ impl PositiveSample for XorShift {
     }
 }
 
-/// Gaussian elimination over Q with row pivoting; returns the pivots
-/// `(row, column)` (original indices) in elimination order. Their number is
-/// the rank, and for every `s` the rows and columns of the first `s` pivots
-/// form a non-singular submatrix.
-fn pivots(mut rows: Vec<Vec<Rat>>) -> Vec<(usize, usize)> {
-    let cols = rows.first().map_or(0, Vec::len);
-    let mut order: Vec<usize> = (0..rows.len()).collect();
-    let mut out = Vec::new();
-    let mut r = 0;
-    for c in 0..cols {
-        if r == rows.len() {
-            break;
-        }
-        let Some(p) = (r..rows.len()).find(|&i| !rows[i][c].is_zero()) else {
-            continue;
-        };
-        rows.swap(r, p);
-        order.swap(r, p);
-        let inv = rows[r][c].recip();
-        let pivot: Vec<Rat> = rows[r].iter().map(|x| x * &inv).collect();
-        for row in rows.iter_mut().skip(r + 1) {
-            if row[c].is_zero() {
-                continue;
-            }
-            let f = row[c].clone();
-            for (x, y) in row.iter_mut().zip(&pivot).skip(c) {
-                *x = &*x - &(&f * y);
-            }
-        }
-        rows[r] = pivot;
-        out.push((order[r], c));
-        r += 1;
-    }
-    out
-}
-
 /// A basis of the null space `{w : rows * w = 0}` over Q, each vector scaled
 /// to coprime integers with a positive first non-zero entry.
 fn null_space(rows: &[Vec<Rat>], cols: usize) -> Vec<Vec<Int>> {
@@ -744,7 +708,7 @@ fn sampled_pivots(
                     .collect()
             })
             .collect();
-        let p = pivots(rows);
+        let p = poly::pivots(rows);
         if p.len() > best.len() {
             best = p;
         }
@@ -779,7 +743,7 @@ fn row_homogeneous(row: &[Poly], group: &[String]) -> bool {
 
 /// The exact rank of the polynomial matrix `l` over `Q(p)` by fraction-free
 /// (Bareiss) elimination, pivoting first on `hint` (pivots found at a
-/// point, see [`pivots`]), then on any non-zero entry left. After `s` steps
+/// point, see [`poly::pivots`]), then on any non-zero entry left. After `s` steps
 /// the remaining entries are the `(s+1)`-minors bordering the pivot block,
 /// so the elimination stops exactly at the rank.
 ///

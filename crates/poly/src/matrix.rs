@@ -448,27 +448,34 @@ pub fn mat_mul(a: &[Vec<Poly>], b: &[Vec<Poly>]) -> Option<Vec<Vec<Poly>>> {
     )
 }
 
-/// The rank of a matrix over `Q` (rows of equal length; 0 for no rows),
-/// by Gaussian elimination with exact rational arithmetic.
+/// Gaussian elimination over `Q` with row pivoting: the pivots `(row,
+/// column)` (original indices) in elimination order. Their number is the
+/// rank, and for every `s` the rows and columns of the first `s` pivots
+/// form a non-singular submatrix.
 ///
 /// ```
-/// use poly::{rank, Rat};
+/// use poly::{pivots, Rat};
 /// let r = |x: i64| Rat::from(x);
-/// // The third row is the sum of the first two.
-/// let m = vec![vec![r(1), r(2), r(3)], vec![r(0), r(1), r(1)], vec![r(1), r(3), r(4)]];
-/// assert_eq!(rank(m), 2);
+/// let m = vec![vec![r(0), r(2)], vec![r(1), r(3)]];
+/// assert_eq!(pivots(m), vec![(1, 0), (0, 1)]);
 /// ```
-pub fn rank(mut m: Vec<Vec<Rat>>) -> usize {
-    let cols = m.first().map_or(0, Vec::len);
+pub fn pivots(mut rows: Vec<Vec<Rat>>) -> Vec<(usize, usize)> {
+    let cols = rows.first().map_or(0, Vec::len);
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    let mut out = Vec::new();
     let mut r = 0;
     for c in 0..cols {
-        let Some(p) = (r..m.len()).find(|&i| !m[i][c].is_zero()) else {
+        if r == rows.len() {
+            break;
+        }
+        let Some(p) = (r..rows.len()).find(|&i| !rows[i][c].is_zero()) else {
             continue;
         };
-        m.swap(r, p);
-        let inv = m[r][c].recip();
-        let pivot: Vec<Rat> = m[r].iter().map(|x| x * &inv).collect();
-        for row in m.iter_mut().skip(r + 1) {
+        rows.swap(r, p);
+        order.swap(r, p);
+        let inv = rows[r][c].recip();
+        let pivot: Vec<Rat> = rows[r].iter().map(|x| x * &inv).collect();
+        for row in rows.iter_mut().skip(r + 1) {
             if row[c].is_zero() {
                 continue;
             }
@@ -477,12 +484,25 @@ pub fn rank(mut m: Vec<Vec<Rat>>) -> usize {
                 *x = &*x - &(&f * y);
             }
         }
+        rows[r] = pivot;
+        out.push((order[r], c));
         r += 1;
-        if r == m.len() {
-            break;
-        }
     }
-    r
+    out
+}
+
+/// The rank of a matrix over `Q` (rows of equal length; 0 for no rows),
+/// by exact Gaussian elimination ([`pivots`]).
+///
+/// ```
+/// use poly::{rank, Rat};
+/// let r = |x: i64| Rat::from(x);
+/// // The third row is the sum of the first two.
+/// let m = vec![vec![r(1), r(2), r(3)], vec![r(0), r(1), r(1)], vec![r(1), r(3), r(4)]];
+/// assert_eq!(rank(m), 2);
+/// ```
+pub fn rank(m: Vec<Vec<Rat>>) -> usize {
+    pivots(m).len()
 }
 
 #[cfg(test)]
