@@ -202,6 +202,10 @@ fn check_accepts_analyze_output_and_rejects_tampering() {
     // of every class of 3 masses) is not "all valid".
     let full = json(&["analyze", "--masses", "3", "--format", "json"]);
     assert_eq!(full["covers"], serde_json::json!({ "masses": 3 }));
+    // It also states by which version and search it was made.
+    assert!(full["engine_version"].as_u64().is_some());
+    assert_eq!(full["mms_version"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(full["search_limits"]["max_depth"], 4);
     let mut pruned = full.clone();
     pruned["models"][0]["types"].as_array_mut().unwrap().pop();
     std::fs::write(&bad, pruned.to_string()).unwrap();

@@ -346,9 +346,13 @@ fn render(
                     v
                 })
                 .collect();
+            // What the file covers, by which engine and search: a reader
+            // can tell a complete table from a pruned or foreign one.
             let mut doc = json!({
                 "covers": covers,
+                "mms_version": env!("CARGO_PKG_VERSION"),
                 "engine_version": mms::analysis::ENGINE_VERSION,
+                "search_limits": SearchLimits::default(),
                 "models": models,
             });
             if let Some(t) = timings {

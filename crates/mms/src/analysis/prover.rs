@@ -669,7 +669,7 @@ pub(crate) struct Prover<'a> {
 }
 
 /// How far the search goes.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize)]
 pub struct SearchLimits {
     /// Random samples on the whole orthant.
     pub samples: usize,
