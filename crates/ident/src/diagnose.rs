@@ -77,8 +77,9 @@ use crate::fit::solve_spd;
 use crate::selection::{forward_select, none, Trial};
 use frf::Frf;
 use mms::model_file::ModelFile;
-use mms::response::{ChainResponse, Effects, Parameters, ResponseError};
+use mms::response::{ChainResponse, EffectGradient, Effects, Parameters, ResponseError};
 use num_complex::Complex64;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::f64::consts::{LN_10, PI};
@@ -276,6 +277,24 @@ impl EffectKind {
             EffectKind::ExtraMode | EffectKind::None => {}
         }
         e
+    }
+
+    /// `dG/dv` of this effect's parameter `v` (zero for the kinds an FRF
+    /// does not show).
+    fn derivative(self, d: &EffectGradient) -> Complex64 {
+        match self {
+            EffectKind::TimeDelay => d.time_delay_s,
+            EffectKind::Lowpass => d.lowpass_hz,
+            EffectKind::GainError => d.gain_factor,
+            EffectKind::HystereticDamping => d.loss_factor,
+            EffectKind::ViscousFriction => d.viscous_friction,
+            EffectKind::PreSlidingFriction => d.pre_sliding_stiffness,
+            EffectKind::CoulombFriction
+            | EffectKind::Backlash
+            | EffectKind::Offset
+            | EffectKind::ExtraMode
+            | EffectKind::None => Complex64::new(0.0, 0.0),
+        }
     }
 
     /// The value already in `base`, if any.
@@ -671,29 +690,17 @@ impl Problem<'_> {
             r.extend(self.prior_rows(x));
             return Ok(r);
         };
-        // The effects' columns by forward differences in their logarithms:
-        // the effects enter the solver in several places, and one extra
-        // evaluation per line and effect is cheap next to the gradient.
-        const STEP: f64 = 1e-6;
-        let shifted_effects: Vec<Effects> = (0..kinds.len())
-            .map(|i| {
-                let mut xs = x.to_vec();
-                xs[np + i] += STEP;
-                self.effects(kinds, &xs)
-            })
-            .collect();
+        // The effects' columns from the same solves as the chain's:
+        // d ln G / d ln v = v (dG/dv) / G.
+        let values: Vec<f64> = (0..kinds.len()).map(|i| x[np + i].exp()).collect();
         jac.clear();
         jac.reserve((2 * self.freq.len() + np) * nx);
         let mut grad = vec![Complex64::new(0.0, 0.0); np];
         for (s, lines) in self.segment_lines() {
             let resp = ChainResponse::with_effects(&s.chain, self.file.output, &effects);
-            let shifted: Vec<ChainResponse> = shifted_effects
-                .iter()
-                .map(|e| ChainResponse::with_effects(&s.chain, self.file.output, e))
-                .collect();
             for k in lines {
                 let (f, h, w) = (self.freq[k], self.data[k], self.inv_sigma[k]);
-                let g = resp.eval_with_gradient(&p, f, &mut grad)?;
+                let (g, de) = resp.eval_with_effect_gradient(&p, f, &mut grad)?;
                 let e = (g * self.file.gain / h).ln();
                 r.push(w * e.re);
                 r.push(w * e.im);
@@ -705,8 +712,8 @@ impl Problem<'_> {
                     jac[base + i] = w * d.re;
                     jac[base + nx + i] = w * d.im;
                 }
-                for (i, s) in shifted.iter().enumerate() {
-                    let d = (s.eval(&p, f)? / g).ln() / STEP;
+                for (i, (kind, v)) in kinds.iter().zip(&values).enumerate() {
+                    let d = kind.derivative(&de) * *v / g;
                     jac[base + np + i] = w * d.re;
                     jac[base + nx + np + i] = w * d.im;
                 }
@@ -1173,80 +1180,93 @@ pub fn diagnose_outputs(
         } else {
             (base.state.cost / ctx.rows).max(1.0)
         };
-        let mut tried: Vec<Trial<Fitted>> = Vec::new();
-        for kind in EffectKind::HYPOTHESES
+        let kinds: Vec<EffectKind> = EffectKind::HYPOTHESES
             .into_iter()
             .chain([EffectKind::ExtraMode])
-        {
-            if kept.contains(&kind)
-                || base.kinds.contains(&kind)
-                || (kind == EffectKind::ExtraMode && base.extended)
-                || (kind == EffectKind::PreSlidingFriction
-                    && !rests_on_friction(&base.problem.file.model))
-                || (step > 1 && !earned_alone.contains(&kind))
-            {
-                continue;
+            .filter(|&kind| {
+                !(kept.contains(&kind)
+                    || base.kinds.contains(&kind)
+                    || (kind == EffectKind::ExtraMode && base.extended)
+                    || (kind == EffectKind::PreSlidingFriction
+                        && !rests_on_friction(&base.problem.file.model))
+                    || (step > 1 && !earned_alone.contains(&kind)))
+            })
+            .collect();
+        // The hypotheses are independent fits: both cores take them in
+        // turn, and the trials keep their order.
+        let reuse = placement.as_ref();
+        let trials = kinds
+            .par_iter()
+            .map(|&kind| -> Result<Option<PlacedTrial>, DiagnoseError> {
+                let (fitted, new_placement) = match kind {
+                    EffectKind::ExtraMode => match extra_mode(base, &e_base, &ctx, reuse) {
+                        Some((f, p)) => (f, Some(p)),
+                        None => return Ok(None),
+                    },
+                    _ => match add_effect(base, kind, &e_base, &ctx) {
+                        Some(f) => (f, None),
+                        None => return Ok(None),
+                    },
+                };
+                let n_new = if kind == EffectKind::ExtraMode {
+                    3
+                } else {
+                    fitted.kinds.len() - base.kinds.len()
+                };
+                let score = if holdout {
+                    (base.test_cost - fitted.test_cost) / misfit - o.margin
+                } else {
+                    (base.state.cost - fitted.state.cost) / misfit
+                        - n_new as f64 * ctx.rows.ln()
+                        - o.margin
+                };
+                let after = summary(&fitted.problem.errors(&fitted.kinds, &fitted.state.x)?);
+                let (cost_before, cost_after, price) = if holdout {
+                    (base.test_cost, fitted.test_cost, o.margin)
+                } else {
+                    (
+                        base.state.cost,
+                        fitted.state.cost,
+                        n_new as f64 * ctx.rows.ln() + o.margin,
+                    )
+                };
+                let evidence = Evidence::Frequency(FrequencyEvidence {
+                    added_to: kept.to_vec(),
+                    held_out: holdout,
+                    cost_before,
+                    cost_after,
+                    price,
+                    before: summary_base,
+                    after,
+                    extended: (kind == EffectKind::ExtraMode).then(|| {
+                        let m = &fitted.problem.file.model;
+                        ExtendedChain {
+                            masses: m.n_masses(),
+                            id: m.id(),
+                        }
+                    }),
+                });
+                let unresolved = unresolved(kind, kept, &fitted, &ctx);
+                let trial = Trial {
+                    verdict: EffectVerdict {
+                        kind,
+                        parameters: fitted.parameters(kind, &ctx),
+                        evidence,
+                        score,
+                        step,
+                        unresolved,
+                    },
+                    state: fitted,
+                };
+                Ok(Some((trial, new_placement)))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut tried: Vec<Trial<Fitted>> = Vec::with_capacity(trials.len());
+        for (trial, p) in trials.into_iter().flatten() {
+            if let Some(p) = p {
+                placement.get_or_insert(p);
             }
-            let fitted = match kind {
-                EffectKind::ExtraMode => {
-                    extra_mode(base, &e_base, &ctx, placement.as_ref()).map(|(f, p)| {
-                        placement.get_or_insert(p);
-                        f
-                    })
-                }
-                _ => add_effect(base, kind, &e_base, &ctx),
-            };
-            let Some(fitted) = fitted else { continue };
-            let n_new = if kind == EffectKind::ExtraMode {
-                3
-            } else {
-                fitted.kinds.len() - base.kinds.len()
-            };
-            let score = if holdout {
-                (base.test_cost - fitted.test_cost) / misfit - o.margin
-            } else {
-                (base.state.cost - fitted.state.cost) / misfit
-                    - n_new as f64 * ctx.rows.ln()
-                    - o.margin
-            };
-            let after = summary(&fitted.problem.errors(&fitted.kinds, &fitted.state.x)?);
-            let (cost_before, cost_after, price) = if holdout {
-                (base.test_cost, fitted.test_cost, o.margin)
-            } else {
-                (
-                    base.state.cost,
-                    fitted.state.cost,
-                    n_new as f64 * ctx.rows.ln() + o.margin,
-                )
-            };
-            let evidence = Evidence::Frequency(FrequencyEvidence {
-                added_to: kept.to_vec(),
-                held_out: holdout,
-                cost_before,
-                cost_after,
-                price,
-                before: summary_base,
-                after,
-                extended: (kind == EffectKind::ExtraMode).then(|| {
-                    let m = &fitted.problem.file.model;
-                    ExtendedChain {
-                        masses: m.n_masses(),
-                        id: m.id(),
-                    }
-                }),
-            });
-            let unresolved = unresolved(kind, kept, &fitted, &ctx);
-            tried.push(Trial {
-                verdict: EffectVerdict {
-                    kind,
-                    parameters: fitted.parameters(kind, &ctx),
-                    evidence,
-                    score,
-                    step,
-                    unresolved,
-                },
-                state: fitted,
-            });
+            tried.push(trial);
         }
         if step == 1 {
             earned_alone = tried
@@ -1895,6 +1915,9 @@ fn finish_extra_mode<'a>(
         (ext, map, fitted, at),
     ))
 }
+
+/// A trial of one hypothesis, with the extra mass's placement it found.
+type PlacedTrial<'a> = (Trial<Fitted<'a>>, Option<Placement>);
 
 /// An extra mass's placement: the extended model, the sources of its
 /// parameters and their fitted values.

@@ -77,6 +77,7 @@ use frf::{Complex64, Frf, Samples};
 use mms::model_file::ModelFile;
 use mms::response::{ChainResponse, Effects};
 use mms::simulate::{SimOptions, Simulator};
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// Options of [`diagnose_recording`].
@@ -314,15 +315,22 @@ pub fn diagnose_recording(
         Some(s) if o.stability && closed_loop.is_none() => cuts(s, frf, &o.welch),
         _ => Vec::new(),
     };
-    // Two workers (two cores; the time-domain parts dominate): this thread
-    // diagnoses the whole record, then helps with the reruns on other cuts,
-    // which the helper starts at once, the second half (its own
-    // time-domain window) first. Each rerun's result does not depend on
-    // which worker ran it.
+    // Every diagnosis below is independent of the others: the whole
+    // record's two domains and each rerun's run side by side, on as many
+    // cores as there are (the time-domain parts dominate); the results do
+    // not depend on which core ran them.
     let whole = || -> Result<_, DiagnosisError> {
-        let fd = frequency_part(frf, band, model, o)?;
-        let td = match (samples, &fd) {
-            (Some(s), Some(_)) => Some(time_part(s, 0, model, closed_loop, corner, o)?),
+        let (fd, td) = rayon::join(
+            || frequency_part(frf, band, model, o),
+            || match (samples, band) {
+                (Some(s), Some(_)) => Some(time_part(s, 0, model, closed_loop, corner, o)),
+                _ => None,
+            },
+        );
+        let fd = fd?;
+        // Without a frequency-domain part nothing is compared in time.
+        let td = match (&fd, td) {
+            (Some(_), Some(td)) => Some(td?),
             _ => None,
         };
         let errors = cross_check(
@@ -336,35 +344,17 @@ pub fn diagnose_recording(
         );
         Ok((fd, td, errors))
     };
-    let mut order: Vec<usize> = (0..cuts.len()).collect();
-    order.sort_by_key(|&i| cuts[i].cut != Cut::SecondHalf);
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let reruns_taken = || {
-        let mut done = Vec::new();
-        while let Some(&i) = order.get(next.fetch_add(1, std::sync::atomic::Ordering::Relaxed)) {
-            done.push((i, rerun(&cuts[i], samples, model, corner, o)));
-        }
-        done
-    };
-    let (main, mut reruns) = std::thread::scope(|scope| {
-        let helper = scope.spawn(reruns_taken);
-        let main = whole();
-        let mut reruns = reruns_taken();
-        // A panic in the helper is a bug: it goes on here.
-        reruns.extend(
-            helper
-                .join()
-                .unwrap_or_else(|p| std::panic::resume_unwind(p)),
-        );
-        (main, reruns)
+    let (main, reruns) = rayon::join(whole, || {
+        cuts.par_iter()
+            .map(|c| rerun(c, samples, model, corner, o))
+            .collect::<Vec<_>>()
     });
-    reruns.sort_by_key(|r| r.0);
     let (fd, td, errors) = main?;
     let verdict = reconcile(fd.as_ref(), td.as_ref(), errors);
     let stability = (!cuts.is_empty()).then(|| DiagnosisStability {
         runs: reruns
             .into_iter()
-            .map(|(_, r)| r.verdict(&verdict, td.as_ref()))
+            .map(|r| r.verdict(&verdict, td.as_ref()))
             .collect(),
     });
     let model_after = match (verdict.decided_by, &fd, &td) {
@@ -809,19 +799,25 @@ fn rerun(
             .frf(c.range.clone(), &c.welch)
             .map_err(|e| e.to_string())?;
         let band = band_of(&est, model, o);
-        let fd = frequency_part(&est, band, model, o).map_err(|e| e.to_string())?;
+        // The same first samples as the whole record: the same time-domain
+        // result, shared.
+        let whole = time_window(s.u.len(), false, o);
+        let here = time_window(c.range.len(), false, o);
+        let shared = c.range.start == 0 && here == whole;
+        let (fd, td) = rayon::join(
+            || frequency_part(&est, band, model, o).map_err(|e| e.to_string()),
+            || {
+                (band.is_some() && !shared).then(|| {
+                    time_part(s, c.range.start, model, None, corner, o).map_err(|e| e.to_string())
+                })
+            },
+        );
+        let fd = fd?;
         if fd.is_none() {
             return Ok((None, None, false));
         }
-        // The same first samples as the whole record: the same time-domain
-        // result.
-        let whole = time_window(s.u.len(), false, o);
-        let here = time_window(c.range.len(), false, o);
-        if c.range.start == 0 && here == whole {
-            return Ok((fd, None, true));
-        }
-        let td = time_part(s, c.range.start, model, None, corner, o).map_err(|e| e.to_string())?;
-        Ok((fd, Some(td), false))
+        let td = td.transpose()?;
+        Ok((fd, td, shared))
     })();
     RerunResult { cut: c.cut, result }
 }

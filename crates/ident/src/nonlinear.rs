@@ -98,6 +98,7 @@ use mms::simulate::{
     default_backlash_link, ClosedLoop, Controller, Feedback, SimOptions, SimulateError, Simulator,
 };
 use num_complex::Complex64;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::f64::consts::LN_10;
@@ -388,6 +389,8 @@ struct Problem<'a> {
     welch: &'a WelchOptions,
     /// Samples left out of every fit ([`TimeOptions::holdout`]).
     held: Vec<bool>,
+    /// The trend's basis for `held` ([`Problem::hold`] keeps them together).
+    trend_basis: TrendBasis,
     /// Polynomial degree + 1 of the trend taken out of the output error:
     /// the rigid-body states at the start of an open-loop record, which a
     /// simulation from rest does not know (2 for a position: offset and
@@ -487,6 +490,12 @@ impl Problem<'_> {
         Ok(fit)
     }
 
+    /// Holds out `held` from every fit from now on.
+    fn hold(&mut self, held: Vec<bool>) {
+        self.trend_basis = TrendBasis::new(&held, MAX_TREND_TERMS);
+        self.held = held;
+    }
+
     /// The trend of the initial rigid-body states that best fits the
     /// record's difference from the simulation `sim` on the fitted samples.
     fn initial_state(&self, kinds: &[EffectKind], sim: &[f64]) -> Vec<f64> {
@@ -505,7 +514,7 @@ impl Problem<'_> {
         } else {
             self.trend
         };
-        let mut t = trend(d, &self.held, terms);
+        let mut t = self.trend_basis.trend(d, &self.held, terms);
         if let Some((lp, pad)) = &self.highpass {
             let rest: Vec<f64> = d.iter().zip(&t).map(|(a, b)| a - b).collect();
             let slow = crate::idim::filtfilt(lp, &rest, *pad);
@@ -880,6 +889,7 @@ pub fn held_out_error(
         closed: record.map(|r| r.closed_loop(y, fs)),
         welch: &o.welch,
         held: held_blocks(n, true),
+        trend_basis: TrendBasis::new(&held_blocks(n, true), MAX_TREND_TERMS),
         trend: trend_terms(record.is_some(), model.output),
         highpass: highpass(record.is_some(), o.highpass_hz, fs),
     };
@@ -895,45 +905,76 @@ pub fn held_out_error(
 /// The most terms [`trend_terms`] asks for (a quadratic).
 const MAX_TREND_TERMS: usize = 3;
 
-/// The least-squares polynomial of degree `terms - 1` in time through `d`
-/// on the samples not `held`, evaluated on every sample (zero for
-/// `terms == 0`).
-fn trend(d: &[f64], held: &[bool], terms: usize) -> Vec<f64> {
-    let n = d.len();
-    if terms == 0 || n == 0 {
-        return vec![0.0; n];
-    }
-    // Time scaled to [-1, 1] keeps the normal equations well conditioned.
-    // Powers on the stack: this runs once per simulation of a search.
-    let terms = terms.min(MAX_TREND_TERMS);
-    let powers = |k: usize| {
-        let t = 2.0 * k as f64 / (n.max(2) - 1) as f64 - 1.0;
-        let mut p = [1.0; MAX_TREND_TERMS];
-        for i in 1..terms {
-            p[i] = p[i - 1] * t;
-        }
-        p
-    };
-    let mut a = [0.0; MAX_TREND_TERMS * MAX_TREND_TERMS];
-    let mut b = [0.0; MAX_TREND_TERMS];
-    for k in (0..n).filter(|&k| !held[k]) {
-        let p = powers(k);
-        for i in 0..terms {
-            b[i] += p[i] * d[k];
-            for j in 0..terms {
-                a[i * terms + j] += p[i] * p[j];
+/// The least-squares polynomials in time of a record's length, fitted on
+/// the samples not held out: an orthonormal basis (on those samples) of
+/// the powers of time, so that a trend costs a few dot products; it runs
+/// once per simulation of a search.
+struct TrendBasis {
+    /// Orthonormal on the fitted samples; the first `k` span the
+    /// polynomials of degree below `k`. A power that adds no direction (a
+    /// record of fewer samples than terms) ends the list.
+    q: Vec<Vec<f64>>,
+}
+
+impl TrendBasis {
+    fn new(held: &[bool], terms: usize) -> TrendBasis {
+        let n = held.len();
+        let mut q: Vec<Vec<f64>> = Vec::new();
+        // Time scaled to [-1, 1] keeps the powers well conditioned.
+        let t: Vec<f64> = (0..n)
+            .map(|k| 2.0 * k as f64 / (n.max(2) - 1) as f64 - 1.0)
+            .collect();
+        let dot = |a: &[f64], b: &[f64]| -> f64 {
+            a.iter()
+                .zip(b)
+                .zip(held)
+                .filter(|(_, &h)| !h)
+                .map(|((a, b), _)| a * b)
+                .sum()
+        };
+        let mut power = vec![1.0; n];
+        for _ in 0..terms.min(MAX_TREND_TERMS) {
+            let size = dot(&power, &power).sqrt();
+            let mut v = power.clone();
+            // Modified Gram-Schmidt, twice: the second pass removes what
+            // rounding left of the earlier directions.
+            for _ in 0..2 {
+                for b in &q {
+                    let c = dot(&v, b);
+                    v.iter_mut().zip(b).for_each(|(v, b)| *v -= c * b);
+                }
             }
+            let norm = dot(&v, &v).sqrt();
+            if norm.is_nan() || norm <= 1e-10 * size {
+                break;
+            }
+            v.iter_mut().for_each(|v| *v /= norm);
+            q.push(v);
+            power.iter_mut().zip(&t).for_each(|(p, t)| *p *= t);
         }
+        TrendBasis { q }
     }
-    let Some(c) = solve_spd(&a[..terms * terms], &b[..terms], terms) else {
-        return vec![0.0; n];
-    };
-    (0..n)
-        .map(|k| {
-            let p = powers(k);
-            c.iter().zip(&p).map(|(c, p)| c * p).sum()
-        })
-        .collect()
+
+    /// The least-squares polynomial of degree `terms - 1` through `d` on
+    /// the fitted samples, evaluated on every sample (zero for `terms ==
+    /// 0`, and for a record too short for its terms).
+    fn trend(&self, d: &[f64], held: &[bool], terms: usize) -> Vec<f64> {
+        let mut t = vec![0.0; d.len()];
+        if terms > self.q.len() {
+            return t;
+        }
+        for b in &self.q[..terms] {
+            let c: f64 = d
+                .iter()
+                .zip(b)
+                .zip(held)
+                .filter(|(_, &h)| !h)
+                .map(|((d, b), _)| d * b)
+                .sum();
+            t.iter_mut().zip(b).for_each(|(t, b)| *t += c * b);
+        }
+        t
+    }
 }
 
 /// Golden-section search of `f` over `[a, b]` (log values), from a
@@ -1206,6 +1247,7 @@ pub fn diagnose_time_outputs(
         closed,
         welch: &o.welch,
         held: held_blocks(n, o.holdout),
+        trend_basis: TrendBasis::new(&held_blocks(n, o.holdout), MAX_TREND_TERMS),
         trend: trend_terms(record.is_some(), model.output),
         highpass: highpass(record.is_some(), o.highpass_hz, fs),
     };
@@ -1323,20 +1365,20 @@ pub fn diagnose_time_outputs(
     let selected = forward_select(base, |b, kinds, step| {
         let (x_base, rss_base, fit_base, test_base) = (&b.x, b.rss, b.fit, b.test);
         let (lo_base, hi_base) = (&b.lo, &b.hi);
-        let mut tried: Vec<Trial<Fit>> = Vec::new();
         // Every remaining effect, also one that did not earn its parameter
         // alone: an offset can hide friction under the drift of an
         // open-loop simulation until it is removed.
         // In an open loop a constant force is part of the operating point
         // (the trend), so an offset cannot be told from it.
         let open_loop = problem.trend > 0;
-        for kind in HYPOTHESES {
-            if kinds.contains(&kind) || (open_loop && kind == EffectKind::Offset) {
-                continue;
-            }
-            let Some((ll, lh)) = range(kind) else {
-                continue;
-            };
+        let candidates: Vec<(EffectKind, (f64, f64))> = HYPOTHESES
+            .into_iter()
+            .filter(|&kind| !(kinds.contains(&kind) || (open_loop && kind == EffectKind::Offset)))
+            .filter_map(|kind| Some((kind, range(kind)?)))
+            .collect();
+        // Each hypothesis is its own search: both cores take them in turn,
+        // and the trials keep their order.
+        let trial = |&(kind, (ll, lh)): &(EffectKind, (f64, f64))| -> Result<Option<Trial<Fit>>, TimeDiagnoseError> {
             let mut with = kinds.to_vec();
             with.push(kind);
             // Step 1 starts from the calibrated and from the nominal chain:
@@ -1351,7 +1393,7 @@ pub fn diagnose_time_outputs(
             let Some((x, rss)) =
                 problem.search(&with, &bases, lo_base, hi_base, (ll, lh), o.max_iterations)
             else {
-                continue;
+                return Ok(None);
             };
             let gain_bic = n_fit as f64 * (rss_base / rss).ln();
             let share = 1.0 - rss / rss_base;
@@ -1409,7 +1451,7 @@ pub fn diagnose_time_outputs(
             let (mut lo_k, mut hi_k) = (lo_base.clone(), hi_base.clone());
             lo_k.push(ll);
             hi_k.push(lh);
-            tried.push(Trial {
+            Ok(Some(Trial {
                 verdict: EffectVerdict {
                     kind,
                     parameters,
@@ -1426,8 +1468,15 @@ pub fn diagnose_time_outputs(
                     lo: lo_k,
                     hi: hi_k,
                 },
-            });
-        }
+            }))
+        };
+        let tried: Vec<Trial<Fit>> = candidates
+            .par_iter()
+            .map(trial)
+            .collect::<Result<Vec<_>, _>>()?
+            .into_iter()
+            .flatten()
+            .collect();
         Ok::<_, TimeDiagnoseError>(tried)
     })?;
     let kinds: Vec<EffectKind> = selected.kept.iter().map(|v| v.kind).collect();
@@ -1466,7 +1515,7 @@ pub fn diagnose_time_outputs(
     // The held-out blocks chose the effects; their values come from every
     // sample.
     if n_test > 0 && !kinds.is_empty() {
-        problem.held = vec![false; n];
+        problem.hold(vec![false; n]);
         let (mut x, mut rss) =
             problem.fit(&kinds, x_base.clone(), &lo_base, &hi_base, o.max_iterations);
         // Polish a backlash as the search does: its error surface is

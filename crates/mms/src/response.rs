@@ -271,6 +271,25 @@ impl Effects {
     }
 }
 
+/// The derivatives of `G` with respect to the parameter of each linear
+/// effect ([`ChainResponse::eval_with_effect_gradient`]), field by field
+/// as in [`Effects`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EffectGradient {
+    /// `dG/dT`, the dead time in s.
+    pub time_delay_s: Complex64,
+    /// `dG/df_c`, the lag's corner in Hz.
+    pub lowpass_hz: Complex64,
+    /// `dG/dk`, the gain factor.
+    pub gain_factor: Complex64,
+    /// `dG/d eta`, the loss factor.
+    pub loss_factor: Complex64,
+    /// `dG/db`, the viscous friction.
+    pub viscous_friction: Complex64,
+    /// `dG/dk_p`, the pre-sliding stiffness.
+    pub pre_sliding_stiffness: Complex64,
+}
+
 /// One spring or damper: between node `a` and node `b` (1-based masses,
 /// 0 = ground).
 #[derive(Clone, Copy, Debug)]
@@ -374,6 +393,83 @@ impl ChainResponse {
             gradient[self.n + nl + k] = dy * Complex64::new(0.0, omega);
         }
         Ok(g)
+    }
+
+    /// `G(j 2 pi f)`, `dG/dp` for every chain parameter `p` (as
+    /// [`ChainResponse::eval_with_gradient`]) and `dG/dv` for the
+    /// parameter `v` of every linear effect, from the same solves: an
+    /// effect's derivative costs no further evaluation. An effect not set
+    /// has the derivative of its neutral value (no delay, gain 1, no loss,
+    /// no friction), except a missing lag, whose corner is infinite: 0.
+    ///
+    /// ```
+    /// use mms::response::{ChainResponse, Effects};
+    /// use mms::{Model, Output};
+    /// let a1 = Model::from_id("A1").unwrap();
+    /// let p = [1.0, 1.0, 1.0, 1e4, 1e4, 1.0, 1.0];
+    /// let e = Effects { time_delay_s: Some(1e-3), ..Effects::default() };
+    /// let r = ChainResponse::with_effects(&a1, Output::Position, &e);
+    /// let mut grad = vec![Default::default(); r.n_parameters()];
+    /// let (g, d) = r.eval_with_effect_gradient(&p, 50.0, &mut grad).unwrap();
+    /// // A dead time T multiplies G by exp(-j w T): dG/dT = -j w G.
+    /// let w = 2.0 * std::f64::consts::PI * 50.0;
+    /// assert!((d.time_delay_s - g * num_complex::Complex64::new(0.0, -w)).norm() < 1e-12 * g.norm() * w);
+    /// ```
+    pub fn eval_with_effect_gradient(
+        &self,
+        values: &[f64],
+        freq_hz: f64,
+        gradient: &mut [Complex64],
+    ) -> Result<(Complex64, EffectGradient), ResponseError> {
+        assert_eq!(gradient.len(), self.n_parameters(), "gradient length");
+        let mut solver = self.solver(values, freq_hz)?;
+        let g = self.solve(&mut solver, true);
+        let scale = solver.factor;
+        let (x, w) = (&solver.x, &solver.w);
+        let omega = solver.omega;
+        let node = |v: &[Complex64], k: usize| {
+            if k == 0 {
+                ZERO
+            } else {
+                v[k - 1]
+            }
+        };
+        for i in 0..self.n {
+            gradient[i] = scale * w[i] * x[i] * (omega * omega);
+        }
+        let nl = self.links.len();
+        let eta = self.effects.loss_factor.unwrap_or(0.0);
+        let spring = Complex64::new(1.0, eta);
+        let mut d_loss = ZERO;
+        for (k, l) in self.links.iter().enumerate() {
+            let dx = node(x, l.b) - node(x, l.a);
+            let dw = node(w, l.b) - node(w, l.a);
+            let dy = -(scale * dw * dx);
+            gradient[self.n + k] = dy * spring;
+            gradient[self.n + nl + k] = dy * Complex64::new(0.0, omega);
+            // dZ/d eta = j c (e_b - e_a)(e_b - e_a)^T.
+            d_loss += dy * Complex64::new(0.0, values[self.n + k]);
+        }
+        // The friction's damper and spring ground the driven mass:
+        // dZ/db = j w e_d e_d^T, dZ/dk = e_d e_d^T.
+        let at_driven = -(scale * w[self.driven - 1] * x[self.driven - 1]);
+        let lag = match self.effects.lowpass_hz {
+            // L = 1 / (1 + j r), r = w / (2 pi fc): dL/dfc = L j r / (fc (1 + j r)).
+            Some(fc) => {
+                let jr = Complex64::new(0.0, omega / (2.0 * PI * fc));
+                g * jr / ((1.0 + jr) * fc)
+            }
+            None => ZERO,
+        };
+        let effects = EffectGradient {
+            time_delay_s: g * Complex64::new(0.0, -omega),
+            lowpass_hz: lag,
+            gain_factor: g / self.effects.gain_factor.unwrap_or(1.0),
+            loss_factor: d_loss,
+            viscous_friction: at_driven * Complex64::new(0.0, omega),
+            pre_sliding_stiffness: at_driven,
+        };
+        Ok((g, effects))
     }
 
     /// The position of every mass (`x_1 .. x_N`, relative to the ground)
@@ -658,6 +754,94 @@ mod tests {
                             err <= 1e-5 * y.norm(),
                             "{model} {output} {}",
                             model.parameters()[i]
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// The effects' derivatives agree with central differences in each
+    /// effect's parameter (relative step 1e-6, tolerance 1e-6 of the
+    /// response's size), with every effect set and with none (their
+    /// neutral values), for every 3-mass model and every output; and the
+    /// chain's gradient equals `eval_with_gradient`'s.
+    #[test]
+    fn effect_gradient_matches_finite_differences() {
+        let all = Effects {
+            time_delay_s: Some(1e-3),
+            lowpass_hz: Some(80.0),
+            gain_factor: Some(1.3),
+            loss_factor: Some(0.02),
+            viscous_friction: Some(0.5),
+            pre_sliding_stiffness: Some(40.0),
+            ..Effects::default()
+        };
+        type Field = fn(&mut Effects) -> &mut Option<f64>;
+        type Of = fn(&EffectGradient) -> Complex64;
+        let fields: [(Field, Of, f64); 6] = [
+            (|e| &mut e.time_delay_s, |d| d.time_delay_s, 1e-3),
+            (|e| &mut e.lowpass_hz, |d| d.lowpass_hz, 80.0),
+            (|e| &mut e.gain_factor, |d| d.gain_factor, 1.0),
+            (|e| &mut e.loss_factor, |d| d.loss_factor, 0.02),
+            (|e| &mut e.viscous_friction, |d| d.viscous_friction, 0.5),
+            (
+                |e| &mut e.pre_sliding_stiffness,
+                |d| d.pre_sliding_stiffness,
+                40.0,
+            ),
+        ];
+        for (k, model) in crate::basic_models(3).unwrap().iter().enumerate() {
+            for output in Output::ALL {
+                for base in [all, Effects::default()] {
+                    let g = ChainResponse::with_effects(model, output, &base);
+                    let p = params(model, 11 + k as u64);
+                    let f = 37.0;
+                    let mut grad = vec![ZERO; p.len()];
+                    let (y, d) = g.eval_with_effect_gradient(&p, f, &mut grad).unwrap();
+                    let mut chain = vec![ZERO; p.len()];
+                    assert_eq!(g.eval_with_gradient(&p, f, &mut chain).unwrap(), y);
+                    assert_eq!(chain, grad);
+                    for (field, of, scale) in fields {
+                        let mut e = base;
+                        let Some(v) = *field(&mut e) else {
+                            // Unset: the lag's derivative is 0; the others
+                            // are taken at their neutral value below.
+                            if scale == 80.0 {
+                                assert_eq!(of(&d), ZERO);
+                                continue;
+                            }
+                            let neutral = if scale == 1.0 { 1.0 } else { 0.0 };
+                            let h = 1e-6 * scale;
+                            let (mut up, mut dn) = (base, base);
+                            *field(&mut up) = Some(neutral + h);
+                            *field(&mut dn) = Some(neutral - h);
+                            let at = |e: &Effects| {
+                                ChainResponse::with_effects(model, output, e)
+                                    .eval(&p, f)
+                                    .unwrap()
+                            };
+                            let fd = (at(&up) - at(&dn)) / (2.0 * h);
+                            assert!(
+                                (fd - of(&d)).norm() * scale <= 1e-6 * y.norm(),
+                                "{model} {output}"
+                            );
+                            continue;
+                        };
+                        let h = 1e-6 * v;
+                        let (mut up, mut dn) = (base, base);
+                        *field(&mut up) = Some(v + h);
+                        *field(&mut dn) = Some(v - h);
+                        let at = |e: &Effects| {
+                            ChainResponse::with_effects(model, output, e)
+                                .eval(&p, f)
+                                .unwrap()
+                        };
+                        let fd = (at(&up) - at(&dn)) / (2.0 * h);
+                        assert!(
+                            (fd - of(&d)).norm() * v <= 1e-6 * y.norm(),
+                            "{model} {output} {}",
+                            (fd - of(&d)).norm() * v / y.norm()
                         );
                     }
                 }
