@@ -353,8 +353,10 @@ impl ChainResponse {
 
     /// `G(j 2 pi f)` at one frequency `f` in Hz.
     pub fn eval(&self, values: &[f64], freq_hz: f64) -> Result<Complex64, ResponseError> {
-        let mut solver = self.solver(values, freq_hz)?;
-        Ok(self.solve(&mut solver, false))
+        sized!(self.n, N, {
+            let mut solver = self.solver::<N>(values, freq_hz)?;
+            Ok(self.solve(&mut solver, false))
+        })
     }
 
     /// `G(j 2 pi f)` and `dG/dp` for every parameter `p` (written into
@@ -366,33 +368,35 @@ impl ChainResponse {
         gradient: &mut [Complex64],
     ) -> Result<Complex64, ResponseError> {
         assert_eq!(gradient.len(), self.n_parameters(), "gradient length");
-        let mut solver = self.solver(values, freq_hz)?;
-        let g = self.solve(&mut solver, true);
-        let scale = solver.factor;
-        let (x, w) = (&solver.x, &solver.w);
-        let omega = solver.omega;
-        let node = |v: &[Complex64], k: usize| {
-            if k == 0 {
-                Complex64::new(0.0, 0.0)
-            } else {
-                v[k - 1]
+        sized!(self.n, N, {
+            let mut solver = self.solver::<N>(values, freq_hz)?;
+            let g = self.solve(&mut solver, true);
+            let scale = solver.factor;
+            let (x, w) = (&solver.x, &solver.w);
+            let omega = solver.omega;
+            let node = |v: &[Complex64], k: usize| {
+                if k == 0 {
+                    Complex64::new(0.0, 0.0)
+                } else {
+                    v[k - 1]
+                }
+            };
+            // dy/dm_i = w^2 w_i x_i, since dZ/dm_i = -w^2 e_i e_i^T.
+            for i in 0..self.n {
+                gradient[i] = scale * w[i] * x[i] * (omega * omega);
             }
-        };
-        // dy/dm_i = w^2 w_i x_i, since dZ/dm_i = -w^2 e_i e_i^T.
-        for i in 0..self.n {
-            gradient[i] = scale * w[i] * x[i] * (omega * omega);
-        }
-        let nl = self.links.len();
-        let spring = Complex64::new(1.0, self.effects.loss_factor.unwrap_or(0.0));
-        for (k, l) in self.links.iter().enumerate() {
-            let dx = node(x, l.b) - node(x, l.a);
-            let dw = node(w, l.b) - node(w, l.a);
-            // dZ/dc = (e_b - e_a)(e_b - e_a)^T; dZ/dd = j w times that.
-            let dy = -(scale * dw * dx);
-            gradient[self.n + k] = dy * spring;
-            gradient[self.n + nl + k] = dy * Complex64::new(0.0, omega);
-        }
-        Ok(g)
+            let nl = self.links.len();
+            let spring = Complex64::new(1.0, self.effects.loss_factor.unwrap_or(0.0));
+            for (k, l) in self.links.iter().enumerate() {
+                let dx = node(x, l.b) - node(x, l.a);
+                let dw = node(w, l.b) - node(w, l.a);
+                // dZ/dc = (e_b - e_a)(e_b - e_a)^T; dZ/dd = j w times that.
+                let dy = -(scale * dw * dx);
+                gradient[self.n + k] = dy * spring;
+                gradient[self.n + nl + k] = dy * Complex64::new(0.0, omega);
+            }
+            Ok(g)
+        })
     }
 
     /// `G(j 2 pi f)`, `dG/dp` for every chain parameter `p` (as
@@ -422,54 +426,56 @@ impl ChainResponse {
         gradient: &mut [Complex64],
     ) -> Result<(Complex64, EffectGradient), ResponseError> {
         assert_eq!(gradient.len(), self.n_parameters(), "gradient length");
-        let mut solver = self.solver(values, freq_hz)?;
-        let g = self.solve(&mut solver, true);
-        let scale = solver.factor;
-        let (x, w) = (&solver.x, &solver.w);
-        let omega = solver.omega;
-        let node = |v: &[Complex64], k: usize| {
-            if k == 0 {
-                ZERO
-            } else {
-                v[k - 1]
+        sized!(self.n, N, {
+            let mut solver = self.solver::<N>(values, freq_hz)?;
+            let g = self.solve(&mut solver, true);
+            let scale = solver.factor;
+            let (x, w) = (&solver.x, &solver.w);
+            let omega = solver.omega;
+            let node = |v: &[Complex64], k: usize| {
+                if k == 0 {
+                    ZERO
+                } else {
+                    v[k - 1]
+                }
+            };
+            for i in 0..self.n {
+                gradient[i] = scale * w[i] * x[i] * (omega * omega);
             }
-        };
-        for i in 0..self.n {
-            gradient[i] = scale * w[i] * x[i] * (omega * omega);
-        }
-        let nl = self.links.len();
-        let eta = self.effects.loss_factor.unwrap_or(0.0);
-        let spring = Complex64::new(1.0, eta);
-        let mut d_loss = ZERO;
-        for (k, l) in self.links.iter().enumerate() {
-            let dx = node(x, l.b) - node(x, l.a);
-            let dw = node(w, l.b) - node(w, l.a);
-            let dy = -(scale * dw * dx);
-            gradient[self.n + k] = dy * spring;
-            gradient[self.n + nl + k] = dy * Complex64::new(0.0, omega);
-            // dZ/d eta = j c (e_b - e_a)(e_b - e_a)^T.
-            d_loss += dy * Complex64::new(0.0, values[self.n + k]);
-        }
-        // The friction's damper and spring ground the driven mass:
-        // dZ/db = j w e_d e_d^T, dZ/dk = e_d e_d^T.
-        let at_driven = -(scale * w[self.driven - 1] * x[self.driven - 1]);
-        let lag = match self.effects.lowpass_hz {
-            // L = 1 / (1 + j r), r = w / (2 pi fc): dL/dfc = L j r / (fc (1 + j r)).
-            Some(fc) => {
-                let jr = Complex64::new(0.0, omega / (2.0 * PI * fc));
-                g * jr / ((1.0 + jr) * fc)
+            let nl = self.links.len();
+            let eta = self.effects.loss_factor.unwrap_or(0.0);
+            let spring = Complex64::new(1.0, eta);
+            let mut d_loss = ZERO;
+            for (k, l) in self.links.iter().enumerate() {
+                let dx = node(x, l.b) - node(x, l.a);
+                let dw = node(w, l.b) - node(w, l.a);
+                let dy = -(scale * dw * dx);
+                gradient[self.n + k] = dy * spring;
+                gradient[self.n + nl + k] = dy * Complex64::new(0.0, omega);
+                // dZ/d eta = j c (e_b - e_a)(e_b - e_a)^T.
+                d_loss += dy * Complex64::new(0.0, values[self.n + k]);
             }
-            None => ZERO,
-        };
-        let effects = EffectGradient {
-            time_delay_s: g * Complex64::new(0.0, -omega),
-            lowpass_hz: lag,
-            gain_factor: g / self.effects.gain_factor.unwrap_or(1.0),
-            loss_factor: d_loss,
-            viscous_friction: at_driven * Complex64::new(0.0, omega),
-            pre_sliding_stiffness: at_driven,
-        };
-        Ok((g, effects))
+            // The friction's damper and spring ground the driven mass:
+            // dZ/db = j w e_d e_d^T, dZ/dk = e_d e_d^T.
+            let at_driven = -(scale * w[self.driven - 1] * x[self.driven - 1]);
+            let lag = match self.effects.lowpass_hz {
+                // L = 1 / (1 + j r), r = w / (2 pi fc): dL/dfc = L j r / (fc (1 + j r)).
+                Some(fc) => {
+                    let jr = Complex64::new(0.0, omega / (2.0 * PI * fc));
+                    g * jr / ((1.0 + jr) * fc)
+                }
+                None => ZERO,
+            };
+            let effects = EffectGradient {
+                time_delay_s: g * Complex64::new(0.0, -omega),
+                lowpass_hz: lag,
+                gain_factor: g / self.effects.gain_factor.unwrap_or(1.0),
+                loss_factor: d_loss,
+                viscous_friction: at_driven * Complex64::new(0.0, omega),
+                pre_sliding_stiffness: at_driven,
+            };
+            Ok((g, effects))
+        })
     }
 
     /// The position of every mass (`x_1 .. x_N`, relative to the ground)
@@ -491,10 +497,12 @@ impl ChainResponse {
         values: &[f64],
         freq_hz: f64,
     ) -> Result<Vec<Complex64>, ResponseError> {
-        let mut solver = self.solver(values, freq_hz)?;
-        self.solve(&mut solver, false);
-        let e = solver.effect;
-        Ok(solver.x[..self.n].iter().map(|&x| x * e).collect())
+        sized!(self.n, N, {
+            let mut solver = self.solver::<N>(values, freq_hz)?;
+            self.solve(&mut solver, false);
+            let e = solver.effect;
+            Ok(solver.x[..self.n].iter().map(|&x| x * e).collect())
+        })
     }
 
     /// `G` over a vector of frequencies.
@@ -506,7 +514,11 @@ impl ChainResponse {
         freq_hz.iter().map(|&f| self.eval(values, f)).collect()
     }
 
-    fn solver(&self, values: &[f64], freq_hz: f64) -> Result<Solver, ResponseError> {
+    fn solver<const N: usize>(
+        &self,
+        values: &[f64],
+        freq_hz: f64,
+    ) -> Result<Solver<N>, ResponseError> {
         if values.len() != self.n_parameters() {
             return Err(ResponseError::Count {
                 expected: self.n_parameters(),
@@ -520,8 +532,8 @@ impl ChainResponse {
         let omega = 2.0 * PI * freq_hz;
         // Z is tridiagonal: diagonal `d`, off-diagonal `e` (Z[i][i+1] =
         // Z[i+1][i] = e[i]).
-        let mut d = [ZERO; MAX];
-        let mut e = [ZERO; MAX];
+        let mut d = [ZERO; N];
+        let mut e = [ZERO; N];
         for i in 0..n {
             d[i] = Complex64::new(-omega * omega * values[i], 0.0);
         }
@@ -541,7 +553,7 @@ impl ChainResponse {
             }
             d[l.b - 1] += y;
         }
-        let lu = Tridiagonal::factor(d, e, n).ok_or(ResponseError::Singular(freq_hz))?;
+        let lu = Tridiagonal::factor(d, e).ok_or(ResponseError::Singular(freq_hz))?;
         let jw = Complex64::new(0.0, omega);
         let k = match self.output {
             Output::Position => Complex64::new(1.0, 0.0),
@@ -554,13 +566,13 @@ impl ChainResponse {
             omega,
             factor: k * effect,
             effect,
-            x: [ZERO; MAX],
-            w: [ZERO; MAX],
+            x: [ZERO; N],
+            w: [ZERO; N],
         })
     }
 
     /// `G` and, if asked, the adjoint solution; see [`Solver`].
-    fn solve(&self, solver: &mut Solver, with_adjoint: bool) -> Complex64 {
+    fn solve<const N: usize>(&self, solver: &mut Solver<N>, with_adjoint: bool) -> Complex64 {
         let n = self.n;
         for i in 0..n {
             solver.x[i] = Complex64::new(self.input[i], 0.0);
@@ -579,41 +591,84 @@ impl ChainResponse {
 }
 
 const MAX: usize = crate::model::MAX_MASSES;
+
+/// Runs `$body` with the constant `$N` equal to the chain's number of
+/// masses `$n` (1 to [`MAX`]), so that the solver's arrays have exactly
+/// that size: no array of the largest size is cleared or copied per line.
+macro_rules! sized {
+    ($n:expr, $N:ident, $body:block) => {
+        match $n {
+            1 => {
+                const $N: usize = 1;
+                $body
+            }
+            2 => {
+                const $N: usize = 2;
+                $body
+            }
+            3 => {
+                const $N: usize = 3;
+                $body
+            }
+            4 => {
+                const $N: usize = 4;
+                $body
+            }
+            5 => {
+                const $N: usize = 5;
+                $body
+            }
+            6 => {
+                const $N: usize = 6;
+                $body
+            }
+            7 => {
+                const $N: usize = 7;
+                $body
+            }
+            _ => {
+                const $N: usize = MAX;
+                $body
+            }
+        }
+    };
+}
+use sized;
 const ZERO: Complex64 = Complex64::new(0.0, 0.0);
 
 /// One frequency's factorised dynamic stiffness and solutions: `x = Z^-1
 /// b` and (for gradients) `w = Z^-1 c`; fixed-size arrays, no allocation
 /// per line.
-struct Solver {
-    lu: Tridiagonal,
+struct Solver<const N: usize> {
+    lu: Tridiagonal<N>,
     omega: f64,
     /// `(j w)^k` of the output times the effects' factor.
     factor: Complex64,
     /// Gain, delay and lag of the [`Effects`].
     effect: Complex64,
-    x: [Complex64; MAX],
-    w: [Complex64; MAX],
+    x: [Complex64; N],
+    w: [Complex64; N],
 }
 
 /// LU factorisation with partial pivoting of a complex symmetric
 /// tridiagonal matrix (row interchanges fill a second superdiagonal).
 /// Pivoting matters: the diagonal `c - w^2 m` passes through zero at the
 /// resonances of sub-chains.
-struct Tridiagonal {
-    n: usize,
+struct Tridiagonal<const N: usize> {
     /// Multipliers (sub-diagonal of L).
-    l: [Complex64; MAX],
+    l: [Complex64; N],
     /// Reciprocals of the diagonal of U.
-    d: [Complex64; MAX],
+    d: [Complex64; N],
     /// First and second superdiagonals of U.
-    u1: [Complex64; MAX],
-    u2: [Complex64; MAX],
+    u1: [Complex64; N],
+    u2: [Complex64; N],
     /// Whether rows i and i+1 were interchanged at step i.
-    swapped: [bool; MAX],
+    swapped: [bool; N],
 }
 
-impl Tridiagonal {
-    fn factor(mut d: [Complex64; MAX], e: [Complex64; MAX], n: usize) -> Option<Tridiagonal> {
+impl<const N: usize> Tridiagonal<N> {
+    fn factor(mut d: [Complex64; N], e: [Complex64; N]) -> Option<Tridiagonal<N>> {
+        let n = N;
         // Squared moduli throughout: `norm()` is a hypot call, too slow for
         // the inner loop of a fit.
         let scale = d[..n]
@@ -622,10 +677,10 @@ impl Tridiagonal {
             .map(|z| z.norm_sqr())
             .fold(0.0, f64::max);
         let tiny = scale * 1e-30;
-        let mut l = [ZERO; MAX];
+        let mut l = [ZERO; N];
         let mut u1 = e; // superdiagonal, before interchanges
-        let mut u2 = [ZERO; MAX];
-        let mut swapped = [false; MAX];
+        let mut u2 = [ZERO; N];
+        let mut swapped = [false; N];
         for i in 0..n.saturating_sub(1) {
             let sub = e[i]; // Z[i+1][i]
             if d[i].norm_sqr() >= sub.norm_sqr() {
@@ -656,12 +711,11 @@ impl Tridiagonal {
         }
         // Solves multiply by the reciprocal pivots: one division each here
         // instead of one per solve.
-        let mut inv = [ZERO; MAX];
+        let mut inv = [ZERO; N];
         for i in 0..n {
             inv[i] = d[i].inv();
         }
         Some(Tridiagonal {
-            n,
             l,
             d: inv,
             u1,
@@ -671,7 +725,7 @@ impl Tridiagonal {
     }
 
     fn solve(&self, b: &mut [Complex64]) {
-        let n = self.n;
+        let n = N;
         for i in 0..n.saturating_sub(1) {
             if self.swapped[i] {
                 b.swap(i, i + 1);
