@@ -1190,4 +1190,162 @@ mod tests {
             .all(|h| *h == Complex64::new(0.0, 0.0)));
         assert!(est.frf.coherence().unwrap().iter().all(|&c| c == 0.0));
     }
+
+    /// The H1 estimates, coherences and standard deviations of the real
+    /// recordings are those of the transforms this crate used before
+    /// rustfft, within 1e-12 of each line's size: Welch averaging at the
+    /// default power-of-two segment length and at an odd one (Bluestein's
+    /// path then), periodic averaging (F16, 8192-sample periods) and the
+    /// 3-point estimate of a closed loop (TU/e 2018).
+    #[test]
+    fn estimates_equal_those_of_the_reference_transforms() {
+        use crate::recording::{read_recording, RecordingOptions, SignalRef};
+        let real =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/real");
+        let sig = |s: &str| s.parse::<SignalRef>().unwrap();
+        let sperte = |nfft: Option<usize>| RecordingOptions {
+            u: Some(sig("result:1")),
+            y: Some(sig("result:2")),
+            fs: Some(4000.0),
+            welch: WelchOptions {
+                nfft,
+                ..WelchOptions::default()
+            },
+            ..RecordingOptions::default()
+        };
+        let cases = [
+            ("sperte/setup18_motor_side_v0.3.mat", sperte(None)),
+            ("sperte/setup29_load_side_v0.5.mat", sperte(Some(3000))),
+            (
+                "f16_gvt/F16Data_FullMSine_Level1.mat",
+                RecordingOptions {
+                    u: Some(sig("Force")),
+                    y: Some(sig("Acceleration:1")),
+                    welch: WelchOptions {
+                        period: Some(8192),
+                        ..WelchOptions::default()
+                    },
+                    ..RecordingOptions::default()
+                },
+            ),
+            (
+                "tue_motion_2018/scan_10hz_with_feedforward.mat",
+                RecordingOptions {
+                    u: Some(sig("Data.u")),
+                    y: Some(sig("Data.y1")),
+                    excitation: Some(sig("Data.r")),
+                    ..RecordingOptions::default()
+                },
+            ),
+        ];
+        // Lines the record measures: a standard deviation of at most a
+        // tenth of the response.
+        const MEASURED: f64 = 0.1;
+        for (file, options) in &cases {
+            let path = real.join(file);
+            let planned = read_recording(&path, options).unwrap().frf;
+            let reference =
+                crate::fft::reference::with(|| read_recording(&path, options).unwrap().frf);
+            assert_eq!(planned.freq_hz(), reference.freq_hz(), "{file}");
+            let mut worst = 0.0f64;
+            let (mut worst_coherence, mut worst_std) = (0.0f64, 0.0f64);
+            let (mut worst_measured, mut worst_against_sigma) = (0.0f64, 0.0f64);
+            for k in 0..planned.len() {
+                let (a, b) = (planned.response()[k], reference.response()[k]);
+                let size = a.norm().max(b.norm());
+                // Against the line's own standard deviation: the change is
+                // eight orders of magnitude below what the record can tell.
+                if let Some(d) = planned.std_dev() {
+                    if d[k] > 0.0 {
+                        worst_against_sigma = worst_against_sigma.max((a - b).norm() / d[k]);
+                    }
+                    assert!(
+                        (a - b).norm() <= 1e-12 * size + 1e-8 * d[k],
+                        "{file} line {k}: {a} vs {b}, standard deviation {}",
+                        d[k]
+                    );
+                }
+                if size > 0.0 {
+                    let rel = (a - b).norm() / size;
+                    worst = worst.max(rel);
+                    // Only what the record measures: a line at the noise
+                    // floor carries the transform's rounding, which is
+                    // relative to the segment's whole energy.
+                    if planned.std_dev().is_none_or(|d| d[k] <= MEASURED * size) {
+                        worst_measured = worst_measured.max(rel);
+                    }
+                }
+                if let (Some(c), Some(d)) = (planned.coherence(), reference.coherence()) {
+                    worst_coherence = worst_coherence.max((c[k] - d[k]).abs());
+                }
+                if let (Some(c), Some(d)) = (planned.std_dev(), reference.std_dev()) {
+                    if c[k] != d[k] {
+                        worst_std = worst_std.max((c[k] - d[k]).abs() / c[k].abs().max(d[k].abs()));
+                    }
+                }
+            }
+            eprintln!(
+                "{file}: H1 {worst_measured:e} (measured lines), {worst:e} (all lines), \
+                 {worst_against_sigma:e} of the standard deviation; \
+                 coherence {worst_coherence:e}; standard deviation {worst_std:e}"
+            );
+            // Derived from ratios of the averaged spectra, which amplify
+            // the transform's rounding (the standard deviation goes with
+            // (1 - coherence) / coherence, steep near a coherence of 1).
+            assert!(
+                worst_coherence <= 1e-10,
+                "{file}: coherence {worst_coherence:e}"
+            );
+            assert!(
+                worst_std <= 1e-9,
+                "{file}: standard deviation {worst_std:e}"
+            );
+        }
+    }
+
+    /// The H1 estimate's time with the planner's transforms and with the
+    /// reference ones, for docs/performance.md (release: `cargo test
+    /// --release -p frf --lib -- --ignored h1_speed --nocapture`): the
+    /// 500000 samples of SPERTE setup 29 at the default segment length
+    /// (a power of two) and at 3000 and 3001 samples (odd lengths).
+    #[test]
+    #[ignore = "timing; meaningful in release only"]
+    fn h1_speed() {
+        use crate::recording::{read_recording, RecordingOptions, SignalRef};
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../../shared/data/real/sperte/setup29_load_side_v0.5.mat");
+        let sig = |s: &str| s.parse::<SignalRef>().unwrap();
+        for nfft in [None, Some(3000), Some(3001)] {
+            let options = RecordingOptions {
+                u: Some(sig("result:1")),
+                y: Some(sig("result:2")),
+                fs: Some(4000.0),
+                welch: WelchOptions {
+                    nfft,
+                    ..WelchOptions::default()
+                },
+                ..RecordingOptions::default()
+            };
+            let samples = read_recording(&path, &options).unwrap().samples.unwrap();
+            let time = |f: &dyn Fn() -> H1Estimate| {
+                let mut best = f64::INFINITY;
+                let mut est = None;
+                for _ in 0..7 {
+                    let t = std::time::Instant::now();
+                    est = Some(f());
+                    best = best.min(t.elapsed().as_secs_f64());
+                }
+                (best, est.unwrap())
+            };
+            let run = || h1(&samples.u, &samples.y, samples.fs, &options.welch).unwrap();
+            let (planned, e) = time(&run);
+            let (reference, _) = time(&|| crate::fft::reference::with(run));
+            eprintln!(
+                "nfft {}: planner {:.1} ms, reference {:.1} ms",
+                e.nfft,
+                planned * 1e3,
+                reference * 1e3
+            );
+        }
+    }
 }
