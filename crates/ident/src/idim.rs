@@ -306,15 +306,12 @@ pub(crate) fn filtfilt(sections: &[[f64; 5]], x: &[f64], pad: usize) -> Vec<f64>
         section_chunked(s, &mut v);
     }
     // Backward: the reversed record, up to the last kept sample (the
-    // leading padding's outputs are dropped).
-    v.reverse();
-    v.truncate(pad + n);
+    // leading padding's outputs are dropped), copied reversed at once.
+    let mut w: Vec<f64> = v[pad..].iter().rev().copied().collect();
     for s in sections {
-        section_chunked(s, &mut v);
+        section_chunked(s, &mut w);
     }
-    v.drain(..pad);
-    v.reverse();
-    v
+    w[pad..].iter().rev().copied().collect()
 }
 
 /// The decimated regressor columns named in `names` and the decimated

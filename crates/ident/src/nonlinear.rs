@@ -563,15 +563,15 @@ impl Problem<'_> {
     fn residual(&self, kinds: &[EffectKind], x: &[f64]) -> (Vec<f64>, f64) {
         match self.all_errors(kinds, x) {
             Some(all) => {
-                let r: Vec<f64> = all
-                    .into_iter()
-                    .flat_map(|e| {
-                        e.into_iter()
-                            .zip(&self.held)
-                            .filter(|(_, &h)| !h)
-                            .map(|(v, _)| v)
-                    })
-                    .collect();
+                // Plain loops: this runs once per simulation of a search.
+                let mut r = Vec::with_capacity(all.iter().map(Vec::len).sum());
+                for e in &all {
+                    for (&v, &h) in e.iter().zip(&self.held) {
+                        if !h {
+                            r.push(v);
+                        }
+                    }
+                }
                 let rss = r.iter().map(|v| v * v).sum();
                 (r, rss)
             }

@@ -436,13 +436,16 @@ impl Simulator {
         let mut y = Vec::with_capacity(u.len());
         let dot = |w: &[f64], v: &[f64]| w.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
         let accelerations = self.output == Output::Acceleration;
+        // The sensor's read, chosen once: this runs once per sample.
+        let read: for<'a> fn(&Now<'a>) -> &'a [f64] = match self.output {
+            Output::Position => |s| &s.x[1..],
+            Output::Velocity => |s| &s.v[1..],
+            Output::Acceleration => |s| &s.a[1..],
+        };
         self.open_loop(u, accelerations, |s| {
-            y.push(match self.output {
-                Output::Position => dot(&self.sensor, &s.x[1..]),
-                Output::Velocity => dot(&self.sensor, &s.v[1..]),
-                Output::Acceleration => dot(&self.sensor, &s.a[1..]),
-            });
-            y.last().is_some_and(|v| v.is_finite())
+            let v = dot(&self.sensor, read(s));
+            y.push(v);
+            v.is_finite()
         })?;
         Ok(y)
     }
