@@ -888,88 +888,42 @@ pub fn html_page(title: &str, md: &str, svg: &str) -> String {
     s
 }
 
-/// The small Markdown subset the report uses (headings, tables, lists,
-/// paragraphs, bold, code) as HTML, escaped.
+/// The report's Markdown as HTML (CommonMark with tables, by
+/// pulldown-cmark; raw HTML in the text is escaped, as the text comes from
+/// file and variable names).
 fn markdown_to_html(md: &str) -> String {
-    let esc = |t: &str| {
-        let t = t
-            .replace('&', "&amp;")
-            .replace('<', "&lt;")
-            .replace('>', "&gt;");
-        let mut out = String::new();
-        for (i, part) in t.split("**").enumerate() {
-            if i % 2 == 1 {
-                let _ = write!(out, "<b>{part}</b>");
-            } else {
-                for (j, q) in part.split('`').enumerate() {
-                    if j % 2 == 1 {
-                        let _ = write!(out, "<code>{q}</code>");
-                    } else {
-                        out.push_str(q);
-                    }
-                }
-            }
-        }
-        out
-    };
+    use pulldown_cmark::{Event, Options, Parser};
+    let events = Parser::new_ext(md, Options::ENABLE_TABLES).map(|e| match e {
+        Event::Html(t) | Event::InlineHtml(t) => Event::Text(t),
+        other => other,
+    });
     let mut out = String::new();
-    let mut in_table = false;
-    let mut in_list = false;
-    for line in md.lines() {
-        let cells = |l: &str| -> Vec<String> {
-            l.trim()
-                .trim_matches('|')
-                .split('|')
-                .map(|c| esc(c.trim()))
-                .collect()
-        };
-        if line.starts_with('|') {
-            if line.contains("---") {
-                continue;
-            }
-            if !in_table {
-                out.push_str("<table>\n<tr>");
-                for c in cells(line) {
-                    let _ = write!(out, "<th>{c}</th>");
-                }
-                out.push_str("</tr>\n");
-                in_table = true;
-            } else {
-                out.push_str("<tr>");
-                for c in cells(line) {
-                    let _ = write!(out, "<td>{c}</td>");
-                }
-                out.push_str("</tr>\n");
-            }
-            continue;
-        } else if in_table {
-            out.push_str("</table>\n");
-            in_table = false;
-        }
-        if let Some(item) = line.strip_prefix("- ") {
-            if !in_list {
-                out.push_str("<ul>\n");
-                in_list = true;
-            }
-            let _ = writeln!(out, "<li>{}</li>", esc(item));
-            continue;
-        } else if in_list {
-            out.push_str("</ul>\n");
-            in_list = false;
-        }
-        if let Some(h) = line.strip_prefix("## ") {
-            let _ = writeln!(out, "<h2>{}</h2>", esc(h));
-        } else if let Some(h) = line.strip_prefix("# ") {
-            let _ = writeln!(out, "<h1>{}</h1>", esc(h));
-        } else if !line.trim().is_empty() {
-            let _ = writeln!(out, "<p>{}</p>", esc(line));
-        }
-    }
-    if in_table {
-        out.push_str("</table>\n");
-    }
-    if in_list {
-        out.push_str("</ul>\n");
-    }
+    pulldown_cmark::html::push_html(&mut out, events);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::markdown_to_html;
+
+    /// Tables, emphasis, code and lists become their HTML elements, and
+    /// text that looks like HTML stays text.
+    #[test]
+    fn report_markdown_becomes_html() {
+        let md = "# Report\n\n**type** `C`, for <script>x</script>\n\n\
+                  | structure | m1 |\n|---|---:|\n| A1 | 1e-3 |\n\n- one\n- two\n";
+        let html = markdown_to_html(md);
+        assert!(html.contains("<h1>Report</h1>"), "{html}");
+        assert!(html.contains("<strong>type</strong>"), "{html}");
+        assert!(html.contains("<code>C</code>"), "{html}");
+        assert!(html.contains("&lt;script&gt;"), "{html}");
+        assert!(!html.contains("<script>"), "{html}");
+        assert!(html.contains("<th>structure</th>"), "{html}");
+        assert!(
+            html.contains("<td style=\"text-align: right\">1e-3</td>"),
+            "{html}"
+        );
+        assert!(!html.contains("---"), "{html}");
+        assert!(html.contains("<li>two</li>"), "{html}");
+    }
 }

@@ -8,6 +8,17 @@ use crate::scene::{Anchor, Color, MarkerShape, Prim, Rect, Scene, Stroke, Text};
 
 type Point = (f64, f64);
 
+// The backends depend on the scene, never the reverse: each adds its own
+// output method here.
+impl Scene {
+    /// The figure as an 8-bit RGB PNG file. See [`crate::Bode::to_png`].
+    pub fn to_png(&self) -> Vec<u8> {
+        let (w, h) = (self.width.max(1), self.height.max(1));
+        let rgb = render(self, w as usize, h as usize);
+        crate::png::encode(w, h, &rgb)
+    }
+}
+
 /// Draws `scene` into `width * height * 3` bytes of RGB, rows top down.
 pub(crate) fn render(scene: &Scene, width: usize, height: usize) -> Vec<u8> {
     let bg = scene.background;

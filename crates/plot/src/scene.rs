@@ -369,19 +369,6 @@ impl Scene {
         }
     }
 
-    /// The figure as standalone SVG 1.1 text, also valid inline in HTML.
-    /// See [`crate::Bode::to_svg`].
-    pub fn to_svg(&self) -> String {
-        crate::svg::render(self)
-    }
-
-    /// The figure as an 8-bit RGB PNG file. See [`crate::Bode::to_png`].
-    pub fn to_png(&self) -> Vec<u8> {
-        let (w, h) = (self.width.max(1), self.height.max(1));
-        let rgb = crate::raster::render(self, w as usize, h as usize);
-        crate::png::encode(w, h, &rgb)
-    }
-
     pub(crate) fn primitives(&self) -> Vec<Prim> {
         let mut out = Vec::new();
         for panel in &self.panels {

@@ -8,7 +8,17 @@ use std::fmt::Write;
 
 use crate::scene::{Anchor, Color, MarkerShape, Prim, Scene};
 
-pub(crate) fn render(scene: &Scene) -> String {
+// The backends depend on the scene, never the reverse: each adds its own
+// output method here.
+impl Scene {
+    /// The figure as standalone SVG 1.1 text, also valid inline in HTML.
+    /// See [`crate::Bode::to_svg`].
+    pub fn to_svg(&self) -> String {
+        render(self)
+    }
+}
+
+fn render(scene: &Scene) -> String {
     let (w, h) = (scene.width, scene.height);
     let mut s = String::new();
     // Writing to a String cannot fail, hence the ignored results below.
