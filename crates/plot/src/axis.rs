@@ -98,7 +98,11 @@ impl Axis {
     /// ticks at 2..9 times the decade. Decades are labelled "0.1", "1",
     /// "10", "100", "1k", "10k", "1M"; when fewer than three decade ticks
     /// fall in the range, the 2 and 5 ticks are labelled too, and if that
-    /// still gives fewer than two labels, all ticks are.
+    /// still gives fewer than two labels, all ticks are. Where a stretch
+    /// shorter than a decade but longer than a third of the axis would
+    /// still have no label, labelled ticks at 1.5 and 2.5 times the decade
+    /// are added (then all ticks labelled), and a range too narrow for
+    /// any of these gets round linear steps.
     /// Bounds that are not finite and positive fall back to `1..=1000`; a
     /// single value is widened to a factor of 2 either side.
     ///
@@ -215,31 +219,119 @@ fn log_ticks(lo: f64, hi: f64) -> Vec<Tick> {
     } else {
         &[1, 2, 3, 4, 5, 6, 7, 8, 9]
     };
+    // Ticks as (mantissa in tenths, exponent): 15 is 1.5 x 10^e.
+    let mut ticks: Vec<(u32, i32, bool)> = ticks
+        .into_iter()
+        .map(|(m, e)| (10 * m, e, labelled.contains(&m)))
+        .collect();
+    // A short range can leave a long stretch without a label (54-194 Hz:
+    // nothing between 100 and 194): labelled half steps fill such a gap,
+    // so that no more than a third of the axis goes unlabelled, apart from
+    // whole decades between labelled decades.
+    if stride == 1 {
+        let span = (hi / lo).log10();
+        let at = |t: &(u32, i32, bool)| f64::from(t.0) / 10.0 * 10f64.powi(t.1);
+        let largest_gap = |ticks: &[(u32, i32, bool)]| {
+            let mut marks: Vec<f64> = ticks.iter().filter(|t| t.2).map(at).collect();
+            marks.push(lo);
+            marks.push(hi);
+            marks.sort_by(f64::total_cmp);
+            marks
+                .windows(2)
+                .map(|w| (w[1] / w[0]).log10())
+                .filter(|&d| d < 1.0 - 1e-9)
+                .map(|d| d / span)
+                .fold(0.0, f64::max)
+        };
+        if largest_gap(&ticks) > 1.0 / 3.0 {
+            for e in e0..=e1 {
+                for m in [15, 25] {
+                    if inside(f64::from(m) / 10.0 * 10f64.powi(e)) {
+                        ticks.push((m, e, true));
+                    }
+                }
+            }
+            // Every integer mantissa labelled too where that is all the
+            // range holds.
+            if largest_gap(&ticks) > 1.0 / 3.0 {
+                ticks.iter_mut().for_each(|t| t.2 = true);
+            }
+            ticks.sort_by(|a, b| at(a).total_cmp(&at(b)));
+        }
+    }
+    // A range within one step of the mantissas (105-118 Hz): round linear
+    // steps, as a linear axis of the same range would have.
+    let at = |t: &(u32, i32, bool)| f64::from(t.0) / 10.0 * 10f64.powi(t.1);
+    let mut marks: Vec<f64> = ticks.iter().filter(|t| t.2).map(at).collect();
+    let sparse = marks.len() < 3 || {
+        marks.extend([lo, hi]);
+        marks.sort_by(f64::total_cmp);
+        let span = (hi / lo).log10();
+        marks.windows(2).any(|w| {
+            let d = (w[1] / w[0]).log10();
+            d < 1.0 - 1e-9 && d / span > 1.0 / 3.0
+        })
+    };
+    if sparse {
+        // The largest step of 1, 2 or 5 x 10^k that gives four ticks.
+        let mut step = nice_step((hi - lo) / 4.0);
+        for _ in 0..4 {
+            let within: Vec<Tick> = linear_ticks(lo, hi, step)
+                .into_iter()
+                .filter(|t| inside(t.value))
+                .collect();
+            if within.len() >= 4 {
+                return within;
+            }
+            step = nice_step(step / 2.6);
+        }
+    }
     ticks
         .into_iter()
-        .map(|(m, e)| Tick {
-            value: f64::from(m) * 10f64.powi(e),
-            label: labelled.contains(&m).then(|| si_label(m, e)),
-            major: m == 1,
+        .map(|(m, e, labelled)| Tick {
+            value: f64::from(m) / 10.0 * 10f64.powi(e),
+            label: labelled.then(|| si_label(m, e - 1)),
+            major: m == 10,
         })
         .collect()
 }
 
-/// `m x 10^e` written with an SI suffix: "200", "1k", "50k", "0.02".
+/// `m x 10^e` written with an SI suffix: "200", "1k", "50k", "0.02",
+/// "150", "1.5k" (`m` a positive integer of one or more digits).
 fn si_label(m: u32, e: i32) -> String {
-    let (suffix, shift) = match e {
-        13.. | ..=-7 => return format!("{m}e{e}"),
+    let digits = m.to_string();
+    // The exponent of the leading digit decides the suffix.
+    let lead = e + digits.len() as i32 - 1;
+    let (suffix, shift) = match lead {
+        13.. | ..=-7 => {
+            let rest = digits[1..].trim_end_matches('0');
+            let point = if rest.is_empty() { "" } else { "." };
+            return format!("{}{point}{rest}e{lead}", &digits[..1]);
+        }
         9..=12 => ("G", 9),
         6..=8 => ("M", 6),
         3..=5 => ("k", 3),
         _ => ("", 0),
     };
-    let e = e - shift;
-    if e >= 0 {
-        format!("{m}{}{suffix}", "0".repeat(e as usize))
+    let k = e - shift;
+    let text = if k >= 0 {
+        format!("{digits}{}", "0".repeat(k as usize))
     } else {
-        format!("0.{}{m}", "0".repeat((-e - 1) as usize))
-    }
+        let point = digits.len() as i32 + k;
+        let s = if point > 0 {
+            format!(
+                "{}.{}",
+                &digits[..point as usize],
+                &digits[point as usize..]
+            )
+        } else {
+            format!("0.{}{digits}", "0".repeat((-point) as usize))
+        };
+        // 1.50 reads 1.5; 2.0 reads 2.
+        let s = s.trim_end_matches('0');
+        s.trim_end_matches('.').to_string()
+    };
+    format!("{text}{suffix}")
 }
 
 #[cfg(test)]
@@ -292,8 +384,18 @@ mod tests {
             labels(&Axis::log(0.5, 10.0, "")),
             ["0.5", "1", "2", "5", "10"]
         );
-        assert_eq!(labels(&Axis::log(15.0, 60.0, "")), ["20", "50"]);
-        assert_eq!(labels(&Axis::log(2.1, 4.5, "")), ["3", "4"]);
+        assert_eq!(
+            labels(&Axis::log(15.0, 60.0, "")),
+            ["15", "20", "25", "30", "40", "50", "60"]
+        );
+        assert_eq!(
+            labels(&Axis::log(2.1, 4.5, "")),
+            ["2.5", "3.0", "3.5", "4.0", "4.5"]
+        );
+        assert_eq!(
+            labels(&Axis::log(105.0, 118.0, "")),
+            ["106", "108", "110", "112", "114", "116", "118"]
+        );
         assert_eq!(Axis::log(1.0, 1000.0, "").ticks.len(), 28);
         let wide = Axis::log(1e-30, 1e30, "");
         assert!(wide.ticks.len() <= 11 && wide.ticks.iter().all(|t| t.major));
@@ -318,5 +420,80 @@ mod tests {
         assert_eq!(si_label(1, -1), "0.1");
         assert_eq!(si_label(2, -2), "0.02");
         assert_eq!(si_label(1, 15), "1e15");
+        assert_eq!(si_label(15, 1), "150");
+        assert_eq!(si_label(15, 2), "1.5k");
+        assert_eq!(si_label(25, -2), "0.25");
+        assert_eq!(si_label(15, -4), "0.0015");
+        assert_eq!(si_label(10, 0), "10");
+        assert_eq!(si_label(10, -1), "1");
+        assert_eq!(si_label(15, 14), "1.5e15");
+    }
+
+    /// The ranges of real plots (a diagnosis band of 54-194 Hz, the F16
+    /// band of 2-15 Hz, a discrete-time axis of 0.004-0.3 cycles/sample,
+    /// and others): every decade the range reaches has a labelled tick, the
+    /// axis has at least 3 labels, no third of it goes unlabelled (but for
+    /// whole decades between labelled decades), and the labels read their
+    /// tick's value.
+    #[test]
+    fn log_axes_are_labelled_over_short_and_long_ranges() {
+        for (lo, hi) in [
+            (54.0, 194.0),
+            (2.0, 15.0),
+            (0.004, 0.3),
+            (0.9766, 258.8),
+            (105.0, 118.0),
+            (1.0, 1e4),
+            (0.12, 2000.0),
+            (40.0, 60.0),
+        ] {
+            let axis = Axis::log(lo, hi, "");
+            let marks: Vec<&Tick> = axis.ticks.iter().filter(|t| t.label.is_some()).collect();
+            assert!(marks.len() >= 3, "{lo}-{hi}: {:?}", labels(&axis));
+            for t in &marks {
+                let text = t.label.as_ref().unwrap();
+                let read: f64 = match text.strip_suffix('k') {
+                    Some(v) => v.parse::<f64>().unwrap() * 1e3,
+                    None => text.parse().unwrap(),
+                };
+                assert!(
+                    (read / t.value - 1.0).abs() < 1e-12,
+                    "{text} at {}",
+                    t.value
+                );
+            }
+            let (e0, e1) = (
+                lo.log10().floor() as i32,
+                (hi.log10() - 1e-12).floor() as i32,
+            );
+            for e in e0..=e1 {
+                let (a, b) = (10f64.powi(e).max(lo), 10f64.powi(e + 1).min(hi));
+                // A decade of which the range holds more than a fifth.
+                if (b / a).log10() > 0.2 {
+                    assert!(
+                        marks
+                            .iter()
+                            .any(|t| t.value >= a * (1.0 - 1e-9) && t.value <= b * (1.0 + 1e-9)),
+                        "{lo}-{hi}: no label in {a}-{b}: {:?}",
+                        labels(&axis)
+                    );
+                }
+            }
+            let mut at: Vec<f64> = marks.iter().map(|t| t.value).collect();
+            at.extend([lo, hi]);
+            at.sort_by(f64::total_cmp);
+            let span = (hi / lo).log10();
+            let gap = at
+                .windows(2)
+                .map(|w| (w[1] / w[0]).log10())
+                .filter(|&d| d < 1.0 - 1e-9)
+                .map(|d| d / span)
+                .fold(0.0, f64::max);
+            assert!(
+                gap <= 1.0 / 3.0 + 1e-9,
+                "{lo}-{hi}: gap {gap}: {:?}",
+                labels(&axis)
+            );
+        }
     }
 }
