@@ -689,6 +689,51 @@ impl Interp {
 mod tests {
     use super::*;
 
+    /// The models' lines are drawn after (over) the measured points in
+    /// every panel, whichever order the traces were added in.
+    #[test]
+    fn models_are_drawn_over_the_data() {
+        let f: Vec<f64> = (1..200).map(f64::from).collect();
+        let h: Vec<Complex64> = f.iter().map(|&f| Complex64::new(1.0 / f, -0.1)).collect();
+        let mut scene = Bode::new("")
+            .trace("model", &f, &h, Style::line())
+            .trace("recording", &f, &h, Style::points())
+            .scene();
+        // The legend, drawn last, holds a marker of its own.
+        scene.overlay.clear();
+        let prims = scene.primitives();
+        let last_marker = prims
+            .iter()
+            .rposition(|p| matches!(p, crate::scene::Prim::Marker { .. }))
+            .expect("markers");
+        let model = PALETTE[0];
+        let first_model_line = prims
+            .iter()
+            .position(
+                |p| matches!(p, crate::scene::Prim::Path { stroke, .. } if stroke.color == model),
+            )
+            .expect("model line");
+        let first_marker = prims
+            .iter()
+            .position(|p| matches!(p, crate::scene::Prim::Marker { .. }))
+            .unwrap();
+        assert!(
+            first_model_line > first_marker,
+            "{first_model_line} {first_marker}"
+        );
+        // The last panel's markers come before its model line too.
+        let last_model_line = prims
+            .iter()
+            .rposition(
+                |p| matches!(p, crate::scene::Prim::Path { stroke, .. } if stroke.color == model),
+            )
+            .unwrap();
+        assert!(
+            last_model_line > last_marker,
+            "{last_model_line} {last_marker}"
+        );
+    }
+
     fn trace(f: &[f64], h: &[Complex64]) -> Trace {
         Trace {
             label: String::new(),

@@ -448,13 +448,15 @@ fn lower_panel(panel: &Panel, out: &mut Vec<Prim>) {
         }
     }
 
-    for line in &panel.lines {
-        let points = line.points.iter().map(|&(x, y)| (x_px(x), y_px(y)));
-        push_runs(out, points, Some(r), line.stroke);
-    }
+    // Markers (measured points) first and lines (models) over them: a
+    // model under thousands of dense points could not be seen.
     for m in &panel.markers {
         let points = m.points.iter().map(|&(x, y)| (x_px(x), y_px(y)));
         push_markers(out, m, points, Some(r));
+    }
+    for line in &panel.lines {
+        let points = line.points.iter().map(|&(x, y)| (x_px(x), y_px(y)));
+        push_runs(out, points, Some(r), line.stroke);
     }
 
     let (l, t, rt, b) = (snap(left), snap(top), snap(right - 1.0), snap(bottom - 1.0));
