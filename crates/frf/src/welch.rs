@@ -1191,6 +1191,24 @@ mod tests {
         assert!(est.frf.coherence().unwrap().iter().all(|&c| c == 0.0));
     }
 
+    /// A SPERTE record's signals (4 kHz) at segment length `nfft`.
+    fn sperte(nfft: Option<usize>) -> crate::recording::RecordingOptions {
+        crate::recording::RecordingOptions {
+            u: Some(sig("result:1")),
+            y: Some(sig("result:2")),
+            fs: Some(4000.0),
+            welch: WelchOptions {
+                nfft,
+                ..WelchOptions::default()
+            },
+            ..Default::default()
+        }
+    }
+
+    fn sig(s: &str) -> crate::recording::SignalRef {
+        s.parse().unwrap()
+    }
+
     /// The H1 estimates, coherences and standard deviations of the real
     /// recordings are those of the transforms this crate used before
     /// rustfft, within 1e-12 of each line's size: Welch averaging at the
@@ -1199,20 +1217,9 @@ mod tests {
     /// 3-point estimate of a closed loop (TU/e 2018).
     #[test]
     fn estimates_equal_those_of_the_reference_transforms() {
-        use crate::recording::{read_recording, RecordingOptions, SignalRef};
+        use crate::recording::{read_recording, RecordingOptions};
         let real =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/real");
-        let sig = |s: &str| s.parse::<SignalRef>().unwrap();
-        let sperte = |nfft: Option<usize>| RecordingOptions {
-            u: Some(sig("result:1")),
-            y: Some(sig("result:2")),
-            fs: Some(4000.0),
-            welch: WelchOptions {
-                nfft,
-                ..WelchOptions::default()
-            },
-            ..RecordingOptions::default()
-        };
         let cases = [
             ("sperte/setup18_motor_side_v0.3.mat", sperte(None)),
             ("sperte/setup29_load_side_v0.5.mat", sperte(Some(3000))),
@@ -1311,21 +1318,11 @@ mod tests {
     #[test]
     #[ignore = "timing; meaningful in release only"]
     fn h1_speed() {
-        use crate::recording::{read_recording, RecordingOptions, SignalRef};
+        use crate::recording::read_recording;
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../../shared/data/real/sperte/setup29_load_side_v0.5.mat");
-        let sig = |s: &str| s.parse::<SignalRef>().unwrap();
         for nfft in [None, Some(3000), Some(3001)] {
-            let options = RecordingOptions {
-                u: Some(sig("result:1")),
-                y: Some(sig("result:2")),
-                fs: Some(4000.0),
-                welch: WelchOptions {
-                    nfft,
-                    ..WelchOptions::default()
-                },
-                ..RecordingOptions::default()
-            };
+            let options = sperte(nfft);
             let samples = read_recording(&path, &options).unwrap().samples.unwrap();
             let time = |f: &dyn Fn() -> H1Estimate| {
                 let mut best = f64::INFINITY;
