@@ -320,8 +320,17 @@ pub fn diagnose_recording(
     // cores as there are (the time-domain parts dominate); the results do
     // not depend on which core ran them.
     let whole = || -> Result<_, DiagnosisError> {
-        let (fd, td) = rayon::join(
-            || frequency_part(frf, band, model, o),
+        let ((fd, frequency_model), td) = rayon::join(
+            || {
+                let fd = frequency_part(frf, band, model, o);
+                let error = match (&fd, samples) {
+                    (Ok(Some(f)), Some(s)) => {
+                        frequency_model_error(s, model, closed_loop, f, corner, o)
+                    }
+                    _ => None,
+                };
+                (fd, error)
+            },
             || match (samples, band) {
                 (Some(s), Some(_)) => Some(time_part(s, 0, model, closed_loop, corner, o)),
                 _ => None,
@@ -333,15 +342,7 @@ pub fn diagnose_recording(
             (Some(_), Some(td)) => Some(td?),
             _ => None,
         };
-        let errors = cross_check(
-            samples,
-            model,
-            closed_loop,
-            fd.as_ref(),
-            td.as_ref(),
-            corner,
-            o,
-        );
+        let errors = cross_check(fd.as_ref(), td.as_ref(), frequency_model);
         Ok((fd, td, errors))
     };
     let (main, reruns) = rayon::join(whole, || {
@@ -686,20 +687,36 @@ fn time_part(
     })
 }
 
-/// How the frequency domain's model does on the held-out samples, next to
-/// the time domain's models.
+/// How the frequency domain's model does on the held-out samples of the
+/// time domain's window (`frequency_model`, from
+/// [`frequency_model_error`]), next to the time domain's models.
 fn cross_check(
-    samples: Option<&Samples>,
-    model: &ModelFile,
-    closed_loop: Option<&LoopRecord>,
     fd: Option<&Diagnosis>,
     td: Option<&TimeDiagnosis>,
+    frequency_model: Option<f64>,
+) -> Option<HeldOutErrors> {
+    let (_, t) = (fd?, td?);
+    let h = t.held_out?;
+    Some(HeldOutErrors {
+        linear: (h.before / h.samples as f64).sqrt(),
+        frequency_model,
+        time_model: (h.after / h.samples as f64).sqrt(),
+    })
+}
+
+/// The RMS error of the frequency domain's model `f` on the held-out
+/// samples of the time domain's window (the record's first samples), as
+/// the time domain scores its own models. It needs nothing of the time
+/// domain's result, so it runs beside it.
+fn frequency_model_error(
+    s: &Samples,
+    model: &ModelFile,
+    closed_loop: Option<&LoopRecord>,
+    f: &Diagnosis,
     corner: Option<f64>,
     o: &DiagnosisOptions,
-) -> Option<HeldOutErrors> {
-    let (s, f, t) = (samples?, fd?, td?);
-    let h = t.held_out?;
-    let w = t.samples;
+) -> Option<f64> {
+    let w = time_window(s.u.len(), closed_loop.is_some(), o);
     // The frequency domain's model with the input's nonlinear effects
     // back, which the FRF could not see.
     let m = ModelFile {
@@ -712,18 +729,14 @@ fn cross_check(
         ..f.model_after.clone()
     };
     let loop_window = closed_loop.map(|l| l.window(0..w));
-    Some(HeldOutErrors {
-        linear: (h.before / h.samples as f64).sqrt(),
-        frequency_model: held_out_error(
-            &s.u[..w],
-            &s.y[..w],
-            s.fs,
-            &m,
-            loop_window.as_ref(),
-            &time_options(o, corner),
-        ),
-        time_model: (h.after / h.samples as f64).sqrt(),
-    })
+    held_out_error(
+        &s.u[..w],
+        &s.y[..w],
+        s.fs,
+        &m,
+        loop_window.as_ref(),
+        &time_options(o, corner),
+    )
 }
 
 /// A cut of the record for a rerun: its cut, its samples' range and the
