@@ -168,6 +168,8 @@ struct Now<'a> {
     x: &'a [f64],
     v: &'a [f64],
     a: &'a [f64],
+    /// The sensor's reading of the simulator's output quantity.
+    y: f64,
 }
 
 /// The state of a chain with `L - 1` masses: positions, velocities, and the
@@ -434,18 +436,10 @@ impl Simulator {
     /// length), starting at rest.
     pub fn run(&self, u: &[f64]) -> Result<Vec<f64>, SimulateError> {
         let mut y = Vec::with_capacity(u.len());
-        let dot = |w: &[f64], v: &[f64]| w.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
         let accelerations = self.output == Output::Acceleration;
-        // The sensor's read, chosen once: this runs once per sample.
-        let read: for<'a> fn(&Now<'a>) -> &'a [f64] = match self.output {
-            Output::Position => |s| &s.x[1..],
-            Output::Velocity => |s| &s.v[1..],
-            Output::Acceleration => |s| &s.a[1..],
-        };
         self.open_loop(u, accelerations, |s| {
-            let v = dot(&self.sensor, read(s));
-            y.push(v);
-            v.is_finite()
+            y.push(s.y);
+            s.y.is_finite()
         })?;
         Ok(y)
     }
@@ -697,15 +691,30 @@ impl Simulator {
         } else {
             Vec::new()
         };
-        let slot = |p: Piece| {
-            let side = if backlash { p.contact as usize } else { 0 };
+        // The slot of the piece the state is on: the friction mass's
+        // direction (at rest, or no friction: 0) and the spring's side.
+        let (gap_link, half) = kernel.backlash;
+        let slot = |s: &State<L>| {
+            let side = if backlash {
+                Contact::of(s.x[gap_link + 1] - s.x[gap_link], half) as usize
+            } else {
+                0
+            };
             let way = if signs.len() == 1 {
                 0
             } else {
-                (p.sign + 1.0) as usize
+                let v = s.v[self.friction_mass + 1];
+                if v > 0.0 {
+                    2
+                } else if v < 0.0 {
+                    0
+                } else {
+                    1
+                }
             };
             way * contacts.len() + side
         };
+        let lagged = self.lag > 0.0;
         let held = |u: &[f64], step: usize| -> f64 {
             // The sub-step's input: the held sample, `delay_steps` earlier.
             match step.checked_sub(self.delay_steps) {
@@ -713,6 +722,23 @@ impl Simulator {
                 Some(t) => self.scale * u[t / self.substeps],
                 None => 0.0,
             }
+        };
+        // The sensor's reading, as a dot product of fixed length (summed
+        // from -0.0, in the order of an iterator's sum).
+        let mut sensor = [0.0; L];
+        sensor[1..].copy_from_slice(&self.sensor);
+        let output = self.output;
+        let read = |s: &State<L>, a: &[f64; L]| -> f64 {
+            let q = match output {
+                Output::Position => &s.x,
+                Output::Velocity => &s.v,
+                Output::Acceleration => a,
+            };
+            let mut y = -0.0;
+            for i in 1..L {
+                y += sensor[i] * q[i];
+            }
+            y
         };
         let j = self.friction_mass + 1;
         for k in 0..samples {
@@ -729,6 +755,7 @@ impl Simulator {
                 x: &s.x,
                 v: &s.v,
                 a: &a_now,
+                y: read(&s, &a_now),
             };
             if !sample(&now) {
                 return Err(SimulateError::Diverged(k));
@@ -738,13 +765,13 @@ impl Simulator {
                 // On a piece where the chain is affine, its map; where the
                 // step leaves the piece (a velocity reversal, a contact
                 // made or lost, a stuck mass), the integrator itself.
-                let fast = if maps.is_empty() {
-                    None
-                } else {
-                    maps[slot(kernel.piece_of(&s))].step(&s, f_in)
-                };
-                if let Some(next) = fast {
-                    s = next;
+                let fast = !maps.is_empty()
+                    && if lagged {
+                        maps[slot(&s)].step::<true>(&mut s, f_in)
+                    } else {
+                        maps[slot(&s)].step::<false>(&mut s, f_in)
+                    };
+                if fast {
                     continue;
                 }
                 let v0 = s.v[j];
@@ -1167,29 +1194,6 @@ impl<const L: usize> Kernel<'_, L> {
         out.f += h / 6.0 * (g1 + 2.0 * g2 + 2.0 * g3 + g4);
         (out, [s2, s3, s4])
     }
-
-    /// The piece the state `s` is on: the friction mass's direction (0:
-    /// at rest, or no friction) and the backlash spring's side.
-    #[inline(always)]
-    fn piece_of(&self, s: &State<L>) -> Piece {
-        let v = s.v[self.sim.friction_mass + 1];
-        let sign = if self.sim.coulomb > 0.0 && v != 0.0 {
-            v.signum()
-        } else {
-            0.0
-        };
-        let (a, half) = self.backlash;
-        let contact = if a < L - 1 {
-            Contact::of(s.x[a + 1] - s.x[a], half)
-        } else {
-            Contact::Gap
-        };
-        Piece {
-            sign,
-            contact,
-            constants: true,
-        }
-    }
 }
 
 /// Which side of its gap the spring with backlash is on (in the order of
@@ -1269,11 +1273,17 @@ impl<const L: usize> Row<L> {
         c: 0.0,
     };
 
+    /// The form at `s` and `u`; without a lag (`LAGGED` false) the lagged
+    /// force is 0 and its term is left out.
     #[inline(always)]
-    fn at(&self, s: &State<L>, u: f64) -> f64 {
-        let mut sum = self.c + self.b * u + self.a.f * s.f;
-        for i in 1..L {
-            sum += self.a.x[i] * s.x[i] + self.a.v[i] * s.v[i];
+    fn at<const LAGGED: bool>(&self, s: &State<L>, u: f64) -> f64 {
+        let mut sum = self.c + self.b * u;
+        if LAGGED {
+            sum += self.a.f * s.f;
+        }
+        let a = self.a.x[1..].iter().zip(&self.a.v[1..]);
+        for ((ax, av), (x, v)) in a.zip(s.x[1..].iter().zip(&s.v[1..])) {
+            sum += ax * x + av * v;
         }
         sum
     }
@@ -1350,46 +1360,56 @@ impl<const L: usize> AffineStep<L> {
         m
     }
 
-    /// The sub-step from `s` under held input `u`, if every stage stayed
-    /// on the piece and the step ends on it (a sliding mass still slides,
-    /// a stuck one is still held); `None` leaves the step to the
-    /// integrator, whose stick logic then decides.
+    /// Takes the sub-step from `s` under held input `u` in place if every
+    /// stage stayed on the piece and the step ends on it (a sliding mass
+    /// still slides, a stuck one is still held); otherwise returns false
+    /// with `s` untouched, leaving the step to the integrator, whose stick
+    /// logic then decides. `LAGGED`: whether the force lags the input (else
+    /// the lagged force is 0 and its terms are left out).
     #[inline(always)]
-    fn step(&self, s: &State<L>, u: f64) -> Option<State<L>> {
+    fn step<const LAGGED: bool>(&self, s: &mut State<L>, u: f64) -> bool {
         let p = self.piece;
         if self.coulomb > 0.0 {
             let held = if p.sign == 0.0 {
                 self.friction
                     .iter()
-                    .all(|r| r.at(s, u).abs() <= self.coulomb)
+                    .all(|r| r.at::<LAGGED>(s, u).abs() <= self.coulomb)
             } else {
-                self.friction[1..].iter().all(|r| p.sign * r.at(s, u) > 0.0)
+                self.friction[1..]
+                    .iter()
+                    .all(|r| p.sign * r.at::<LAGGED>(s, u) > 0.0)
             };
             if !held {
-                return None;
+                return false;
             }
         }
         if let Some(half) = self.half {
             if self
                 .stretch
                 .iter()
-                .any(|r| Contact::of(r.at(s, u), half) != p.contact)
+                .any(|r| Contact::of(r.at::<LAGGED>(s, u), half) != p.contact)
             {
-                return None;
+                return false;
             }
         }
-        let mut out = *s;
+        // (Index 0, the ground, stays 0.)
+        let (mut x, mut v) = ([0.0; L], [0.0; L]);
         for i in 1..L {
-            out.x[i] = self.x[i].at(s, u);
-            out.v[i] = self.v[i].at(s, u);
+            x[i] = self.x[i].at::<LAGGED>(s, u);
+            v[i] = self.v[i].at::<LAGGED>(s, u);
         }
-        out.f = self.f.at(s, u);
         // (NaN slides nowhere: the integrator decides.)
-        let slides_on = p.sign * out.v[self.j] > 0.0;
+        let slides_on = p.sign * v[self.j] > 0.0;
         if self.coulomb > 0.0 && p.sign != 0.0 && !slides_on {
-            return None;
+            return false;
         }
-        Some(out)
+        // Without a lag the lagged force stays 0.
+        if LAGGED {
+            s.f = self.f.at::<true>(s, u);
+        }
+        s.x = x;
+        s.v = v;
+        true
     }
 }
 
