@@ -397,9 +397,9 @@ struct Problem<'a> {
     /// velocity; 1 for a velocity; 0 for an acceleration or a closed
     /// loop, which holds the position itself).
     trend: usize,
-    /// Low-pass sections whose output is subtracted from the output error
-    /// ([`TimeOptions::highpass_hz`]), and their padding.
-    highpass: Option<(Vec<[f64; 5]>, usize)>,
+    /// The zero-phase low-pass whose output is subtracted from the output
+    /// error ([`TimeOptions::highpass_hz`]).
+    highpass: Option<crate::idim::ZeroPhase>,
 }
 
 impl Problem<'_> {
@@ -515,9 +515,9 @@ impl Problem<'_> {
             self.trend
         };
         let mut t = self.trend_basis.trend(d, &self.held, terms);
-        if let Some((lp, pad)) = &self.highpass {
+        if let Some(lp) = &self.highpass {
             let rest: Vec<f64> = d.iter().zip(&t).map(|(a, b)| a - b).collect();
-            let slow = crate::idim::filtfilt(lp, &rest, *pad);
+            let slow = lp.apply(&rest);
             for (t, s) in t.iter_mut().zip(slow) {
                 *t += s;
             }
@@ -845,14 +845,22 @@ fn trend_terms(closed: bool, output: mms::Output) -> usize {
     }
 }
 
-/// The low-pass sections (and padding) whose output the open-loop
-/// comparison leaves out ([`TimeOptions::highpass_hz`]).
-fn highpass(closed: bool, corner_hz: Option<f64>, fs: f64) -> Option<(Vec<[f64; 5]>, usize)> {
+/// The zero-phase low-pass (second order, padded by three periods of the
+/// corner) whose output the open-loop comparison of `n` samples leaves
+/// out ([`TimeOptions::highpass_hz`]).
+fn highpass(
+    closed: bool,
+    corner_hz: Option<f64>,
+    fs: f64,
+    n: usize,
+) -> Option<crate::idim::ZeroPhase> {
     match (closed, corner_hz) {
-        (false, Some(fc)) if fc > 0.0 && fc < 0.25 * fs => Some((
-            crate::idim::butterworth(2, fc, fs),
-            ((3.0 * fs / fc) as usize).max(3),
-        )),
+        (false, Some(fc)) if fc > 0.0 && fc < 0.25 * fs => {
+            let pad = ((3.0 * fs / fc) as usize).max(3);
+            // The second order is one section.
+            let section = crate::idim::butterworth(2, fc, fs)[0];
+            Some(crate::idim::ZeroPhase::new(section, n, pad))
+        }
         _ => None,
     }
 }
@@ -891,7 +899,7 @@ pub fn held_out_error(
         held: held_blocks(n, true),
         trend_basis: TrendBasis::new(&held_blocks(n, true), MAX_TREND_TERMS),
         trend: trend_terms(record.is_some(), model.output),
-        highpass: highpass(record.is_some(), o.highpass_hz, fs),
+        highpass: highpass(record.is_some(), o.highpass_hz, fs, n),
     };
     let n_test = problem.held.iter().filter(|&&h| h).count();
     let (x, fitted) = problem.fit(&[], x0, &lo, &hi, o.max_iterations);
@@ -1249,7 +1257,7 @@ pub fn diagnose_time_outputs(
         held: held_blocks(n, o.holdout),
         trend_basis: TrendBasis::new(&held_blocks(n, o.holdout), MAX_TREND_TERMS),
         trend: trend_terms(record.is_some(), model.output),
-        highpass: highpass(record.is_some(), o.highpass_hz, fs),
+        highpass: highpass(record.is_some(), o.highpass_hz, fs, n),
     };
     let np = problem.free.len();
     // Every output's samples count.
