@@ -488,6 +488,9 @@ impl ChainResponse {
         freq_hz.iter().map(|&f| self.eval(values, f)).collect()
     }
 
+    // Inlined: the solver is built in its caller's frame, not moved
+    // out of a `Result` per line.
+    #[inline(always)]
     fn solver<const N: usize>(
         &self,
         values: &[f64],
@@ -546,6 +549,9 @@ impl ChainResponse {
     }
 
     /// `G` and, if asked, the adjoint solution; see [`Solver`].
+    // Inlined: the solver is built in its caller's frame, not moved
+    // out of a `Result` per line.
+    #[inline(always)]
     fn solve<const N: usize>(&self, solver: &mut Solver<N>, with_adjoint: bool) -> Complex64 {
         let n = self.n;
         for i in 0..n {
@@ -641,6 +647,9 @@ struct Tridiagonal<const N: usize> {
 }
 
 impl<const N: usize> Tridiagonal<N> {
+    // Inlined: the solver is built in its caller's frame, not moved
+    // out of a `Result` per line.
+    #[inline(always)]
     fn factor(mut d: [Complex64; N], e: [Complex64; N]) -> Option<Tridiagonal<N>> {
         let n = N;
         // Squared moduli throughout: `norm()` is a hypot call, too slow for
