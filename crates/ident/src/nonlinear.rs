@@ -615,19 +615,24 @@ impl Problem<'_> {
         }
         let mut lambda = 1e-3;
         for _ in 0..iterations {
-            // Forward differences in the coordinates.
-            let mut jac: Vec<Vec<f64>> = Vec::with_capacity(p);
-            for i in 0..p {
-                let mut xi = x.clone();
-                let step = if xi[i] + 1e-4 > hi[i] { -1e-4 } else { 1e-4 };
-                xi[i] += step;
-                let (ri, rssi) = self.residual(kinds, &xi);
-                if !rssi.is_finite() {
-                    return (x, rss);
-                }
-                // d(model)/dx = -(d residual)/dx.
-                jac.push(r.iter().zip(&ri).map(|(a, b)| (a - b) / step).collect());
-            }
+            // Forward differences in the coordinates, one simulation each,
+            // side by side (so the cores stay busy to the end of a
+            // diagnosis; each column is computed as alone).
+            let columns: Vec<Option<Vec<f64>>> = (0..p)
+                .into_par_iter()
+                .map(|i| {
+                    let mut xi = x.clone();
+                    let step = if xi[i] + 1e-4 > hi[i] { -1e-4 } else { 1e-4 };
+                    xi[i] += step;
+                    let (ri, rssi) = self.residual(kinds, &xi);
+                    // d(model)/dx = -(d residual)/dx.
+                    rssi.is_finite()
+                        .then(|| r.iter().zip(&ri).map(|(a, b)| (a - b) / step).collect())
+                })
+                .collect();
+            let Some(jac) = columns.into_iter().collect::<Option<Vec<Vec<f64>>>>() else {
+                return (x, rss);
+            };
             let mut a = vec![0.0; p * p];
             let mut g = vec![0.0; p];
             for i in 0..p {
