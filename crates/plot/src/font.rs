@@ -1,121 +1,67 @@
-//! The built-in bitmap font of the PNG backend: printable ASCII 32..=126,
-//! 5x9 pixels per glyph (7 rows above the baseline, 2 for descenders), in a
-//! 6-pixel cell. Drawn by hand as the art below so that it can be read and
-//! fixed without tools; parsed at compile time.
+//! The PNG backend's text: DejaVu Sans, bundled as a subset (printable
+//! ASCII, Latin-1, Greek and a few symbols; `fonts/LICENSE-DejaVu.txt`,
+//! made by `scripts/subset-font.sh`), its outlines rasterised with
+//! anti-aliasing by ab_glyph. The SVG backend names the same family first,
+//! so a browser that has it draws the same letters.
 
-/// Horizontal advance of one glyph cell, in font pixels.
-pub(crate) const ADVANCE: i32 = 6;
-/// Rows above the baseline (cap height), in font pixels.
-pub(crate) const ASCENT: i32 = 7;
-/// Rows per glyph.
-pub(crate) const ROWS: usize = 9;
+use ab_glyph::{point, Font, FontRef, Glyph, PxScale, ScaleFont};
+use std::sync::OnceLock;
 
-const BANDS: usize = 6;
-const PER_BAND: usize = 16;
-const COUNT: usize = 95;
+static BYTES: &[u8] = include_bytes!("../fonts/DejaVuSans-mms.ttf");
 
-/// Sixteen glyphs per band, five columns each, separated by one space; a
-/// band is nine rows. The comment above each band names its glyphs.
-const ART: [&str; BANDS * ROWS] = [
-    //       !     "     #     $     %     &     '     (     )     *     +     ,     -     .     /
-    "..... ..#.. .#.#. .#.#. ..#.. ##... .##.. ..#.. ...#. .#... ..... ..... ..... ..... ..... .....",
-    "..... ..#.. .#.#. .#.#. .#### ##..# #..#. ..#.. ..#.. ..#.. ..#.. ..#.. ..... ..... ..... ....#",
-    "..... ..#.. .#.#. ##### #.#.. ...#. #.#.. ..#.. .#... ...#. #.#.# ..#.. ..... ..... ..... ...#.",
-    "..... ..#.. ..... .#.#. .###. ..#.. .#... ..... .#... ...#. .###. ##### ..... ##### ..... ..#..",
-    "..... ..#.. ..... ##### ..#.# .#... #.#.# ..... .#... ...#. #.#.# ..#.. ..... ..... ..... .#...",
-    "..... ..... ..... .#.#. ####. #..## #..#. ..... ..#.. ..#.. ..#.. ..#.. .##.. ..... .##.. #....",
-    "..... ..#.. ..... .#.#. ..#.. ...## .##.# ..... ...#. .#... ..... ..... ..#.. ..... .##.. .....",
-    "..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... .#... ..... ..... .....",
-    "..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... .....",
-    // 0     1     2     3     4     5     6     7     8     9     :     ;     <     =     >     ?
-    ".###. ..#.. .###. ##### ...#. ##### ..##. ##### .###. .###. ..... ..... ...#. ..... .#... .###.",
-    "#...# .##.. #...# ...#. ..##. #.... .#... ....# #...# #...# .##.. .##.. ..#.. ..... ..#.. #...#",
-    "#..## ..#.. ....# ..#.. .#.#. ####. #.... ...#. #...# #...# .##.. .##.. .#... ##### ...#. ....#",
-    "#.#.# ..#.. ...#. ...#. #..#. ....# ####. ..#.. .###. .#### ..... ..... #.... ..... ....# ...#.",
-    "##..# ..#.. ..#.. ....# ##### ....# #...# .#... #...# ....# .##.. .##.. .#... ##### ...#. ..#..",
-    "#...# ..#.. .#... #...# ...#. #...# #...# .#... #...# ...#. .##.. ..#.. ..#.. ..... ..#.. .....",
-    ".###. .###. ##### .###. ...#. .###. .###. .#... .###. .##.. ..... .#... ...#. ..... .#... ..#..",
-    "..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... .....",
-    "..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... .....",
-    // @     A     B     C     D     E     F     G     H     I     J     K     L     M     N     O
-    ".###. .###. ####. .###. ###.. ##### ##### .###. #...# .###. ..### #...# #.... #...# #...# .###.",
-    "#...# #...# #...# #...# #..#. #.... #.... #...# #...# ..#.. ...#. #..#. #.... ##.## #...# #...#",
-    "....# #...# #...# #.... #...# #.... #.... #.... #...# ..#.. ...#. #.#.. #.... #.#.# ##..# #...#",
-    ".##.# ##### ####. #.... #...# ####. ####. #.### ##### ..#.. ...#. ##... #.... #.#.# #.#.# #...#",
-    "#.#.# #...# #...# #.... #...# #.... #.... #...# #...# ..#.. ...#. #.#.. #.... #...# #..## #...#",
-    "#.#.# #...# #...# #...# #..#. #.... #.... #...# #...# ..#.. #..#. #..#. #.... #...# #...# #...#",
-    ".###. #...# ####. .###. ###.. ##### #.... .#### #...# .###. .##.. #...# ##### #...# #...# .###.",
-    "..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... .....",
-    "..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... .....",
-    // P     Q     R     S     T     U     V     W     X     Y     Z     [     \     ]     ^     _
-    "####. .###. ####. .#### ##### #...# #...# #...# #...# #...# ##### .###. ..... .###. ..#.. .....",
-    "#...# #...# #...# #.... ..#.. #...# #...# #...# #...# #...# ....# .#... #.... ...#. .#.#. .....",
-    "#...# #...# #...# #.... ..#.. #...# #...# #...# .#.#. .#.#. ...#. .#... .#... ...#. #...# .....",
-    "####. #...# ####. .###. ..#.. #...# #...# #.#.# ..#.. ..#.. ..#.. .#... ..#.. ...#. ..... .....",
-    "#.... #.#.# #.#.. ....# ..#.. #...# #...# #.#.# .#.#. ..#.. .#... .#... ...#. ...#. ..... .....",
-    "#.... #..#. #..#. ....# ..#.. #...# .#.#. #.#.# #...# ..#.. #.... .#... ....# ...#. ..... .....",
-    "#.... .##.# #...# ####. ..#.. .###. ..#.. .#.#. #...# ..#.. ##### .###. ..... .###. ..... .....",
-    "..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... #####",
-    "..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... ..... .....",
-    // `     a     b     c     d     e     f     g     h     i     j     k     l     m     n     o
-    ".#... ..... #.... ..... ....# ..... ..##. ..... #.... ..#.. ...#. #.... .##.. ..... ..... .....",
-    "..#.. ..... #.... ..... ....# ..... .#..# ..... #.... ..... ..... #.... ..#.. ..... ..... .....",
-    "...#. .###. #.##. .###. .##.# .###. .#... .#### #.##. .##.. ..##. #..#. ..#.. ##.#. #.##. .###.",
-    "..... ....# ##..# #.... #..## #...# ###.. #...# ##..# ..#.. ...#. #.#.. ..#.. #.#.# ##..# #...#",
-    "..... .#### #...# #.... #...# ##### .#... #...# #...# ..#.. ...#. ##... ..#.. #.#.# #...# #...#",
-    "..... #...# #...# #...# #...# #.... .#... #...# #...# ..#.. ...#. #.#.. ..#.. #...# #...# #...#",
-    "..... .#### ####. .###. .#### .###. .#... .#### #...# .###. ...#. #..#. .###. #...# #...# .###.",
-    "..... ..... ..... ..... ..... ..... ..... ....# ..... ..... #..#. ..... ..... ..... ..... .....",
-    "..... ..... ..... ..... ..... ..... ..... .###. ..... ..... .##.. ..... ..... ..... ..... .....",
-    // p     q     r     s     t     u     v     w     x     y     z     {     |     }     ~
-    "..... ..... ..... ..... .#... ..... ..... ..... ..... ..... ..... ...#. ..#.. .#... .....",
-    "..... ..... ..... ..... .#... ..... ..... ..... ..... ..... ..... ..#.. ..#.. ..#.. .....",
-    "####. .#### #.##. .#### ###.. #...# #...# #...# #...# #...# ##### ..#.. ..#.. ..#.. .#...",
-    "#...# #...# ##..# #.... .#... #...# #...# #...# .#.#. #...# ...#. .#... ..#.. ...#. #.#.#",
-    "#...# #...# #.... .###. .#... #...# #...# #.#.# ..#.. #...# ..#.. ..#.. ..#.. ..#.. ...#.",
-    "#...# #...# #.... ....# .#..# #..## .#.#. #.#.# .#.#. #...# .#... ..#.. ..#.. ..#.. .....",
-    "####. .#### #.... ####. ..##. .##.# ..#.. .#.#. #...# .#### ##### ...#. ..#.. .#... .....",
-    "#.... ....# ..... ..... ..... ..... ..... ..... ..... ....# ..... ..... ..... ..... .....",
-    "#.... ....# ..... ..... ..... ..... ..... ..... ..... .###. ..... ..... ..... ..... .....",
-];
+/// The font family the SVG backend asks for, in order of preference.
+pub(crate) const FAMILY: &str = "DejaVu Sans, Verdana, Arial, sans-serif";
 
-/// Glyph rows as bit masks, bit 4 = leftmost column.
-const GLYPHS: [[u8; ROWS]; COUNT] = parse(&ART);
-
-const fn parse(art: &[&str; BANDS * ROWS]) -> [[u8; ROWS]; COUNT] {
-    let mut out = [[0u8; ROWS]; COUNT];
-    let mut band = 0;
-    while band < BANDS {
-        let mut row = 0;
-        while row < ROWS {
-            let line = art[band * ROWS + row].as_bytes();
-            let mut k = 0;
-            while k < PER_BAND && band * PER_BAND + k < COUNT {
-                let mut col = 0;
-                while col < 5 {
-                    if line[k * 6 + col] == b'#' {
-                        out[band * PER_BAND + k][row] |= 1 << (4 - col);
-                    }
-                    col += 1;
-                }
-                k += 1;
-            }
-            row += 1;
-        }
-        band += 1;
-    }
-    out
+fn face() -> &'static FontRef<'static> {
+    static FACE: OnceLock<FontRef<'static>> = OnceLock::new();
+    // The bytes are part of the crate; `the_bundled_font_parses` tests them.
+    FACE.get_or_init(|| FontRef::try_from_slice(BYTES).expect("the bundled font parses"))
 }
 
-/// The glyph of `c`; characters outside printable ASCII draw as `?`.
-pub(crate) fn glyph(c: char) -> &'static [u8; ROWS] {
-    let code = c as u32;
-    let index = if (32..=126).contains(&code) {
-        code - 32
-    } else {
-        u32::from(b'?') - 32
-    };
-    &GLYPHS[index as usize]
+/// The glyphs of `text` at an em of `size` pixels (a CSS `font-size`),
+/// laid out along the baseline from `x = 0`, and their total advance.
+/// A character the font lacks is drawn as `?`.
+fn layout(text: &str, size: f32) -> (Vec<Glyph>, f32) {
+    let font = face();
+    let em = font.units_per_em().unwrap_or(2048.0);
+    let scale = PxScale::from(size * font.height_unscaled() / em);
+    let scaled = font.as_scaled(scale);
+    let (mut x, mut prev, mut glyphs) = (0.0, None, Vec::new());
+    for c in text.chars() {
+        let mut id = font.glyph_id(c);
+        if id.0 == 0 {
+            id = font.glyph_id('?');
+        }
+        if let Some(p) = prev {
+            x += scaled.kern(p, id);
+        }
+        glyphs.push(id.with_scale_and_position(scale, point(x, 0.0)));
+        x += scaled.h_advance(id);
+        prev = Some(id);
+    }
+    (glyphs, x)
+}
+
+/// The advance width of `text` at an em of `size` pixels.
+pub(crate) fn width(text: &str, size: f32) -> f32 {
+    layout(text, size).1
+}
+
+/// Calls `ink(dx, dy, coverage)` for every pixel that `text` (at an em of
+/// `size` pixels, starting `start` pixels along the baseline, which may
+/// be fractional) covers, in whole-pixel offsets from the origin: `dx`
+/// along the baseline, `dy` down from it.
+pub(crate) fn rasterise(text: &str, size: f32, start: f32, mut ink: impl FnMut(i64, i64, f32)) {
+    let (glyphs, _) = layout(text, size);
+    for mut g in glyphs {
+        g.position.x += start;
+        let Some(outline) = face().outline_glyph(g) else {
+            continue; // a space
+        };
+        let min = outline.px_bounds().min;
+        let (x0, y0) = (min.x as i64, min.y as i64);
+        outline.draw(|x, y, c| ink(x0 + i64::from(x), y0 + i64::from(y), c));
+    }
 }
 
 #[cfg(test)]
@@ -123,41 +69,28 @@ mod tests {
     use super::*;
 
     #[test]
-    fn art_is_well_formed() {
-        for (i, line) in ART.iter().enumerate() {
-            let glyphs = if i / ROWS == BANDS - 1 {
-                COUNT - (BANDS - 1) * PER_BAND
-            } else {
-                PER_BAND
-            };
-            assert_eq!(line.len(), glyphs * 6 - 1, "art line {i}");
-            for (j, b) in line.bytes().enumerate() {
-                let expected_space = j % 6 == 5;
-                assert!(
-                    if expected_space {
-                        b == b' '
-                    } else {
-                        b == b'.' || b == b'#'
-                    },
-                    "art line {i} col {j}"
-                );
-            }
+    fn the_bundled_font_parses() {
+        assert!(FontRef::try_from_slice(BYTES).is_ok());
+        // Every printable ASCII character and the symbols the reports
+        // write have a glyph of their own.
+        for c in (' '..='~').chain(['°', 'µ', '±', '·', '−', '–', 'ω', 'γ', '²']) {
+            assert_ne!(face().glyph_id(c).0, 0, "{c:?}");
         }
     }
 
     #[test]
-    fn glyphs_look_right() {
-        assert_eq!(glyph(' '), &[0; ROWS]);
-        assert_eq!(
-            glyph('1'),
-            &[0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E, 0, 0]
-        );
-        // Descenders use the two rows below the baseline.
-        assert_ne!(glyph('g')[8], 0);
-        assert_eq!(glyph('\u{b0}'), glyph('?'));
-        // Every printable glyph but space has ink.
-        for c in '!'..='~' {
-            assert!(glyph(c).iter().any(|&r| r != 0), "{c:?}");
-        }
+    fn text_is_as_wide_as_its_advances() {
+        // DejaVu Sans's digits advance 0.636 em; a space 0.318 em.
+        let w = width("10 Hz", 10.0);
+        assert!(w > 25.0 && w < 35.0, "{w}");
+        assert!((width("00", 20.0) - 2.0 * width("0", 20.0)).abs() < 1e-3);
+        // Letters ink pixels above the baseline, a comma below it.
+        let mut rows = Vec::new();
+        rasterise("E,", 20.0, 0.0, |_, dy, c| {
+            if c > 0.5 {
+                rows.push(dy)
+            }
+        });
+        assert!(rows.iter().any(|&y| y < -10) && rows.iter().any(|&y| y > 0));
     }
 }

@@ -3,10 +3,11 @@
 //! The reports of `mms identify` and `mms diagnose` show measured FRFs,
 //! fitted models and their residuals as Bode plots. This crate draws them
 //! as SVG (for HTML and Markdown) and PNG (for anything else) without a
-//! plotting, image or font stack: its own scene model, SVG writer,
-//! anti-aliasing rasteriser, bitmap font and PNG encoder, with only
-//! `num-complex` and `miniz_oxide` (deflate) underneath. The same input
-//! always gives the same bytes, so reports can be diffed and snapshotted.
+//! plotting or image stack: its own scene model, SVG writer,
+//! anti-aliasing rasteriser and PNG encoder, with a bundled font (DejaVu
+//! Sans, rasterised by `ab_glyph`), `num-complex` and `miniz_oxide`
+//! (deflate) underneath. The same input always gives the same bytes, so
+//! reports can be diffed and snapshotted.
 //!
 //! - [`Bode`] builds a figure from traces (frequency in Hz, complex
 //!   response), shaded [bands](Bode::band) and an optional
@@ -56,6 +57,7 @@ mod svg;
 pub use axis::{Axis, Scale, Tick};
 pub use bode::{Bode, Style};
 pub use num_complex::Complex64;
+pub use raster::PNG_SCALE;
 pub use scene::{
     Anchor, Band, Color, Dash, Line, Mark, MarkerShape, Markers, Panel, Rect, Scene, Stroke, Text,
     PALETTE,

@@ -3,7 +3,7 @@
 //! and each polyline is blended once from a coverage mask (the maximum over
 //! its segments) so that dense data does not darken where segments overlap.
 
-use crate::font::{self, ADVANCE, ASCENT};
+use crate::font;
 use crate::scene::{Anchor, Color, MarkerShape, Prim, Rect, Scene, Stroke, Text};
 
 type Point = (f64, f64);
@@ -11,50 +11,75 @@ type Point = (f64, f64);
 // The backends depend on the scene, never the reverse: each adds its own
 // output method here.
 impl Scene {
-    /// The figure as an 8-bit RGB PNG file. See [`crate::Bode::to_png`].
+    /// The figure as an 8-bit RGB PNG file, drawn at [`PNG_SCALE`] times
+    /// the scene's size (an 800-pixel scene becomes 1600 pixels wide). See
+    /// [`crate::Bode::to_png`].
     pub fn to_png(&self) -> Vec<u8> {
-        let (w, h) = (self.width.max(1), self.height.max(1));
-        let rgb = render(self, w as usize, h as usize);
+        let k = PNG_SCALE;
+        let (w, h) = (self.width.max(1) * k, self.height.max(1) * k);
+        let rgb = render(self, w as usize, h as usize, f64::from(k));
         crate::png::encode(w, h, &rgb)
     }
 }
 
-/// Draws `scene` into `width * height * 3` bytes of RGB, rows top down.
-pub(crate) fn render(scene: &Scene, width: usize, height: usize) -> Vec<u8> {
+/// Device pixels per scene pixel of a PNG: text and lines as sharp as a
+/// screen of twice the density shows them.
+pub const PNG_SCALE: u32 = 2;
+
+/// Draws `scene`, scaled by `k`, into `width * height * 3` bytes of RGB,
+/// rows top down.
+pub(crate) fn render(scene: &Scene, width: usize, height: usize, k: f64) -> Vec<u8> {
     let bg = scene.background;
     let mut canvas = Canvas {
         w: width,
         h: height,
         rgb: [bg.r, bg.g, bg.b].repeat(width * height),
     };
+    let at = |(x, y): Point| (x * k, y * k);
     for prim in scene.primitives() {
         match prim {
-            Prim::Rect(r, color) => canvas.fill_rect(r, color),
+            Prim::Rect(r, color) => {
+                canvas.fill_rect(Rect::new(r.x * k, r.y * k, r.w * k, r.h * k), color)
+            }
             Prim::Path {
                 points,
                 stroke,
                 offset,
-            } => canvas.stroke(&points, &stroke, offset),
+            } => {
+                let points: Vec<Point> = points.into_iter().map(at).collect();
+                let stroke = Stroke {
+                    width: stroke.width * k,
+                    ..stroke
+                };
+                canvas.stroke(&points, &stroke, offset * k)
+            }
             Prim::Marker {
-                at,
+                at: c,
                 shape: MarkerShape::Square,
                 size,
                 color,
             } => {
+                let (c, size) = (at(c), size * k);
                 let half = size / 2.0;
-                canvas.fill_rect(Rect::new(at.0 - half, at.1 - half, size, size), color);
+                canvas.fill_rect(Rect::new(c.0 - half, c.1 - half, size, size), color);
             }
             Prim::Marker {
-                at,
+                at: c,
                 shape: MarkerShape::Circle,
                 size,
                 color,
             } => {
-                let mut mask = Mask::around(&canvas, &[at], size / 2.0 + 1.0);
-                mask.disc(at, size / 2.0);
+                let (c, size) = (at(c), size * k);
+                let mut mask = Mask::around(&canvas, &[c], size / 2.0 + 1.0);
+                mask.disc(c, size / 2.0);
                 canvas.apply(&mask, color, 1.0);
             }
-            Prim::Text(t) => canvas.text(&t),
+            Prim::Text(t) => canvas.text(&Text {
+                x: t.x * k,
+                y: t.y * k,
+                size: t.size * k,
+                ..t
+            }),
         }
     }
     canvas.rgb
@@ -124,40 +149,28 @@ impl Canvas {
         }
     }
 
-    /// Bitmap text: each font pixel a `scale x scale` block, no smoothing.
+    /// Anti-aliased text from the bundled font; vertical text is the
+    /// horizontal coverage turned by -90 degrees about its origin.
     fn text(&mut self, t: &Text) {
-        let scale = ((t.size / 10.0).round() as i64).max(1);
-        let n = t.content.chars().count() as i64;
-        let width = (n * i64::from(ADVANCE) - 1).max(0) * scale;
+        let size = t.size as f32;
         let shift = match t.anchor {
-            Anchor::Start => 0,
-            Anchor::Middle => width / 2,
-            Anchor::End => width,
+            Anchor::Start => 0.0,
+            Anchor::Middle => font::width(&t.content, size) / 2.0,
+            Anchor::End => font::width(&t.content, size),
         };
-        let (ox, oy) = (t.x.round() as i64, t.y.round() as i64);
-        for (k, c) in t.content.chars().enumerate() {
-            let glyph = font::glyph(c);
-            for (row, &bits) in glyph.iter().enumerate() {
-                for col in 0..5 {
-                    if bits >> (4 - col) & 1 == 0 {
-                        continue;
-                    }
-                    // Offsets along and across the baseline, in pixels.
-                    let along = (k as i64 * i64::from(ADVANCE) + col) * scale - shift;
-                    let across = (row as i64 - i64::from(ASCENT)) * scale;
-                    for i in 0..scale {
-                        for j in 0..scale {
-                            let (x, y) = if t.vertical {
-                                // rotate(-90): along the baseline is up.
-                                (ox + across + j, oy - along - i - 1)
-                            } else {
-                                (ox + along + i, oy + across + j)
-                            };
-                            self.blend(x, y, t.color, 1.0);
-                        }
-                    }
-                }
-            }
+        if t.vertical {
+            let (ox, oy) = (t.x.round() as i64, t.y.round() as i64);
+            font::rasterise(&t.content, size, -shift, |along, across, c| {
+                self.blend(ox + across, oy - along - 1, t.color, c)
+            });
+        } else {
+            // Whole pixels vertically (a crisp baseline), the fractional
+            // start along it.
+            let (ox, oy) = (t.x.floor(), t.y.round() as i64);
+            let start = (t.x - ox) as f32 - shift;
+            font::rasterise(&t.content, size, start, |along, across, c| {
+                self.blend(ox as i64 + along, oy + across, t.color, c)
+            });
         }
     }
 }
@@ -293,7 +306,7 @@ mod tests {
         let mut canvas = Canvas {
             w: 20,
             h: 10,
-            rgb: render(&scene, 20, 10),
+            rgb: render(&scene, 20, 10, 1.0),
         };
         let stroke = Stroke {
             color: Color::BLACK,

@@ -177,10 +177,10 @@ pub struct Text {
     /// Baseline y (for vertical text: the baseline's x is `x`, and `y` is
     /// the anchor along it).
     pub y: f64,
-    /// The text; the PNG font draws printable ASCII, others as `?`.
+    /// The text; the PNG backend's font has Latin-1, Greek and common
+    /// symbols, and draws other characters as `?`.
     pub content: String,
-    /// Font size in pixels (SVG `font-size`; the PNG font is scaled by
-    /// `round(size / 10)`, at least 1).
+    /// Font size in pixels (the em, as SVG's `font-size`).
     pub size: f64,
     /// Alignment.
     pub anchor: Anchor,

@@ -20,11 +20,12 @@ impl Scene {
 
 fn render(scene: &Scene) -> String {
     let (w, h) = (scene.width, scene.height);
+    let family = crate::font::FAMILY;
     let mut s = String::new();
     // Writing to a String cannot fail, hence the ignored results below.
     let _ = writeln!(
         s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif">"#
+        r#"<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="{family}">"#
     );
     if !scene.title.is_empty() {
         let _ = writeln!(s, "<title>{}</title>", escape(&scene.title));

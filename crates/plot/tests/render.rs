@@ -397,16 +397,20 @@ fn png_pixels_show_lines_background_band_and_legend() {
         .band(20.0, 50.0, "band");
     let scene = bode.scene();
     let img = decode_png(&bode.to_png());
+    // The PNG is drawn at PNG_SCALE device pixels per scene pixel.
+    let k = plot::PNG_SCALE as usize;
+    let kf = k as f64;
     assert_eq!(
         (img.w, img.h),
-        (scene.width as usize, scene.height as usize)
+        (k * scene.width as usize, k * scene.height as usize)
     );
+    assert!(img.w >= 1600, "{} px wide", img.w);
 
     let white = [255, 255, 255];
     assert_eq!(img.at(0, 0), white);
     assert_eq!(img.at(img.w - 1, img.h - 1), white);
     assert_eq!(
-        img.at(img.w / 2, scene.panels[0].rect.y as usize - 2),
+        img.at(img.w / 2, k * (scene.panels[0].rect.y as usize - 2)),
         white,
         "between title and panel"
     );
@@ -417,22 +421,26 @@ fn png_pixels_show_lines_background_band_and_legend() {
         (20.0 * 0.5f64.log10(), PALETTE[0]),
         (20.0 * 2f64.log10(), PALETTE[1]),
     ] {
-        // A 2 px line centred on y fully covers the pixel row whose centre
-        // is within half a pixel of y: floor(y).
+        // A 2 px line (4 device pixels) centred on y fully covers the
+        // pixel row whose centre is within a pixel of y: floor(y).
         let (x, y) = expected_pixel(mag, 3.0, db);
-        let (x, row) = (x.round() as usize, y.floor() as usize);
+        let (x, row) = ((kf * x).round() as usize, (kf * y).floor() as usize);
         assert_eq!(img.at(x, row), rgb(color), "row {row} at {db} dB");
-        assert_ne!(img.at(x, row - 3), rgb(color));
-        assert_ne!(img.at(x, row + 3), rgb(color));
+        assert_ne!(img.at(x, row - 4), rgb(color));
+        assert_ne!(img.at(x, row + 4), rgb(color));
     }
 
     // Inside the band, away from lines and grid: grey over white.
     let (bx, _) = expected_pixel(mag, 31.0, 0.0);
     let (_, by) = expected_pixel(mag, 31.0, (mag.y.min + 3.0 * mag.y.max) / 4.0);
-    let [r, g, b] = img.at(bx.round() as usize, by.round() as usize + 3);
+    let [r, g, b] = img.at(
+        (kf * bx).round() as usize,
+        (kf * (by + 3.0)).round() as usize,
+    );
     assert!(r == g && g == b && r < 240 && r > 150, "band pixel {r}");
 
-    // The legend: ink where each label is, white right after it.
+    // The legend: ink where each label is, white right after it (the
+    // font advances less than 0.7 em per character of these labels).
     let legend: Vec<&plot::Text> = scene
         .overlay
         .iter()
@@ -443,10 +451,11 @@ fn png_pixels_show_lines_background_band_and_legend() {
         .collect();
     assert_eq!(legend.len(), 3);
     for t in legend {
-        let (x0, y0) = (t.x as usize, t.y as usize);
-        let width = 6 * t.content.len();
+        let (x0, y0) = ((kf * t.x) as usize, (kf * t.y) as usize);
+        let width = (kf * 0.7 * t.size * t.content.len() as f64) as usize;
+        let above = (kf * 0.8 * t.size) as usize;
         let ink = |xs: std::ops::Range<usize>| {
-            xs.flat_map(|x| (y0 - 7..y0).map(move |y| (x, y)))
+            xs.flat_map(|x| (y0 - above..y0).map(move |y| (x, y)))
                 .filter(|&(x, y)| img.at(x, y)[0] < 128)
                 .count()
         };
@@ -623,19 +632,23 @@ fn a_scene_of_its_own_renders() {
         .overlay
         .push(plot::Mark::Text(plot::Text::new(10.0, 20.0, "hello", 10.0)));
     scene.overlay.push(plot::Mark::Rect(
-        plot::Rect::new(10.5, 30.25, 50.0, 20.0),
+        plot::Rect::new(10.25, 30.125, 50.0, 20.0),
         Color::rgba(0, 0, 0, 128),
     ));
     let img = decode_png(&scene.to_png());
-    // Black at alpha 128/255 over white; edges by covered area: half of
-    // column 10, three quarters of row 30.
-    assert_eq!(img.at(30, 40), [127, 127, 127]);
-    assert_eq!(img.at(9, 40), [255, 255, 255]);
-    assert_eq!(img.at(10, 35), [191, 191, 191]);
-    assert_eq!(img.at(30, 30), [159, 159, 159]);
-    let ink = (10..40)
-        .flat_map(|x| (13..20).map(move |y| (x, y)))
-        .filter(|&(x, y)| img.at(x, y)[0] == 0);
+    // At two device pixels per scene pixel the rectangle starts at x =
+    // 20.5, y = 60.25. Black at alpha 128/255 over white; edges by covered
+    // area: half of column 20, three quarters of row 60.
+    assert_eq!(plot::PNG_SCALE, 2);
+    assert_eq!(img.at(60, 80), [127, 127, 127]);
+    assert_eq!(img.at(19, 80), [255, 255, 255]);
+    assert_eq!(img.at(20, 70), [191, 191, 191]);
+    assert_eq!(img.at(60, 60), [159, 159, 159]);
+    // "hello" at (10, 20), an em of 10: dark ink above the baseline at y =
+    // 40 device pixels.
+    let ink = (20..80)
+        .flat_map(|x| (26..40).map(move |y| (x, y)))
+        .filter(|&(x, y)| img.at(x, y)[0] < 64);
     assert!(ink.count() > 30);
     let elements = check_svg(&scene.to_svg());
     assert!(elements
@@ -678,5 +691,6 @@ fn a_scene_of_its_own_renders() {
     check_svg(&svg);
     assert!(!svg.contains("NaN") && !svg.contains("inf"));
     let img = decode_png(&scene.to_png());
-    assert_eq!((img.w, img.h), (1, 1));
+    let k = plot::PNG_SCALE as usize;
+    assert_eq!((img.w, img.h), (k, k));
 }
