@@ -241,10 +241,19 @@ fn decode_png(png: &[u8]) -> Image {
     assert_eq!(&ihdr[8..], &[8, 2, 0, 0, 0], "8-bit RGB, no interlace");
     let raw = miniz_oxide::inflate::decompress_to_vec_zlib(&idat).expect("valid zlib stream");
     assert_eq!(raw.len(), h * (1 + 3 * w));
-    let mut rgb = Vec::with_capacity(w * h * 3);
-    for row in raw.chunks_exact(1 + 3 * w) {
-        assert_eq!(row[0], 0, "filter type 0");
-        rgb.extend_from_slice(&row[1..]);
+    // Filter types 0 (none) and 2 (up: the byte above is added back).
+    let mut rgb: Vec<u8> = Vec::with_capacity(w * h * 3);
+    for (i, row) in raw.chunks_exact(1 + 3 * w).enumerate() {
+        match row[0] {
+            0 => rgb.extend_from_slice(&row[1..]),
+            2 => {
+                for (j, &b) in row[1..].iter().enumerate() {
+                    let above = if i > 0 { rgb[(i - 1) * 3 * w + j] } else { 0 };
+                    rgb.push(b.wrapping_add(above));
+                }
+            }
+            f => panic!("filter type {f}"),
+        }
     }
     Image { w, h, rgb }
 }
