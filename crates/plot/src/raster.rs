@@ -5,6 +5,7 @@
 
 use crate::font;
 use crate::scene::{Anchor, Color, MarkerShape, Prim, Rect, Scene, Stroke, Text};
+use rayon::prelude::*;
 
 type Point = (f64, f64);
 
@@ -27,77 +28,128 @@ impl Scene {
 pub const PNG_SCALE: u32 = 2;
 
 /// Draws `scene`, scaled by `k`, into `width * height * 3` bytes of RGB,
-/// rows top down.
+/// rows top down. Bands of rows are drawn side by side, each with every
+/// primitive clipped to it: a pixel's value depends only on the
+/// primitives over it, so the bytes do not depend on the bands.
 pub(crate) fn render(scene: &Scene, width: usize, height: usize, k: f64) -> Vec<u8> {
+    render_in_bands(scene, width, height, k, 128)
+}
+
+/// [`render`] in bands of `rows` rows.
+fn render_in_bands(scene: &Scene, width: usize, height: usize, k: f64, rows: usize) -> Vec<u8> {
     let bg = scene.background;
-    let mut canvas = Canvas {
-        w: width,
-        h: height,
-        rgb: [bg.r, bg.g, bg.b].repeat(width * height),
-    };
     let at = |(x, y): Point| (x * k, y * k);
-    for prim in scene.primitives() {
-        match prim {
+    let prims: Vec<Prim> = scene
+        .primitives()
+        .into_iter()
+        .map(|prim| match prim {
             Prim::Rect(r, color) => {
-                canvas.fill_rect(Rect::new(r.x * k, r.y * k, r.w * k, r.h * k), color)
+                Prim::Rect(Rect::new(r.x * k, r.y * k, r.w * k, r.h * k), color)
             }
             Prim::Path {
                 points,
                 stroke,
                 offset,
-            } => {
-                let points: Vec<Point> = points.into_iter().map(at).collect();
-                let stroke = Stroke {
+            } => Prim::Path {
+                points: points.into_iter().map(at).collect(),
+                stroke: Stroke {
                     width: stroke.width * k,
                     ..stroke
-                };
-                canvas.stroke(&points, &stroke, offset * k)
-            }
+                },
+                offset: offset * k,
+            },
             Prim::Marker {
                 at: c,
-                shape: MarkerShape::Square,
+                shape,
                 size,
                 color,
-            } => {
-                let (c, size) = (at(c), size * k);
-                let half = size / 2.0;
-                canvas.fill_rect(Rect::new(c.0 - half, c.1 - half, size, size), color);
-            }
-            Prim::Marker {
-                at: c,
-                shape: MarkerShape::Circle,
-                size,
+            } => Prim::Marker {
+                at: at(c),
+                shape,
+                size: size * k,
                 color,
-            } => {
-                let (c, size) = (at(c), size * k);
-                let mut mask = Mask::around(&canvas, &[c], size / 2.0 + 1.0);
-                mask.disc(c, size / 2.0);
-                canvas.apply(&mask, color, 1.0);
-            }
-            Prim::Text(t) => canvas.text(&Text {
+            },
+            Prim::Text(t) => Prim::Text(Text {
                 x: t.x * k,
                 y: t.y * k,
                 size: t.size * k,
                 ..t
             }),
-        }
-    }
-    canvas.rgb
+        })
+        .collect();
+    let mut rgb = [bg.r, bg.g, bg.b].repeat(width * height);
+    let rows = rows.max(1);
+    rgb.par_chunks_mut((rows * width * 3).max(1))
+        .enumerate()
+        .for_each(|(i, band)| {
+            let mut canvas = Canvas {
+                w: width,
+                h: band.len() / (3 * width).max(1),
+                top: i * rows,
+                rgb: band,
+            };
+            for prim in &prims {
+                canvas.draw(prim);
+            }
+        });
+    rgb
 }
 
-struct Canvas {
+/// A band of rows of the image: `h` rows from row `top`, in image
+/// coordinates.
+struct Canvas<'a> {
     w: usize,
     h: usize,
-    rgb: Vec<u8>,
+    top: usize,
+    rgb: &'a mut [u8],
 }
 
-impl Canvas {
+impl Canvas<'_> {
+    fn draw(&mut self, prim: &Prim) {
+        match prim {
+            Prim::Rect(r, color) => self.fill_rect(*r, *color),
+            Prim::Path {
+                points,
+                stroke,
+                offset,
+            } => self.stroke(points, stroke, *offset),
+            Prim::Marker {
+                at,
+                shape: MarkerShape::Square,
+                size,
+                color,
+            } => {
+                let half = size / 2.0;
+                self.fill_rect(Rect::new(at.0 - half, at.1 - half, *size, *size), *color);
+            }
+            Prim::Marker {
+                at,
+                shape: MarkerShape::Circle,
+                size,
+                color,
+            } => {
+                let mut mask = Mask::around(self, &[*at], size / 2.0 + 1.0);
+                mask.disc(*at, size / 2.0);
+                self.apply(&mask, *color, 1.0);
+            }
+            Prim::Text(t) => {
+                // Horizontal text stays within an em above and below its
+                // baseline: bands far from it skip the glyphs.
+                let (top, bottom) = (self.top as f64, (self.top + self.h) as f64);
+                if t.vertical || (t.y + t.size > top && t.y - 1.5 * t.size < bottom) {
+                    self.text(t)
+                }
+            }
+        }
+    }
+
     fn blend(&mut self, x: i64, y: i64, color: Color, coverage: f32) {
-        if x < 0 || y < 0 || x >= self.w as i64 || y >= self.h as i64 || coverage <= 0.0 {
+        let (top, bottom) = (self.top as i64, (self.top + self.h) as i64);
+        if x < 0 || y < top || x >= self.w as i64 || y >= bottom || coverage <= 0.0 {
             return;
         }
         let alpha = coverage.min(1.0) * f32::from(color.a) / 255.0;
-        let i = (y as usize * self.w + x as usize) * 3;
+        let i = ((y - top) as usize * self.w + x as usize) * 3;
         for (old, new) in self.rgb[i..i + 3]
             .iter_mut()
             .zip([color.r, color.g, color.b])
@@ -110,7 +162,10 @@ impl Canvas {
     /// Exact area coverage, so fractional edges blend smoothly.
     fn fill_rect(&mut self, r: Rect, color: Color) {
         let (x0, x1) = (r.x.max(0.0), (r.x + r.w).min(self.w as f64));
-        let (y0, y1) = (r.y.max(0.0), (r.y + r.h).min(self.h as f64));
+        let (y0, y1) = (
+            r.y.max(self.top as f64),
+            (r.y + r.h).min((self.top + self.h) as f64),
+        );
         if !(x1 > x0 && y1 > y0) {
             return;
         }
@@ -192,14 +247,15 @@ impl Mask {
             lo = (lo.0.min(x), lo.1.min(y));
             hi = (hi.0.max(x), hi.1.max(y));
         }
-        let clamp = |v: f64, max: usize| v.clamp(0.0, max as f64) as i64;
+        let clamp = |v: f64, min: usize, max: usize| v.clamp(min as f64, max as f64) as i64;
         let (x0, x1) = (
-            clamp((lo.0 - margin).floor(), canvas.w),
-            clamp((hi.0 + margin).ceil(), canvas.w),
+            clamp((lo.0 - margin).floor(), 0, canvas.w),
+            clamp((hi.0 + margin).ceil(), 0, canvas.w),
         );
+        let (top, bottom) = (canvas.top, canvas.top + canvas.h);
         let (y0, y1) = (
-            clamp((lo.1 - margin).floor(), canvas.h),
-            clamp((hi.1 + margin).ceil(), canvas.h),
+            clamp((lo.1 - margin).floor(), top, bottom),
+            clamp((hi.1 + margin).ceil(), top, bottom),
         );
         let (w, h) = ((x1 - x0).max(0) as usize, (y1 - y0).max(0) as usize);
         Mask {
@@ -300,13 +356,39 @@ mod tests {
         assert_eq!(shifted[0], ((0.0, 0.0), (2.0, 0.0)));
     }
 
+    /// A figure with lines, markers, bands and text across band edges
+    /// gives the same bytes in one band, in bands of 128 rows and in bands
+    /// of 7 rows.
+    #[test]
+    fn bands_do_not_change_the_pixels() {
+        let f: Vec<f64> = (0..300).map(|i| 10f64.powf(i as f64 / 100.0)).collect();
+        let h: Vec<num_complex::Complex64> = f
+            .iter()
+            .map(|&f| {
+                1.0 / num_complex::Complex64::new(1.0 - (f / 100.0).powi(2), 0.05 * f / 100.0)
+            })
+            .collect();
+        let scene = crate::Bode::new("bands")
+            .trace("data", &f, &h, crate::Style::points())
+            .trace("model", &f, &h, crate::Style::line())
+            .band(20.0, 60.0, "mismatch")
+            .residual()
+            .scene();
+        let (w, ht) = (scene.width as usize * 2, scene.height as usize * 2);
+        let one = render_in_bands(&scene, w, ht, 2.0, ht);
+        assert_eq!(render_in_bands(&scene, w, ht, 2.0, 128), one);
+        assert_eq!(render_in_bands(&scene, w, ht, 2.0, 7), one);
+    }
+
     #[test]
     fn a_horizontal_line_covers_its_rows() {
         let scene = Scene::new(20, 10);
+        let mut rgb = render(&scene, 20, 10, 1.0);
         let mut canvas = Canvas {
             w: 20,
             h: 10,
-            rgb: render(&scene, 20, 10, 1.0),
+            top: 0,
+            rgb: &mut rgb,
         };
         let stroke = Stroke {
             color: Color::BLACK,
