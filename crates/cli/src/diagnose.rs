@@ -382,10 +382,16 @@ fn bode(d: &RecordingDiagnosis) -> Bode {
     } else {
         "Recording, model, and model with the missing physics"
     };
-    let mut b = Bode::new(title)
-        .trace("recording", &c.freq_hz, &c.recording, Style::points())
+    let mut b = Bode::new(title).trace("recording", &c.freq_hz, &c.recording, Style::points());
+    if let Some(s) = &c.std_dev {
+        b = b.uncertainty(s);
+    }
+    b = b
         .trace("model (nominal)", &c.freq_hz, &c.nominal, Style::dashed())
         .trace("model after diagnosis", &c.freq_hz, &c.after, Style::line());
+    if let Some(g) = &c.coherence {
+        b = b.coherence(g);
+    }
     if let Some(f) = &d.frequency_domain {
         for band in &f.mismatch {
             b = b.band(band.f_lo_hz, band.f_hi_hz, "mismatch");

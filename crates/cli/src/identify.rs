@@ -544,6 +544,9 @@ fn bode(frf: &Frf, output: Output, id: &Identification) -> Bode {
         id.classification.frf_type
     ))
     .trace("measured", f, frf.response(), Style::points());
+    if let Some(s) = frf.std_dev() {
+        b = b.uncertainty(s);
+    }
     let group = id.indistinguishable.first().map_or(1, Vec::len);
     for (k, c) in id.candidates.iter().take(group.clamp(1, 4)).enumerate() {
         let h = model_curve(
@@ -567,6 +570,9 @@ fn bode(frf: &Frf, output: Output, id: &Identification) -> Bode {
     if lo > f[0] || hi < f[f.len() - 1] {
         b = b.band(f[0], lo, "outside the band");
         b = b.band(hi, f[f.len() - 1], "outside the band");
+    }
+    if let Some(g) = frf.coherence() {
+        b = b.coherence(g);
     }
     // The analysed band with some context fills the figure.
     b.view(lo.max(f[0]), hi.min(f[f.len() - 1])).residual()

@@ -245,6 +245,10 @@ pub struct Curves {
     /// outputs (the deciding model has a nonlinear effect); `false`: their
     /// transfer functions.
     pub simulated: bool,
+    /// The recording's standard deviation per line, if it has one.
+    pub std_dev: Option<Vec<f64>>,
+    /// The recording's squared coherence per line, if it has one.
+    pub coherence: Option<Vec<f64>>,
 }
 
 /// The result of [`diagnose_recording`].
@@ -610,6 +614,8 @@ fn joint_diagnosis(
             nominal: Vec::new(),
             after: Vec::new(),
             simulated: false,
+            std_dev: None,
+            coherence: None,
         },
     }))
 }
@@ -1018,6 +1024,8 @@ fn curves(
         nominal: curve(nominal)?,
         after: curve(after)?,
         simulated,
+        std_dev: frf.std_dev().map(<[f64]>::to_vec),
+        coherence: frf.coherence().map(<[f64]>::to_vec),
     })
 }
 

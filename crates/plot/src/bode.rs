@@ -107,6 +107,8 @@ struct Trace {
     freq_hz: Vec<f64>,
     response: Vec<Complex64>,
     style: Style,
+    /// Standard deviation of the response per frequency, if shown.
+    std_dev: Option<Vec<f64>>,
 }
 
 /// A Bode figure under construction.
@@ -155,6 +157,8 @@ pub struct Bode {
     traces: Vec<Trace>,
     bands: Vec<(f64, f64, String)>,
     residual: bool,
+    /// Coherence of the first trace per frequency, if shown.
+    coherence: Option<Vec<f64>>,
     size: Option<(u32, u32)>,
     view: Option<(f64, f64)>,
 }
@@ -182,6 +186,7 @@ impl Bode {
             bands: Vec::new(),
             view: None,
             residual: false,
+            coherence: None,
             size: None,
         }
     }
@@ -211,7 +216,58 @@ impl Bode {
             freq_hz,
             response,
             style,
+            std_dev: None,
         });
+        self
+    }
+
+    /// Shows the standard deviation of the last trace's response (one per
+    /// frequency, as `frf::Frf::std_dev` gives it) as a light bar at each
+    /// frequency: in magnitude from `|H| - s` to `|H| + s` (down to 60 dB
+    /// below `|H|` where `s` reaches it), in phase `asin(s / |H|)` either
+    /// way (the whole turn where `s >= |H|`).
+    ///
+    /// ```
+    /// use num_complex::Complex64;
+    /// let f = [1.0, 10.0];
+    /// let h = [Complex64::new(1.0, 0.0); 2];
+    /// let scene = plot::Bode::new("").trace("H", &f, &h, plot::Style::points())
+    ///     .uncertainty(&[0.5, 0.1])
+    ///     .scene();
+    /// // Magnitude bars: 20 log10(0.5) to 20 log10(1.5) dB at 1 Hz.
+    /// let bar = &scene.panels[0].spreads[0].points;
+    /// assert!((bar[0].1 - 20.0 * 0.5f64.log10()).abs() < 1e-9);
+    /// assert!((bar[1].1 - 20.0 * 1.5f64.log10()).abs() < 1e-9);
+    /// // Phase bars: +-30 degrees where s = |H| / 2.
+    /// let bar = &scene.panels[1].spreads[0].points;
+    /// assert!((bar[1].1 - bar[0].1 - 60.0).abs() < 1e-9);
+    /// ```
+    pub fn uncertainty(mut self, std_dev: &[f64]) -> Bode {
+        if let Some(t) = self.traces.last_mut() {
+            t.std_dev = Some(std_dev.to_vec());
+        }
+        self
+    }
+
+    /// Adds a coherence panel (0 to 1) at the bottom: `gamma2` is the
+    /// squared coherence at each frequency of the first trace, drawn in its
+    /// style. A low coherence marks lines whose estimate noise or
+    /// nonlinearity dominates.
+    ///
+    /// ```
+    /// use num_complex::Complex64;
+    /// let f = [1.0, 10.0, 100.0];
+    /// let h = [Complex64::new(1.0, 0.0); 3];
+    /// let scene = plot::Bode::new("").trace("H", &f, &h, plot::Style::points())
+    ///     .coherence(&[0.99, 0.5, 0.9])
+    ///     .scene();
+    /// let panel = scene.panels.last().unwrap();
+    /// assert_eq!(panel.y.label, "Coherence");
+    /// assert_eq!((panel.y.min, panel.y.max), (0.0, 1.0));
+    /// assert_eq!(panel.markers[0].points[1], (10.0, 0.5));
+    /// ```
+    pub fn coherence(mut self, gamma2: &[f64]) -> Bode {
+        self.coherence = Some(gamma2.to_vec());
         self
     }
 
@@ -342,9 +398,11 @@ impl Bode {
             }
         }
 
-        let (w, h) = self
-            .size
-            .unwrap_or((800, if self.residual { 700 } else { 560 }));
+        let (w, h) = self.size.unwrap_or((
+            800,
+            560 + if self.residual { 140 } else { 0 }
+                + if self.coherence.is_some() { 130 } else { 0 },
+        ));
         let (w, h) = (w.max(200), h.max(160));
         let mut scene = Scene::new(w, h);
         scene.title = self.title.clone();
@@ -402,8 +460,13 @@ impl Bode {
                 (None, 1) => (-180.0, 180.0),
                 (None, _) => (0.0, 0.0),
             };
-            // One tick interval per 30 px keeps the labels apart.
-            let y_axis = Axis::linear_with(lo, hi, name, (height / 30.0) as usize);
+            // One tick interval per 30 px keeps the labels apart; the
+            // coherence shows exactly 0 to 1.
+            let y_axis = if name == COHERENCE {
+                unit_axis(name, height)
+            } else {
+                Axis::linear_with(lo, hi, name, (height / 30.0) as usize)
+            };
             let x_axis = Axis::log(f_lo, f_hi, "Frequency [Hz]");
             let mut panel = Panel::new(Rect::new(left, y, right - left, height), x_axis, y_axis);
             y += height + gap;
@@ -420,6 +483,9 @@ impl Bode {
                 });
             }
             for (i, (c, ys)) in curves.iter().zip(&values).enumerate() {
+                if let (Some(s), true) = (&self.traces[i].std_dev, k < 2) {
+                    panel.spreads.push(spread(c, s, k == 0, colors[i]));
+                }
                 let points: Vec<(f64, f64)> = c.f.iter().copied().zip(ys.iter().copied()).collect();
                 let (style, color) = (self.traces[i].style, colors[i]);
                 if let Some(shape) = style.marker {
@@ -487,6 +553,22 @@ impl Bode {
             };
             panels.push((residuals, "Residual [dB]", 1.6));
         }
+        if let Some(gamma2) = &self.coherence {
+            // The first trace's lines only.
+            let values = curves
+                .iter()
+                .enumerate()
+                .map(|(i, c)| {
+                    (0..c.f.len())
+                        .map(|j| match (i, gamma2.get(j)) {
+                            (0, Some(&g)) => g,
+                            _ => f64::NAN,
+                        })
+                        .collect()
+                })
+                .collect();
+            panels.push((values, COHERENCE, 1.3));
+        }
         panels
     }
 }
@@ -543,6 +625,66 @@ fn push_legend<'a>(
             label,
             LEGEND_SIZE,
         )));
+    }
+}
+
+/// The coherence panel's title.
+const COHERENCE: &str = "Coherence";
+
+/// The axis from exactly 0 to 1, ticks every 0.5 (0.25 on a panel tall
+/// enough for five labels).
+fn unit_axis(label: &str, height: f64) -> Axis {
+    let step: f64 = if height >= 150.0 { 0.25 } else { 0.5 };
+    let n = (1.0 / step).round() as usize;
+    Axis {
+        scale: crate::Scale::Linear,
+        min: 0.0,
+        max: 1.0,
+        ticks: (0..=n)
+            .map(|i| {
+                let value = i as f64 * step;
+                crate::Tick {
+                    value,
+                    label: Some(format!("{value}")),
+                    major: true,
+                }
+            })
+            .collect(),
+        label: label.to_string(),
+    }
+}
+
+/// Bars of `c`'s standard deviation `std_dev` in its magnitude (`db`) or
+/// phase panel, in a light `color`, one per frequency, separated by NaN
+/// breaks.
+fn spread(c: &Curve, std_dev: &[f64], db: bool, color: Color) -> Line {
+    let mut points = Vec::with_capacity(3 * c.f.len());
+    for (j, (&f, &s)) in c.f.iter().zip(std_dev).enumerate() {
+        let (m_db, deg) = (c.db[j], c.deg[j]);
+        if !(f.is_finite() && m_db.is_finite() && deg.is_finite() && s.is_finite() && s >= 0.0) {
+            continue;
+        }
+        let m = 10f64.powf(m_db / 20.0);
+        let (lo, hi) = if db {
+            let lo = (m - s).max(m * 1e-3);
+            (20.0 * lo.log10(), 20.0 * (m + s).log10())
+        } else {
+            let half = if s < m {
+                (s / m).asin().to_degrees()
+            } else {
+                180.0
+            };
+            (deg - half, deg + half)
+        };
+        points.extend([(f, lo), (f, hi), (f64::NAN, f64::NAN)]);
+    }
+    Line {
+        points,
+        stroke: Stroke {
+            color: Color::rgba(color.r, color.g, color.b, 70),
+            width: 1.0,
+            dash: Dash::Solid,
+        },
     }
 }
 
@@ -740,6 +882,7 @@ mod tests {
             freq_hz: f.to_vec(),
             response: h.to_vec(),
             style: Style::line(),
+            std_dev: None,
         }
     }
 

@@ -226,6 +226,10 @@ pub struct Panel {
     pub x_tick_labels: bool,
     /// Shaded intervals, drawn first.
     pub bands: Vec<Band>,
+    /// The data's uncertainty: polylines (usually one vertical bar per
+    /// line, separated by NaN breaks), drawn over the grid and under the
+    /// markers.
+    pub spreads: Vec<Line>,
     /// Polylines, drawn over the grid.
     pub lines: Vec<Line>,
     /// Markers, drawn over the lines.
@@ -241,6 +245,7 @@ impl Panel {
             y,
             x_tick_labels: true,
             bands: vec![],
+            spreads: vec![],
             lines: vec![],
             markers: vec![],
         }
@@ -448,6 +453,10 @@ fn lower_panel(panel: &Panel, out: &mut Vec<Prim>) {
         }
     }
 
+    for spread in &panel.spreads {
+        let points = spread.points.iter().map(|&(x, y)| (x_px(x), y_px(y)));
+        push_runs(out, points, Some(r), spread.stroke);
+    }
     // Markers (measured points) first and lines (models) over them: a
     // model under thousands of dense points could not be seen.
     for m in &panel.markers {
