@@ -244,7 +244,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
             if args.format == IdentifyFormat::Md {
                 m
             } else {
-                crate::identify::html_page("mms diagnose", &m, &plot.to_svg())
+                crate::identify::html_page("mms diagnose", &m, &[&plot])
             }
         }
     };
@@ -1381,7 +1381,7 @@ fn amplitude_only(
             if args.format == IdentifyFormat::Md {
                 m
             } else {
-                crate::identify::html_page("mms diagnose", &m, &plot.to_svg())
+                crate::identify::html_page("mms diagnose", &m, &[&plot])
             }
         }
     };

@@ -143,11 +143,9 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
             let mut m = markdown(&name, &id, stability.as_ref(), None);
             m.push_str(closed.as_deref().unwrap_or(""));
             m.push_str(&operating_markdown(&name, &operating));
-            let mut svg = plots.to_svg();
-            if let Some(e) = &rec.excitation {
-                svg.push_str(&loop_plot(e).to_svg());
-            }
-            html_page("mms identify", &m, &svg)
+            let extra = rec.excitation.as_ref().map(loop_plot);
+            let figures: Vec<&Bode> = std::iter::once(&plots).chain(extra.as_ref()).collect();
+            html_page("mms identify", &m, &figures)
         }
     };
     let Some(dir) = args.out else {
@@ -882,17 +880,32 @@ fn stability_section(st: &Stability) -> String {
 
 /// One self-contained HTML page: the report's Markdown as HTML, then the
 /// Bode plot inline.
-pub fn html_page(title: &str, md: &str, svg: &str) -> String {
+pub fn html_page(title: &str, md: &str, figures: &[&Bode]) -> String {
     let mut s = format!(
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{title}</title>\n\
          <style>body{{font-family:sans-serif;max-width:60em;margin:2em auto}}\
-         table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px}}</style>\n\
+         table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px}}\
+         .mms-readout{{font-size:0.85em;min-height:2.6em;color:#333}}\
+         .mms-bode canvas{{cursor:crosshair}}</style>\n\
          </head><body>\n"
     );
-    s.push_str(&markdown_to_html(md));
-    s.push_str("<h2>Bode plot</h2>\n");
-    s.push_str(svg);
-    s.push_str("</body></html>\n");
+    // The verdict (what precedes the first section), the figures, then
+    // the sections with their tables.
+    let split = md.find("\n## ").map_or(md.len(), |i| i + 1);
+    s.push_str(&markdown_to_html(&md[..split]));
+    s.push_str(
+        "<h2>Bode plot</h2>\n<p><small>Drag across a panel to zoom in frequency, \
+         double-click to return; click a legend entry to hide or show its curve.</small></p>\n",
+    );
+    for (k, figure) in figures.iter().enumerate() {
+        s.push_str(&figure.to_html(&format!("figure-{}", k + 1), k + 1 == figures.len()));
+    }
+    s.push_str(&markdown_to_html(&md[split..]));
+    s.push_str("<details><summary>Static figures (SVG)</summary>\n");
+    for figure in figures {
+        s.push_str(&figure.to_svg());
+    }
+    s.push_str("</details>\n</body></html>\n");
     s
 }
 

@@ -61,9 +61,7 @@ pub fn run(args: &IdentifyArgs, options: &IdentifyOptions) -> Result<Option<Stri
             s
         }
         IdentifyFormat::Md => markdown(&name, &id, args.out.map(|_| "bode.svg")),
-        IdentifyFormat::Html => {
-            html_page("mms identify", &markdown(&name, &id, None), &plots.to_svg())
-        }
+        IdentifyFormat::Html => html_page("mms identify", &markdown(&name, &id, None), &[&plots]),
     };
     let Some(dir) = args.out else {
         return Ok(Some(report));
@@ -495,7 +493,7 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
             if args.format == IdentifyFormat::Md {
                 m
             } else {
-                html_page("mms diagnose", &m, &plot.to_svg())
+                html_page("mms diagnose", &m, &[&plot])
             }
         }
     };

@@ -102,11 +102,11 @@ impl Style {
 }
 
 #[derive(Clone, Debug)]
-struct Trace {
-    label: String,
+pub(crate) struct Trace {
+    pub(crate) label: String,
     freq_hz: Vec<f64>,
     response: Vec<Complex64>,
-    style: Style,
+    pub(crate) style: Style,
     /// Standard deviation of the response per frequency, if shown.
     std_dev: Option<Vec<f64>>,
 }
@@ -387,10 +387,7 @@ impl Bode {
     /// assert_eq!(scene.panels[1].y.label, "Phase [deg]");
     /// ```
     pub fn scene(&self) -> Scene {
-        let curves = align_phases(self.traces.iter().map(Curve::new).collect());
-        let colors: Vec<Color> = (self.traces.iter().enumerate())
-            .map(|(i, t)| t.style.color.unwrap_or(PALETTE[i % PALETTE.len()]))
-            .collect();
+        let (curves, colors) = self.curves_and_colors();
         let mut groups: Vec<(&str, Color)> = Vec::new();
         for (_, _, label) in &self.bands {
             if !groups.iter().any(|(l, _)| l == label) {
@@ -422,21 +419,7 @@ impl Bode {
         let (left, right, top) = (70.0, (f64::from(w) - 16.0 - legend_w).round(), 44.0);
 
         let panels = self.panel_values(&curves);
-        let all_f = finite_range(curves.iter().flat_map(|c| c.f.iter().copied()));
-        // Without data, the bands pick the frequency range, if they can.
-        let band_f = finite_range(
-            self.bands
-                .iter()
-                .flat_map(|b| [b.0, b.1])
-                .filter(|f| *f > 0.0),
-        );
-        let (mut f_lo, mut f_hi) = all_f.or(band_f).unwrap_or((1.0, 1000.0));
-        if let Some((lo, hi)) = self.view {
-            (f_lo, f_hi) = ((lo / 1.3).max(f_lo), (hi * 1.3).min(f_hi));
-            if f_lo >= f_hi {
-                (f_lo, f_hi) = (lo, hi);
-            }
-        }
+        let (f_lo, f_hi) = self.range_hz(&curves);
         let shown = |f: f64| f >= f_lo * (1.0 - 1e-12) && f <= f_hi * (1.0 + 1e-12);
         let (gap, bottom_margin) = (12.0, 44.0);
         let avail = f64::from(h) - top - bottom_margin - gap * (panels.len() - 1) as f64;
@@ -520,6 +503,57 @@ impl Bode {
         let entries = traces.chain(bands).filter(|e| !e.0.is_empty());
         push_legend(&mut scene, entries, (right + 16.0, top + 8.0), max_chars);
         scene
+    }
+
+    /// Each trace's magnitude and phase (phases aligned to the first
+    /// trace's) and colour.
+    pub(crate) fn curves_and_colors(&self) -> (Vec<Curve>, Vec<Color>) {
+        let curves = align_phases(self.traces.iter().map(Curve::new).collect());
+        let colors = (self.traces.iter().enumerate())
+            .map(|(i, t)| t.style.color.unwrap_or(PALETTE[i % PALETTE.len()]))
+            .collect();
+        (curves, colors)
+    }
+
+    /// The frequencies the figure shows: the view with some context, or
+    /// all the data (without data, the bands').
+    fn range_hz(&self, curves: &[Curve]) -> (f64, f64) {
+        let all_f = finite_range(curves.iter().flat_map(|c| c.f.iter().copied()));
+        let band_f = finite_range(
+            self.bands
+                .iter()
+                .flat_map(|b| [b.0, b.1])
+                .filter(|f| *f > 0.0),
+        );
+        let (mut f_lo, mut f_hi) = all_f.or(band_f).unwrap_or((1.0, 1000.0));
+        if let Some((lo, hi)) = self.view {
+            (f_lo, f_hi) = ((lo / 1.3).max(f_lo), (hi * 1.3).min(f_hi));
+            if f_lo >= f_hi {
+                (f_lo, f_hi) = (lo, hi);
+            }
+        }
+        (f_lo, f_hi)
+    }
+
+    /// [`Bode::range_hz`] of the figure's own curves.
+    pub(crate) fn view_hz(&self) -> (f64, f64) {
+        self.range_hz(&self.curves_and_colors().0)
+    }
+
+    pub(crate) fn title(&self) -> &str {
+        &self.title
+    }
+
+    pub(crate) fn traces(&self) -> &[Trace] {
+        &self.traces
+    }
+
+    pub(crate) fn bands(&self) -> &[(f64, f64, String)] {
+        &self.bands
+    }
+
+    pub(crate) fn coherence_values(&self) -> Option<&[f64]> {
+        self.coherence.as_deref()
     }
 
     /// Values of each panel (one vector per trace, aligned with its
@@ -712,10 +746,10 @@ fn marker_size(line_width: f64) -> f64 {
 
 /// One trace in plotted units; every vector has the trace's length, with
 /// NaN for gaps (a NaN frequency gaps all three).
-struct Curve {
-    f: Vec<f64>,
-    db: Vec<f64>,
-    deg: Vec<f64>,
+pub(crate) struct Curve {
+    pub(crate) f: Vec<f64>,
+    pub(crate) db: Vec<f64>,
+    pub(crate) deg: Vec<f64>,
 }
 
 impl Curve {

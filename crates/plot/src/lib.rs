@@ -49,6 +49,7 @@
 mod axis;
 mod bode;
 mod font;
+mod html;
 mod png;
 mod raster;
 mod scene;
