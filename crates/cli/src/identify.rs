@@ -897,14 +897,19 @@ pub fn html_page(title: &str, md: &str, figures: &[&Bode]) -> String {
         "<h2>Bode plot</h2>\n<p><small>Drag across a panel to zoom in frequency, \
          double-click to return; click a legend entry to hide or show its curve.</small></p>\n",
     );
-    for (k, figure) in figures.iter().enumerate() {
-        s.push_str(&figure.to_html(&format!("figure-{}", k + 1), k + 1 == figures.len()));
-    }
+    // The interactive and the static figures side by side.
+    let (interactive, statics) = rayon::join(
+        || {
+            (figures.iter().enumerate())
+                .map(|(k, f)| f.to_html(&format!("figure-{}", k + 1), k + 1 == figures.len()))
+                .collect::<String>()
+        },
+        || figures.iter().map(|f| f.to_svg()).collect::<String>(),
+    );
+    s.push_str(&interactive);
     s.push_str(&markdown_to_html(&md[split..]));
     s.push_str("<details><summary>Static figures (SVG)</summary>\n");
-    for figure in figures {
-        s.push_str(&figure.to_svg());
-    }
+    s.push_str(&statics);
     s.push_str("</details>\n</body></html>\n");
     s
 }
