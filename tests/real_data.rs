@@ -1247,3 +1247,252 @@ fn identify_plot_shows_the_coherence_and_the_uncertainty_of_each_line() {
     );
     assert!(g_min < 0.3, "{g_min}");
 }
+
+/// The figures' data of an HTML report (one JSON per figure).
+fn html_figures(args: &[&str], name: &str) -> Vec<Value> {
+    let dir = temp_dir(&format!("figures-{name}"));
+    let out = dir.to_str().unwrap().to_string();
+    let all: Vec<&str> = args
+        .iter()
+        .copied()
+        .chain(["--format", "html", "--out", &out])
+        .collect();
+    let (code, _, err) = mms(&all);
+    assert_eq!(code, 0, "{name}: {err}");
+    let page = std::fs::read_to_string(dir.join("report.html")).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let tag = "<script type=\"application/json\" class=\"mms-data\">";
+    page.split(tag)
+        .skip(1)
+        .map(|rest| serde_json::from_str(&rest[..rest.find("</script>").unwrap()]).unwrap())
+        .collect()
+}
+
+/// What an engineer checks first on a Bode plot, on every figure of the
+/// real-data reports: no model drawn a multiple of 360 degrees away from
+/// the data (the median difference over the shown lines is within half a
+/// turn), a labelled tick in every decade the frequency axis spans and at
+/// least three on it, and at least three labels on every value axis.
+#[test]
+fn real_data_figures_have_aligned_phases_and_labelled_axes() {
+    let sperte = |rec: &str| real_data(&format!("sperte/{rec}.mat"));
+    let s = ["--u", "result:1", "--y", "result:2", "--fs", "4000"];
+    let tue = [
+        "--u",
+        "Data.signals.u",
+        "--y",
+        "Data.signals.y",
+        "--excitation",
+        "Data.signals.d",
+    ];
+    let mut runs: Vec<(String, Vec<String>)> = Vec::new();
+    let own = |v: &[&str]| v.iter().map(|a| a.to_string()).collect::<Vec<_>>();
+    for rec in [
+        "setup18_motor_side_v0.3",
+        "setup18_motor_side_v0.5",
+        "setup18_load_side_v0.5_m2",
+        "setup29_load_side_v0.5",
+        "session02nov_frf_measurement_0",
+    ] {
+        let path = sperte(rec);
+        runs.push((rec.into(), own(&[&["identify", &path][..], &s].concat())));
+    }
+    let f16 = real_data("f16_gvt/F16Data_FullMSine_Level1.mat");
+    let f16_7 = real_data("f16_gvt/F16Data_FullMSine_Level7.mat");
+    let f16_args = [
+        "--u",
+        "Force",
+        "--y",
+        "Acceleration:1",
+        "--period",
+        "8192",
+        "--output",
+        "acceleration",
+    ];
+    runs.push((
+        "f16".into(),
+        own(&[
+            &["identify", &f16][..],
+            &f16_args,
+            &["--band", "4:15", "--fit-gain"],
+        ]
+        .concat()),
+    ));
+    runs.push((
+        "f16-levels".into(),
+        own(&[
+            &["diagnose", &f16][..],
+            &f16_args,
+            &["--band", "2:15", "--level", &f16_7],
+        ]
+        .concat()),
+    ));
+    let arm = real_data("robot_arm/robot_arm.dat");
+    runs.push((
+        "robot-arm".into(),
+        own(&[
+            "identify",
+            &arm,
+            "--u",
+            "1",
+            "--y",
+            "2",
+            "--fs",
+            "1",
+            "--output",
+            "acceleration",
+            "--nfft",
+            "256",
+            "--fit-gain",
+        ]),
+    ));
+    let moving = real_data("tue_motion_2025/motor_side_1rads.mat");
+    runs.push((
+        "tue2025".into(),
+        own(&[&["identify", &moving][..], &tue].concat()),
+    ));
+    let scan = real_data("tue_motion_2018/scan_10hz_with_feedforward.mat");
+    runs.push((
+        "tue2018".into(),
+        own(&[
+            "identify",
+            &scan,
+            "--u",
+            "Data.u",
+            "--y",
+            "Data.y1@1",
+            "--y",
+            "Data.y2@N",
+            "--excitation",
+            "Data.r",
+            "--band",
+            "1:100",
+            "--masses",
+            "2",
+        ]),
+    ));
+    let standstill = real_data("tue_motion_2025/motor_side_stationary.mat");
+    runs.push((
+        "tue2025-standstill".into(),
+        own(&[&["identify", &standstill][..], &tue].concat()),
+    ));
+    // EMPS inside its position loop, with the model of scripts/real-data.sh.
+    let emps_dir = temp_dir("figures-emps");
+    std::fs::create_dir_all(&emps_dir).unwrap();
+    let emps_model = emps_dir.join("emps.toml");
+    std::fs::write(
+        &emps_model,
+        "masses = 1\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\noutput = \"position\"\n\
+         gain = 35.15\n[parameters]\nm1 = 100\n[effects]\nfriction = { viscous_ns_per_m = 200 }\n",
+    )
+    .unwrap();
+    let emps_model = emps_model.to_str().unwrap().to_string();
+    for (rec, controller) in [
+        ("DATA_EMPS.mat", "kp=kp,kv=kv"),
+        (
+            "DATA_EMPS_PULSES.mat",
+            "kp=160.18,kv=243.45,filter=0.5:0.5,saturation=10",
+        ),
+    ] {
+        let path = real_data(&format!("emps/{rec}"));
+        let mut args = own(&[
+            "diagnose",
+            &path,
+            "--u",
+            "vir",
+            "--y",
+            "qm",
+            "--fs",
+            "1000",
+            "--model",
+            &emps_model,
+            "--reference",
+            "qg",
+            "--controller",
+            controller,
+        ]);
+        if rec.contains("PULSES") {
+            args.extend(own(&["--disturbance", "pulses_N"]));
+        }
+        runs.push((rec.into(), args));
+    }
+    // A diagnosis with the model identified from the record.
+    let v03 = sperte("setup18_motor_side_v0.3");
+    let dir = temp_dir("figures-model");
+    let out = dir.to_str().unwrap();
+    let (code, _, err) = mms(&[&["identify", &v03][..], &s, &["--out", out]].concat());
+    assert_eq!(code, 0, "{err}");
+    let model = dir.join("model.toml").to_str().unwrap().to_string();
+    runs.push((
+        "sperte-diagnose".into(),
+        own(&[&["diagnose", &v03][..], &s, &["--model", &model]].concat()),
+    ));
+    let mut figures = 0;
+    for (name, args) in &runs {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let figs = html_figures(&args, name);
+        assert!(!figs.is_empty(), "{name}: no figure");
+        for fig in figs {
+            figures += 1;
+            check_figure(name, &fig);
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&emps_dir);
+    assert!(figures >= runs.len(), "{figures} figures");
+}
+
+fn check_figure(name: &str, fig: &Value) {
+    let nums = |v: &Value| -> Vec<Option<f64>> {
+        v.as_array().unwrap().iter().map(Value::as_f64).collect()
+    };
+    let (lo, hi) = (num(&fig["view"][0]), num(&fig["view"][1]));
+    let traces = fig["traces"].as_array().unwrap();
+    let (f0, deg0) = (nums(&traces[0]["f"]), nums(&traces[0]["deg"]));
+    for t in &traces[1..] {
+        let (f, deg) = (nums(&t["f"]), nums(&t["deg"]));
+        let mut diffs: Vec<f64> = Vec::new();
+        for (k, fk) in f.iter().enumerate() {
+            let (Some(fk), Some(d)) = (fk, deg[k]) else {
+                continue;
+            };
+            if *fk < lo || *fk > hi {
+                continue;
+            }
+            if let Some(j) = f0.iter().position(|x| *x == Some(*fk)) {
+                if let Some(d0) = deg0[j] {
+                    diffs.push(d - d0);
+                }
+            }
+        }
+        if diffs.is_empty() {
+            continue;
+        }
+        diffs.sort_by(f64::total_cmp);
+        let median = diffs[diffs.len() / 2];
+        assert!(
+            median.abs() < 180.0,
+            "{name}: {} is {median:.0} deg off the data",
+            t["label"]
+        );
+    }
+    for axis in fig["axes"].as_array().unwrap() {
+        let y: Vec<f64> = nums(&axis["y_labelled"]).into_iter().flatten().collect();
+        assert!(y.len() >= 3, "{name}: {} has labels {y:?}", axis["title"]);
+        let x: Vec<f64> = nums(&axis["x_labelled"]).into_iter().flatten().collect();
+        if x.is_empty() {
+            continue; // a panel above the one that labels the shared axis
+        }
+        assert!(x.len() >= 3, "{name}: frequency labels {x:?}");
+        let (a, b) = (num(&axis["x"][0]), num(&axis["x"][1]));
+        let mut d = a.log10().ceil() as i32;
+        while 10f64.powi(d + 1) <= b {
+            let (lo, hi) = (10f64.powi(d), 10f64.powi(d + 1));
+            assert!(
+                x.iter().any(|v| *v >= lo && *v < hi),
+                "{name}: no label in {lo}-{hi} Hz: {x:?}"
+            );
+            d += 1;
+        }
+    }
+}

@@ -788,6 +788,9 @@ fn align_phases(mut curves: Vec<Curve>) -> Vec<Curve> {
         return curves;
     };
     let reference = Interp::new(&first.f, &first.deg);
+    // The reference's phase with its line-to-line noise filtered, for
+    // following its turns.
+    let smooth = Interp::new(&first.f, &running_median(&first.deg, 4));
     let mean = |v: &mut dyn Iterator<Item = f64>| {
         let (sum, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
         (n > 0).then(|| sum / n as f64)
@@ -828,8 +831,53 @@ fn align_phases(mut curves: Vec<Curve>) -> Vec<Curve> {
             let turns = (offset / 360.0).round();
             c.deg.iter_mut().for_each(|d| *d -= 360.0 * turns);
         }
+        follow_turns(c, &smooth);
     }
     curves
+}
+
+/// Where the reference's unwrapped phase gains or loses whole turns that
+/// the trace `c` does not (a measured phase through poorly excited lines,
+/// or dynamics the model lacks), the trace follows it by whole turns, so it
+/// is never drawn a multiple of 360 degrees away from the data: a turn is
+/// taken where the trace is more than 240 degrees from the reference's
+/// running median (the margin keeps noise from flipping it), and the trace
+/// breaks there (that point's phase is left out).
+fn follow_turns(c: &mut Curve, reference: &Interp) {
+    let mut turns = 0.0;
+    for (f, d) in c.f.iter().zip(c.deg.iter_mut()) {
+        let r = reference.at(*f);
+        if !(d.is_finite() && r.is_finite()) {
+            continue;
+        }
+        let off = *d + 360.0 * turns - r;
+        if off.abs() > 240.0 {
+            turns -= (off / 360.0).round();
+            *d = f64::NAN;
+            continue;
+        }
+        *d += 360.0 * turns;
+    }
+}
+
+/// The running median of `y` over `2 * half + 1` finite neighbours in
+/// order (NaN where `y` is NaN).
+fn running_median(y: &[f64], half: usize) -> Vec<f64> {
+    let finite: Vec<(usize, f64)> = y
+        .iter()
+        .copied()
+        .enumerate()
+        .filter(|p| p.1.is_finite())
+        .collect();
+    let mut out = vec![f64::NAN; y.len()];
+    for (k, &(i, _)) in finite.iter().enumerate() {
+        let lo = k.saturating_sub(half);
+        let hi = (k + half + 1).min(finite.len());
+        let mut w: Vec<f64> = finite[lo..hi].iter().map(|p| p.1).collect();
+        w.sort_by(f64::total_cmp);
+        out[i] = w[w.len() / 2];
+    }
+    out
 }
 
 /// Linear interpolation over log frequency, NaN outside the data or next
@@ -918,6 +966,41 @@ mod tests {
             style: Style::line(),
             std_dev: None,
         }
+    }
+
+    /// A measured phase that loses a whole turn halfway (two poles the
+    /// model lacks, or noise through poorly excited lines) takes the
+    /// model's drawn phase with it: never more than 240 degrees from the
+    /// data, with one break where it turns.
+    #[test]
+    fn models_follow_the_turns_of_the_data() {
+        let f: Vec<f64> = (1..=200).map(|k| k as f64).collect();
+        let data: Vec<Complex64> = f
+            .iter()
+            .map(|&f| {
+                // 170 degrees, falling by a whole turn between 90 and 110 Hz.
+                let turn = ((f - 90.0) / 20.0).clamp(0.0, 1.0);
+                polar(170.0 - 360.0 * turn + 3.0 * (f * 0.7).sin())
+            })
+            .collect();
+        let model = vec![polar(179.0); f.len()];
+        let curves = align_phases(vec![
+            Curve::new(&trace(&f, &data)),
+            Curve::new(&trace(&f, &model)),
+        ]);
+        let (d, m) = (&curves[0].deg, &curves[1].deg);
+        let breaks = m.iter().filter(|v| v.is_nan()).count();
+        assert_eq!(breaks, 1);
+        for (a, b) in d.iter().zip(m).filter(|p| p.1.is_finite()) {
+            assert!((a - b).abs() < 240.0, "{a} against {b}");
+        }
+        // Above the turn the model is drawn 360 degrees lower than below.
+        assert!(
+            (m[10] - m[190] - 360.0).abs() < 1e-9,
+            "{} {}",
+            m[10],
+            m[190]
+        );
     }
 
     fn polar(deg: f64) -> Complex64 {

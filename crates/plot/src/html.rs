@@ -51,8 +51,9 @@ impl Bode {
     }
 
     /// The data the script draws: title, view, traces (label, colour,
-    /// style, frequencies, dB, degrees aligned as in the SVG), bands and
-    /// the coherence.
+    /// style, frequencies, dB, degrees aligned as in the SVG), bands, the
+    /// coherence, and the static figure's axes (ranges and tick labels of
+    /// each panel).
     fn json_data(&self) -> String {
         let (curves, colors) = self.curves_and_colors();
         let mut s = String::from("{");
@@ -95,7 +96,34 @@ impl Bode {
         if let Some(g) = self.coherence_values() {
             let _ = write!(s, ",\"coherence\":{}", array(g));
         }
-        s.push('}');
+        // The static figure's axes, as drawn (a reader of the data can
+        // check what the SVG and PNG show).
+        s.push_str(",\"axes\":[");
+        for (i, p) in self.scene().panels.iter().enumerate() {
+            if i > 0 {
+                s.push(',');
+            }
+            // The values of the labelled ticks.
+            let labels = |a: &crate::Axis, shown: bool| {
+                let v: Vec<f64> = (a.ticks.iter())
+                    .filter(|t| shown && t.label.is_some())
+                    .map(|t| t.value)
+                    .collect();
+                array(&v)
+            };
+            let _ = write!(
+                s,
+                "{{\"title\":{},\"x\":[{},{}],\"x_labelled\":{},\"y\":[{},{}],\"y_labelled\":{}}}",
+                json_str(&p.y.label),
+                num(p.x.min),
+                num(p.x.max),
+                labels(&p.x, p.x_tick_labels),
+                num(p.y.min),
+                num(p.y.max),
+                labels(&p.y, true)
+            );
+        }
+        s.push_str("]}");
         s
     }
 }
