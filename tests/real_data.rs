@@ -1496,3 +1496,26 @@ fn check_figure(name: &str, fig: &Value) {
         }
     }
 }
+
+/// A band with no usable line is named in the one-line error (exit 2),
+/// for identify and diagnose alike, and an output path that is a file is
+/// refused without writing anything.
+#[test]
+fn an_empty_band_and_a_file_for_a_directory_are_named() {
+    let path = real_data("sperte/setup18_motor_side_v0.3.mat");
+    let s = ["--u", "result:1", "--y", "result:2", "--fs", "4000"];
+    let (code, _, err) = mms(&[&["identify", &path][..], &s, &["--band", "3000:3500"]].concat());
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("3000") && err.contains("3500") && err.lines().count() == 1,
+        "{err}"
+    );
+    let file = std::env::temp_dir().join(format!("mms-out-is-a-file-{}", std::process::id()));
+    std::fs::write(&file, "keep").unwrap();
+    let out = file.to_str().unwrap();
+    let (code, _, err) = mms(&[&["identify", &path][..], &s, &["--out", out]].concat());
+    assert_eq!(code, 2);
+    assert!(err.contains("not a directory"), "{err}");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "keep");
+    let _ = std::fs::remove_file(&file);
+}

@@ -73,8 +73,14 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
     let output: Output = args.recording.output.into();
     let name = args.recording.path()?.display().to_string();
     let bar = progress_bar();
-    let id = identify_with_progress(&rec.frf, output, &options, &|p| show(&bar, p))
-        .map_err(|e| format!("{name}: {e}"))?;
+    let id =
+        identify_with_progress(&rec.frf, output, &options, &|p| show(&bar, p)).map_err(|e| {
+            match args.band {
+                // The band is what left too few lines: say which.
+                Some((lo, hi)) => format!("{name}: in the band {lo}-{hi} Hz: {e}"),
+                None => format!("{name}: {e}"),
+            }
+        })?;
     bar.finish_and_clear();
     // A time-domain recording is identified again on other cuts of it.
     let stability = match (&rec.samples, &rec.source) {
