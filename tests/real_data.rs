@@ -296,23 +296,26 @@ fn f16_level_1_two_mass_model_misses_modes_not_friction() {
 /// non-minimum-phase zero: torque at the base, acceleration on the arm)
 /// that no chain fits, so the diagnosis patches it with an extra mode at
 /// the resonance the chain lacks and the error stays high.
+/// How the robot arm's recording is read: one sample per unit of time,
+/// acceleration out, segments of 256.
+const ROBOT_ARM: [&str; 10] = [
+    "--u",
+    "1",
+    "--y",
+    "2",
+    "--fs",
+    "1",
+    "--output",
+    "acceleration",
+    "--nfft",
+    "256",
+];
+
 #[test]
 fn robot_arm_is_no_chain() {
     let dir = temp_dir("arm");
     let arm = real_data("robot_arm/robot_arm.dat");
-    let common = [
-        arm.as_str(),
-        "--u",
-        "1",
-        "--y",
-        "2",
-        "--fs",
-        "1",
-        "--output",
-        "acceleration",
-        "--nfft",
-        "256",
-    ];
+    let common: Vec<&str> = std::iter::once(arm.as_str()).chain(ROBOT_ARM).collect();
     let out = dir.join("id");
     let mut args = vec!["identify"];
     args.extend_from_slice(&common);
@@ -1330,21 +1333,7 @@ fn real_data_figures_have_aligned_phases_and_labelled_axes() {
     let arm = real_data("robot_arm/robot_arm.dat");
     runs.push((
         "robot-arm".into(),
-        own(&[
-            "identify",
-            &arm,
-            "--u",
-            "1",
-            "--y",
-            "2",
-            "--fs",
-            "1",
-            "--output",
-            "acceleration",
-            "--nfft",
-            "256",
-            "--fit-gain",
-        ]),
+        own(&[&["identify", &arm][..], &ROBOT_ARM, &["--fit-gain"]].concat()),
     ));
     let moving = real_data("tue_motion_2025/motor_side_1rads.mat");
     runs.push((
@@ -1354,22 +1343,7 @@ fn real_data_figures_have_aligned_phases_and_labelled_axes() {
     let scan = real_data("tue_motion_2018/scan_10hz_with_feedforward.mat");
     runs.push((
         "tue2018".into(),
-        own(&[
-            "identify",
-            &scan,
-            "--u",
-            "Data.u",
-            "--y",
-            "Data.y1@1",
-            "--y",
-            "Data.y2@N",
-            "--excitation",
-            "Data.r",
-            "--band",
-            "1:100",
-            "--masses",
-            "2",
-        ]),
+        own(&[&["identify", &scan][..], &TUE2018_BOTH, &["--masses", "2"]].concat()),
     ));
     let standstill = real_data("tue_motion_2025/motor_side_stationary.mat");
     runs.push((

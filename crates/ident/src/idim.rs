@@ -747,19 +747,33 @@ pub fn idim_ls(
 mod tests {
     use super::*;
 
+    /// Uniform noise in [-0.5, 0.5) from a linear congruential generator.
+    fn noise(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        }
+    }
+
+    fn largest(x: &[f64]) -> f64 {
+        x.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+    }
+
+    fn worst_difference(a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+    }
+
     /// The precomputed padding against [`filtfilt`] itself: equal up to
     /// rounding, with a padding shorter than the record and one cut to it,
     /// a corner whose response outlasts the record, and records long and
     /// short enough for the chunked and serial passes.
     #[test]
     fn zero_phase_equals_filtfilt() {
-        let mut seed = 11u64;
-        let mut noise = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut noise = noise(11);
         for (n, fc, offset) in [
             (4096, 0.122, 0.0),
             (4096, 0.122, 30.0),
@@ -775,11 +789,7 @@ mod tests {
             let pad = (3.0 * 4000.0 / fc) as usize;
             let z = ZeroPhase::new(sections[0], n, pad);
             let (a, b) = (z.apply(&x), filtfilt(&sections, &x, pad));
-            let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let worst = a
-                .iter()
-                .zip(&b)
-                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            let (scale, worst) = (largest(&x), worst_difference(&a, &b));
             assert_eq!(a.len(), n);
             // At the lowest corner the poles lie within 2e-4 of 1 and any
             // pass rounds at 1e-9 of the scale (the serial pass on the
@@ -810,13 +820,7 @@ mod tests {
             }
             v[pad..pad + n].to_vec()
         };
-        let mut seed = 7u64;
-        let mut noise = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut noise = noise(7);
         for (n, order, fc, offset) in [
             (300, 2, 40.0, 0.0),
             (4096, 2, 8.0, 0.0),
@@ -831,11 +835,7 @@ mod tests {
             let sections = butterworth(order, fc, 4000.0);
             let pad = (3.0 * 4000.0 / fc) as usize;
             let (a, b) = (filtfilt(&sections, &x, pad), serial(&sections, &x, pad));
-            let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let worst = a
-                .iter()
-                .zip(&b)
-                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            let (scale, worst) = (largest(&x), worst_difference(&a, &b));
             assert_eq!(a.len(), n);
             // Poles near 1 (a corner far below the rate) amplify rounding.
             assert!(worst < 1e-10 * scale, "n {n}, fc {fc}: {worst:e}");
