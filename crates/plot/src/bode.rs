@@ -388,6 +388,12 @@ impl Bode {
     /// ```
     pub fn scene(&self) -> Scene {
         let (curves, colors) = self.curves_and_colors();
+        self.scene_of(&curves, &colors)
+    }
+
+    /// [`Bode::scene`] from the curves and colours of
+    /// [`Bode::curves_and_colors`].
+    pub(crate) fn scene_of(&self, curves: &[Curve], colors: &[Color]) -> Scene {
         let mut groups: Vec<(&str, Color)> = Vec::new();
         for (_, _, label) in &self.bands {
             if !groups.iter().any(|(l, _)| l == label) {
@@ -418,8 +424,8 @@ impl Bode {
         });
         let (left, right, top) = (70.0, (f64::from(w) - 16.0 - legend_w).round(), 44.0);
 
-        let panels = self.panel_values(&curves);
-        let (f_lo, f_hi) = self.range_hz(&curves);
+        let panels = self.panel_values(curves);
+        let (f_lo, f_hi) = self.range_hz(curves);
         let shown = |f: f64| f >= f_lo * (1.0 - 1e-12) && f <= f_hi * (1.0 + 1e-12);
         let (gap, bottom_margin) = (12.0, 44.0);
         let avail = f64::from(h) - top - bottom_margin - gap * (panels.len() - 1) as f64;
@@ -495,7 +501,7 @@ impl Bode {
         let title = Text::new((left + right) / 2.0, 26.0, &self.title, 16.0);
         scene.overlay.push(Mark::Text(title.anchor(Anchor::Middle)));
         // Legend rows: traces, then band groups; unlabelled ones have none.
-        let traces = (self.traces.iter().zip(&colors))
+        let traces = (self.traces.iter().zip(colors))
             .map(|(t, &c)| (t.label.as_str(), Swatch::Trace(t.style, c)));
         let bands = groups
             .iter()
@@ -517,7 +523,7 @@ impl Bode {
 
     /// The frequencies the figure shows: the view with some context, or
     /// all the data (without data, the bands').
-    fn range_hz(&self, curves: &[Curve]) -> (f64, f64) {
+    pub(crate) fn range_hz(&self, curves: &[Curve]) -> (f64, f64) {
         let all_f = finite_range(curves.iter().flat_map(|c| c.f.iter().copied()));
         let band_f = finite_range(
             self.bands
@@ -533,11 +539,6 @@ impl Bode {
             }
         }
         (f_lo, f_hi)
-    }
-
-    /// [`Bode::range_hz`] of the figure's own curves.
-    pub(crate) fn view_hz(&self) -> (f64, f64) {
-        self.range_hz(&self.curves_and_colors().0)
     }
 
     pub(crate) fn title(&self) -> &str {

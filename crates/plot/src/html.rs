@@ -58,7 +58,7 @@ impl Bode {
         let (curves, colors) = self.curves_and_colors();
         let mut s = String::from("{");
         let _ = write!(s, "\"title\":{}", json_str(self.title()));
-        let (lo, hi) = self.view_hz();
+        let (lo, hi) = self.range_hz(&curves);
         let _ = write!(s, ",\"view\":[{},{}]", num(lo), num(hi));
         s.push_str(",\"traces\":[");
         for (i, (t, c)) in self.traces().iter().zip(&curves).enumerate() {
@@ -99,7 +99,7 @@ impl Bode {
         // The static figure's axes, as drawn (a reader of the data can
         // check what the SVG and PNG show).
         s.push_str(",\"axes\":[");
-        for (i, p) in self.scene().panels.iter().enumerate() {
+        for (i, p) in self.scene_of(&curves, &colors).panels.iter().enumerate() {
             if i > 0 {
                 s.push(',');
             }
