@@ -14,7 +14,7 @@ mod common;
 
 use common::{mms, real_data};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 fn chromium() -> Option<&'static str> {
@@ -26,12 +26,6 @@ fn chromium() -> Option<&'static str> {
                 .output()
                 .is_ok_and(|o| o.status.success())
         })
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("mms-browser-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
 }
 
 /// The self-test's report of the page, and the screenshot's size.
@@ -114,7 +108,7 @@ fn html_reports_draw_zoom_read_out_and_toggle_in_a_browser() {
         eprintln!("SKIPPED: no Chromium on this machine; the browser test did not run");
         return;
     };
-    let dir = temp_dir("reports");
+    let dir = common::temp_dir("browser", "reports");
     let rec = real_data("sperte/setup18_motor_side_v0.3.mat");
     let sperte = ["--u", "result:1", "--y", "result:2", "--fs", "4000"];
     let id_dir = dir.join("identify");

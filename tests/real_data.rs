@@ -1352,7 +1352,6 @@ fn real_data_figures_have_aligned_phases_and_labelled_axes() {
     ));
     // EMPS inside its position loop, with the model of scripts/real-data.sh.
     let emps_dir = temp_dir("figures-emps");
-    std::fs::create_dir_all(&emps_dir).unwrap();
     let emps_model = emps_dir.join("emps.toml");
     std::fs::write(
         &emps_model,

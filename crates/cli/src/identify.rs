@@ -76,7 +76,8 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
     let id =
         identify_with_progress(&rec.frf, output, &options, &|p| show(&bar, p)).map_err(|e| {
             match args.band {
-                // The band is what left too few lines: say which.
+                // The error concerns the band's lines (too few of them, a
+                // fit on them): say which band.
                 Some((lo, hi)) => format!("{name}: in the band {lo}-{hi} Hz: {e}"),
                 None => format!("{name}: {e}"),
             }
@@ -884,8 +885,9 @@ fn stability_section(st: &Stability) -> String {
     s
 }
 
-/// One self-contained HTML page: the report's Markdown as HTML, then the
-/// Bode plot inline.
+/// One self-contained HTML page: the report's verdict (its Markdown up to
+/// the first section), the figures drawn interactively, the sections,
+/// and the figures' SVGs as the static view.
 pub fn html_page(title: &str, md: &str, figures: &[&Bode]) -> String {
     let mut s = format!(
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{title}</title>\n\

@@ -237,34 +237,34 @@ fn steady_state(&[_, b1, b2, a1, a2]: &[f64; 5], x0: f64) -> (f64, f64) {
     ((b1 - a1) * x0 + z2, z2)
 }
 
+/// One sample of a section (direct form II transposed): the output for
+/// input `u`, the state `z` moved on.
+#[inline(always)]
+fn step(&[b0, b1, b2, a1, a2]: &[f64; 5], (z1, z2): &mut (f64, f64), u: f64) -> f64 {
+    let y = b0 * u + *z1;
+    *z1 = b1 * u - a1 * y + *z2;
+    *z2 = b2 * u - a2 * y;
+    y
+}
+
 /// [`section_chunked`] from the state `start`; returns the state after
 /// the last sample.
 fn section_chunked_from(coefficients: &[f64; 5], x: &mut [f64], start: (f64, f64)) -> (f64, f64) {
     let n = x.len();
-    let &[b0, b1, b2, a1, a2] = coefficients;
+    let &[_, b1, b2, a1, a2] = coefficients;
     if n < 1024 {
-        let (mut z1, mut z2) = start;
+        let mut z = start;
         for v in x.iter_mut() {
-            let u = *v;
-            let y = b0 * u + z1;
-            z1 = b1 * u - a1 * y + z2;
-            z2 = b2 * u - a2 * y;
-            *v = y;
+            *v = step(coefficients, &mut z, *v);
         }
-        return (z1, z2);
+        return z;
     }
     // The end state from the last two inputs and outputs.
     let (u1, u2) = (x[n - 2], x[n - 1]);
     // Four chunks, the last one taking the remainder.
     let len = n / 4;
     let longest = n - 3 * len;
-    let step = |(z1, z2): &mut (f64, f64), v: &mut f64| {
-        let u = *v;
-        let y = b0 * u + *z1;
-        *z1 = b1 * u - a1 * y + *z2;
-        *z2 = b2 * u - a2 * y;
-        *v = y;
-    };
+    let step = |z: &mut (f64, f64), v: &mut f64| *v = step(coefficients, z, *v);
     // The free response `g` to a unit first state, a fifth chain beside
     // the chunks: `g[k]` is the output `k` samples on. A unit second state
     // moves into a unit first state in one sample, so its response is `g`
@@ -419,13 +419,9 @@ impl ZeroPhase {
         }
         let mut tail = vec![[0.0; 2]; pad];
         for r in 0..2 {
-            let (mut z1, mut z2) = (0.0, 0.0);
+            let mut z = (0.0, 0.0);
             for i in (0..pad).rev() {
-                let u = m[i][r];
-                let y = b0 * u + z1;
-                z1 = b1 * u - a1 * y + z2;
-                z2 = b2 * u - a2 * y;
-                tail[i][r] = y;
+                tail[i][r] = step(&section, &mut z, m[i][r]);
             }
         }
         ZeroPhase {

@@ -549,8 +549,7 @@ impl ChainResponse {
     }
 
     /// `G` and, if asked, the adjoint solution; see [`Solver`].
-    // Inlined: the solver is built in its caller's frame, not moved
-    // out of a `Result` per line.
+    // Inlined with `solver`, so the solver stays in its caller's frame.
     #[inline(always)]
     fn solve<const N: usize>(&self, solver: &mut Solver<N>, with_adjoint: bool) -> Complex64 {
         let n = self.n;
@@ -647,8 +646,8 @@ struct Tridiagonal<const N: usize> {
 }
 
 impl<const N: usize> Tridiagonal<N> {
-    // Inlined: the solver is built in its caller's frame, not moved
-    // out of a `Result` per line.
+    // Inlined into `solver`: the factors are built in place, not moved
+    // out of an `Option` per line.
     #[inline(always)]
     fn factor(mut d: [Complex64; N], e: [Complex64; N]) -> Option<Tridiagonal<N>> {
         let n = N;

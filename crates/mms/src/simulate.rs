@@ -406,11 +406,11 @@ impl Simulator {
                 Output::Velocity => &s.v[1..],
                 Output::Acceleration => &s.a[1..],
             };
-            y.push(dot(&self.sensor, q));
+            y.push(s.y);
             for (out, w) in at.iter_mut().zip(&vectors) {
                 out.push(dot(w, q));
             }
-            y.last().is_some_and(|v| v.is_finite())
+            s.y.is_finite()
         })?;
         Ok((y, at))
     }

@@ -153,12 +153,12 @@ pub(crate) struct Trace {
 #[derive(Clone, Debug)]
 #[must_use]
 pub struct Bode {
-    title: String,
-    traces: Vec<Trace>,
-    bands: Vec<(f64, f64, String)>,
+    pub(crate) title: String,
+    pub(crate) traces: Vec<Trace>,
+    pub(crate) bands: Vec<(f64, f64, String)>,
     residual: bool,
     /// Coherence of the first trace per frequency, if shown.
-    coherence: Option<Vec<f64>>,
+    pub(crate) coherence: Option<Vec<f64>>,
     size: Option<(u32, u32)>,
     view: Option<(f64, f64)>,
 }
@@ -539,22 +539,6 @@ impl Bode {
             }
         }
         (f_lo, f_hi)
-    }
-
-    pub(crate) fn title(&self) -> &str {
-        &self.title
-    }
-
-    pub(crate) fn traces(&self) -> &[Trace] {
-        &self.traces
-    }
-
-    pub(crate) fn bands(&self) -> &[(f64, f64, String)] {
-        &self.bands
-    }
-
-    pub(crate) fn coherence_values(&self) -> Option<&[f64]> {
-        self.coherence.as_deref()
     }
 
     /// Values of each panel (one vector per trace, aligned with its

@@ -57,11 +57,11 @@ impl Bode {
     fn json_data(&self) -> String {
         let (curves, colors) = self.curves_and_colors();
         let mut s = String::from("{");
-        let _ = write!(s, "\"title\":{}", json_str(self.title()));
+        let _ = write!(s, "\"title\":{}", json_str(&self.title));
         let (lo, hi) = self.range_hz(&curves);
         let _ = write!(s, ",\"view\":[{},{}]", num(lo), num(hi));
         s.push_str(",\"traces\":[");
-        for (i, (t, c)) in self.traces().iter().zip(&curves).enumerate() {
+        for (i, (t, c)) in self.traces.iter().zip(&curves).enumerate() {
             if i > 0 {
                 s.push(',');
             }
@@ -86,14 +86,14 @@ impl Bode {
             );
         }
         s.push_str("],\"bands\":[");
-        for (i, (lo, hi, label)) in self.bands().iter().enumerate() {
+        for (i, (lo, hi, label)) in self.bands.iter().enumerate() {
             if i > 0 {
                 s.push(',');
             }
             let _ = write!(s, "[{},{},{}]", num(*lo), num(*hi), json_str(label));
         }
         s.push(']');
-        if let Some(g) = self.coherence_values() {
+        if let Some(g) = &self.coherence {
             let _ = write!(s, ",\"coherence\":{}", array(g));
         }
         // The static figure's axes, as drawn (a reader of the data can
