@@ -1300,22 +1300,12 @@ fn real_data_figures_have_aligned_phases_and_labelled_axes() {
         let path = sperte(rec);
         runs.push((rec.into(), own(&[&["identify", &path][..], &s].concat())));
     }
-    let f16 = real_data("f16_gvt/F16Data_FullMSine_Level1.mat");
-    let f16_7 = real_data("f16_gvt/F16Data_FullMSine_Level7.mat");
-    let f16_args = [
-        "--u",
-        "Force",
-        "--y",
-        "Acceleration:1",
-        "--period",
-        "8192",
-        "--output",
-        "acceleration",
-    ];
+    let (level1, level7) = (f16(1), f16(7));
+    let f16_args = [&F16_CHANNELS[..], &["--output", "acceleration"]].concat();
     runs.push((
         "f16".into(),
         own(&[
-            &["identify", &f16][..],
+            &["identify", &level1][..],
             &f16_args,
             &["--band", "4:15", "--fit-gain"],
         ]
@@ -1324,9 +1314,9 @@ fn real_data_figures_have_aligned_phases_and_labelled_axes() {
     runs.push((
         "f16-levels".into(),
         own(&[
-            &["diagnose", &f16][..],
+            &["diagnose", &level1][..],
             &f16_args,
-            &["--band", "2:15", "--level", &f16_7],
+            &["--band", "2:15", "--level", &level7],
         ]
         .concat()),
     ));
@@ -1353,12 +1343,7 @@ fn real_data_figures_have_aligned_phases_and_labelled_axes() {
     // EMPS inside its position loop, with the model of scripts/real-data.sh.
     let emps_dir = temp_dir("figures-emps");
     let emps_model = emps_dir.join("emps.toml");
-    std::fs::write(
-        &emps_model,
-        "masses = 1\ngap = 0\nactuator = [1, 0]\nsensor = [1, 0]\noutput = \"position\"\n\
-         gain = 35.15\n[parameters]\nm1 = 100\n[effects]\nfriction = { viscous_ns_per_m = 200 }\n",
-    )
-    .unwrap();
+    std::fs::write(&emps_model, common::EMPS_MODEL).unwrap();
     let emps_model = emps_model.to_str().unwrap().to_string();
     for (rec, controller) in [
         ("DATA_EMPS.mat", "kp=kp,kv=kv"),
