@@ -296,6 +296,20 @@ fn f16_level_1_two_mass_model_misses_modes_not_friction() {
 /// non-minimum-phase zero: torque at the base, acceleration on the arm)
 /// that no chain fits, so the diagnosis patches it with an extra mode at
 /// the resonance the chain lacks and the error stays high.
+/// How the EMPS recordings are read inside their position loop: the
+/// drive's input `vir`, the measured position `qm`, 1 kHz, and the
+/// position reference `qg`.
+const EMPS_LOOP: [&str; 8] = [
+    "--u",
+    "vir",
+    "--y",
+    "qm",
+    "--fs",
+    "1000",
+    "--reference",
+    "qg",
+];
+
 /// How the robot arm's recording is read: one sample per unit of time,
 /// acceleration out, segments of 256.
 const ROBOT_ARM: [&str; 10] = [
@@ -718,26 +732,23 @@ fn tue_and_emps_pulses_verdicts() {
     let model = dir.join("emps.toml");
     std::fs::write(&model, common::EMPS_MODEL).unwrap();
     let path = real_data("emps/DATA_EMPS_PULSES.mat");
-    let v = json(&[
-        "diagnose",
-        &path,
-        "--u",
-        "vir",
-        "--y",
-        "qm",
-        "--fs",
-        "1000",
-        "--model",
-        model.to_str().unwrap(),
-        "--reference",
-        "qg",
-        "--controller",
-        "kp=160.18,kv=243.45,filter=0.5:0.5,saturation=10",
-        "--disturbance",
-        "pulses_N",
-        "--format",
-        "json",
-    ]);
+    let v = json(
+        &[
+            &["diagnose", &path][..],
+            &EMPS_LOOP,
+            &[
+                "--model",
+                model.to_str().unwrap(),
+                "--controller",
+                "kp=160.18,kv=243.45,filter=0.5:0.5,saturation=10",
+                "--disturbance",
+                "pulses_N",
+                "--format",
+                "json",
+            ],
+        ]
+        .concat(),
+    );
     assert_eq!(
         v["verdict"]["headline"], "coulomb_friction",
         "{}",
@@ -1354,21 +1365,11 @@ fn real_data_figures_have_aligned_phases_and_labelled_axes() {
     ] {
         let path = real_data(&format!("emps/{rec}"));
         let mut args = own(&[
-            "diagnose",
-            &path,
-            "--u",
-            "vir",
-            "--y",
-            "qm",
-            "--fs",
-            "1000",
-            "--model",
-            &emps_model,
-            "--reference",
-            "qg",
-            "--controller",
-            controller,
-        ]);
+            &["diagnose", &path][..],
+            &EMPS_LOOP,
+            &["--model", &emps_model, "--controller", controller],
+        ]
+        .concat());
         if rec.contains("PULSES") {
             args.extend(own(&["--disturbance", "pulses_N"]));
         }
