@@ -296,6 +296,21 @@ fn f16_level_1_two_mass_model_misses_modes_not_friction() {
 /// non-minimum-phase zero: torque at the base, acceleration on the arm)
 /// that no chain fits, so the diagnosis patches it with an extra mode at
 /// the resonance the chain lacks and the error stays high.
+/// How the SPERTE recordings are read: `result` holds the input and the
+/// position, sampled at 4 kHz.
+const SPERTE: [&str; 6] = ["--u", "result:1", "--y", "result:2", "--fs", "4000"];
+
+/// The TU/e 2025 signals: input, output and the injected excitation (the
+/// 3-point estimate).
+const TUE2025: [&str; 6] = [
+    "--u",
+    "Data.signals.u",
+    "--y",
+    "Data.signals.y",
+    "--excitation",
+    "Data.signals.d",
+];
+
 /// How the EMPS recordings are read inside their position loop: the
 /// drive's input `vir`, the measured position `qm`, 1 kHz, and the
 /// position reference `qg`.
@@ -409,9 +424,9 @@ fn level_errors_name_the_file() {
 /// position]) with default settings, as JSON.
 fn identify_sperte(rel: &str, extra: &[&str]) -> Value {
     let path = real_data(&format!("sperte/{rel}"));
-    let mut args = vec![
-        "identify", &path, "--u", "result:1", "--y", "result:2", "--fs", "4000", "--format", "json",
-    ];
+    let mut args = vec!["identify", &path];
+    args.extend_from_slice(&SPERTE);
+    args.extend_from_slice(&["--format", "json"]);
     args.extend_from_slice(extra);
     let (code, out, err) = mms(&args);
     assert_eq!(code, 0, "{rel}: {err}");
@@ -519,7 +534,7 @@ fn sperte_recordings_read_as_a_control_engineer_reads_their_bode_plots() {
 fn sperte_motor_side_diagnosis(record: &str, other: &str) {
     let dir = temp_dir(&format!("sperte-diagnose-{record}"));
     let path = real_data(&format!("sperte/setup18_motor_side_{record}.mat"));
-    let signals = ["--u", "result:1", "--y", "result:2", "--fs", "4000"];
+    let signals = SPERTE;
     let out = dir.join("id");
     let mut args = vec!["identify", path.as_str()];
     args.extend_from_slice(&signals);
@@ -774,16 +789,8 @@ fn type_features(classification: &Value) -> Vec<f64> {
 /// 0.4 Hz lines.
 fn tue_fine<'a>(command: &'a str, path: &'a str) -> Vec<&'a str> {
     let mut args = vec![command, path];
-    args.extend_from_slice(&[
-        "--u",
-        "Data.signals.u",
-        "--y",
-        "Data.signals.y",
-        "--excitation",
-        "Data.signals.d",
-        "--nfft",
-        "10000",
-    ]);
+    args.extend_from_slice(&TUE2025);
+    args.extend_from_slice(&["--nfft", "10000"]);
     args
 }
 
@@ -1222,9 +1229,12 @@ fn identify_plot_shows_the_coherence_and_the_uncertainty_of_each_line() {
     let path = real_data("sperte/setup18_motor_side_v0.3.mat");
     let dir = temp_dir("sperte-coherence-plot");
     let args = [
-        "identify", &path, "--u", "result:1", "--y", "result:2", "--fs", "4000", "--out",
-    ];
-    let (code, _, err) = mms(&[&args[..], &[dir.to_str().unwrap()]].concat());
+        &["identify", &path][..],
+        &SPERTE,
+        &["--out", dir.to_str().unwrap()],
+    ]
+    .concat();
+    let (code, _, err) = mms(&args);
     assert_eq!(code, 0, "{err}");
     let svg = std::fs::read_to_string(dir.join("bode.svg")).unwrap();
     assert!(svg.contains(">Coherence</text>"), "no coherence panel");
@@ -1236,9 +1246,7 @@ fn identify_plot_shows_the_coherence_and_the_uncertainty_of_each_line() {
     // The coherence the panel draws, from `mms frf` on the same record:
     // its minimum between 20 and 100 Hz sits at the antiresonance that the
     // identification reads.
-    let (code, csv, err) = mms(&[
-        "frf", &path, "--u", "result:1", "--y", "result:2", "--fs", "4000",
-    ]);
+    let (code, csv, err) = mms(&[&["frf", &path][..], &SPERTE].concat());
     assert_eq!(code, 0, "{err}");
     let (mut f_min, mut g_min) = (0.0, f64::INFINITY);
     for row in csv.lines().skip(1) {
@@ -1290,15 +1298,7 @@ fn html_figures(args: &[&str], name: &str) -> Vec<Value> {
 #[test]
 fn real_data_figures_have_aligned_phases_and_labelled_axes() {
     let sperte = |rec: &str| real_data(&format!("sperte/{rec}.mat"));
-    let s = ["--u", "result:1", "--y", "result:2", "--fs", "4000"];
-    let tue = [
-        "--u",
-        "Data.signals.u",
-        "--y",
-        "Data.signals.y",
-        "--excitation",
-        "Data.signals.d",
-    ];
+    let (s, tue) = (SPERTE, TUE2025);
     let mut runs: Vec<(String, Vec<String>)> = Vec::new();
     let own = |v: &[&str]| v.iter().map(|a| a.to_string()).collect::<Vec<_>>();
     for rec in [
@@ -1462,7 +1462,7 @@ fn check_figure(name: &str, fig: &Value) {
 #[test]
 fn an_empty_band_and_a_file_for_a_directory_are_named() {
     let path = real_data("sperte/setup18_motor_side_v0.3.mat");
-    let s = ["--u", "result:1", "--y", "result:2", "--fs", "4000"];
+    let s = SPERTE;
     let (code, _, err) = mms(&[&["identify", &path][..], &s, &["--band", "3000:3500"]].concat());
     assert_eq!(code, 2);
     assert!(
