@@ -69,15 +69,17 @@ fn run_page(browser: &str, page: &Path, shot: &Path) -> (Value, u64) {
     (report, size)
 }
 
-fn check(report: &Value, traces: &[&str]) {
+/// Each figure of the page drawn, zoomed, read out and toggled, and its
+/// readout naming the curves of `traces` (one list per figure).
+fn check(report: &Value, traces: &[&[&str]]) {
     assert_eq!(
         report["errors"],
         Value::Array(vec![]),
         "script errors: {report}"
     );
     let figures = report["figures"].as_array().unwrap();
-    assert!(!figures.is_empty());
-    for fig in figures {
+    assert_eq!(figures.len(), traces.len(), "{report}");
+    for (fig, traces) in figures.iter().zip(traces) {
         let (inked, pixels) = (
             fig["inked"].as_f64().unwrap(),
             fig["pixels"].as_f64().unwrap(),
@@ -95,7 +97,7 @@ fn check(report: &Value, traces: &[&str]) {
             readout.starts_with("f = ") && readout.contains(" dB, "),
             "{readout}"
         );
-        for t in traces {
+        for t in *traces {
             assert!(readout.contains(t), "{t} not in {readout}");
         }
         assert_eq!(fig["toggled"], true);
@@ -123,7 +125,7 @@ fn html_reports_draw_zoom_read_out_and_toggle_in_a_browser() {
         &id_dir.join("report.html"),
         &dir.join("identify.png"),
     );
-    check(&report, &["measured", "N2-g0-a1.0-s1.0"]);
+    check(&report, &[&["measured", "N2-g0-a1.0-s1.0"]]);
     // A page of this size compresses to far more than a blank one's.
     assert!(shot > 20_000, "screenshot of {shot} bytes");
 
@@ -141,7 +143,29 @@ fn html_reports_draw_zoom_read_out_and_toggle_in_a_browser() {
         &dg_dir.join("report.html"),
         &dir.join("diagnose.png"),
     );
-    check(&report, &["recording", "model after diagnosis"]);
+    check(&report, &[&["recording", "model after diagnosis"]]);
+    assert!(shot > 20_000, "screenshot of {shot} bytes");
+
+    // Both joined on one page, each figure working by itself.
+    let rp_dir = dir.join("report");
+    let mut args = vec!["report", &rec];
+    args.extend(sperte);
+    let rp = rp_dir.to_str().unwrap();
+    args.extend(["--format", "html", "--out", rp]);
+    let (code, _, err) = mms(&args);
+    assert_eq!(code, 0, "{err}");
+    let (report, shot) = run_page(
+        browser,
+        &rp_dir.join("report.html"),
+        &dir.join("report.png"),
+    );
+    check(
+        &report,
+        &[
+            &["measured", "N2-g0-a1.0-s1.0"],
+            &["recording", "model after diagnosis"],
+        ],
+    );
     assert!(shot > 20_000, "screenshot of {shot} bytes");
     let _ = std::fs::remove_dir_all(&dir);
 }

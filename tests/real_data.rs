@@ -1478,3 +1478,157 @@ fn an_empty_band_and_a_file_for_a_directory_are_named() {
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "keep");
     let _ = std::fs::remove_file(&file);
 }
+
+/// `mms report` says what `mms identify` and then `mms diagnose` with the
+/// model identify wrote say of the same recording, run one after the
+/// other: the same identification, the same diagnosis, the same model
+/// file. On SPERTE setup 18 (open loop, SI units) and the robot arm
+/// (another rig, a fitted gain, one sample per unit of time).
+#[test]
+fn report_joins_what_identify_then_diagnose_say() {
+    let dir = temp_dir("report-joins");
+    let cases: [(&str, &[&str]); 2] = [
+        ("sperte/setup18_motor_side_v0.3.mat", &SPERTE),
+        (
+            "robot_arm/robot_arm.dat",
+            &[&ROBOT_ARM[..], &["--fit-gain"]].concat(),
+        ),
+    ];
+    for (k, (rel, flags)) in cases.iter().enumerate() {
+        let path = real_data(rel);
+        // The command on this recording, with its flags and `extra`.
+        let run =
+            |cmd: &str, extra: &[&str]| mms(&[&[cmd, path.as_str()][..], flags, extra].concat());
+        let run_json = |cmd: &str| {
+            let (code, out, err) = run(cmd, &["--format", "json"]);
+            assert_eq!(code, 0, "{rel}: {err}");
+            serde_json::from_str::<Value>(&out).unwrap()
+        };
+        let id_dir = dir.join(format!("identify-{k}"));
+        let (code, _, err) = run("identify", &["--out", id_dir.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+        let model = id_dir.join("model.toml");
+        let identified = run_json("identify");
+        // The diagnosis options are identify's flags minus --fit-gain,
+        // which the model file carries as its gain.
+        let diag_flags: Vec<&str> = flags
+            .iter()
+            .copied()
+            .filter(|f| *f != "--fit-gain")
+            .collect();
+        let diagnosed = json(
+            &[
+                &["diagnose", path.as_str()][..],
+                &diag_flags,
+                &["--model", model.to_str().unwrap(), "--format", "json"],
+            ]
+            .concat(),
+        );
+        let report = run_json("report");
+        assert_eq!(report["recording"], path.as_str());
+        assert_eq!(report["identification"], identified, "{rel}");
+        assert_eq!(report["diagnosis"], diagnosed, "{rel}");
+
+        // The directory: both figures, both model files, the report,
+        // whose every figure link is a file beside it.
+        let rep_dir = dir.join(format!("report-{k}"));
+        let (code, _, err) = run("report", &["--out", rep_dir.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+        let mut names: Vec<String> = std::fs::read_dir(&rep_dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        assert_eq!(
+            names,
+            [
+                "diagnose-bode.png",
+                "diagnose-bode.svg",
+                "identify-bode.png",
+                "identify-bode.svg",
+                "model.toml",
+                "model_after.toml",
+                "report.md"
+            ]
+        );
+        assert_eq!(
+            std::fs::read(rep_dir.join("model.toml")).unwrap(),
+            std::fs::read(&model).unwrap()
+        );
+        let md = std::fs::read_to_string(rep_dir.join("report.md")).unwrap();
+        for link in md.split("](").skip(1) {
+            let file = link.split(')').next().unwrap();
+            assert!(rep_dir.join(file).is_file(), "{rel}: {file}");
+        }
+        // The verdicts first, then the details, in this order.
+        let at = |h: &str| md.find(h).unwrap_or_else(|| panic!("{rel}: no {h:?}"));
+        assert!(at("\n## Identification\n") < at("\n## Diagnosis\n"));
+        assert!(at("\n## Diagnosis\n") < at("\n## Identification in detail\n"));
+        assert!(at("\n## Identification in detail\n") < at("\n## Diagnosis in detail\n"));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// With a model given, the identification and the diagnosis run side by
+/// side: the report's diagnosis of EMPS inside its position loop is the
+/// one `mms diagnose` gives with that model, and a model that is no file
+/// is refused in one line before any output is written.
+#[test]
+fn report_with_a_model_diagnoses_that_model() {
+    let dir = temp_dir("report-model");
+    let model = dir.join("emps.toml");
+    std::fs::write(&model, common::EMPS_MODEL).unwrap();
+    let path = real_data("emps/DATA_EMPS.mat");
+    let m = model.to_str().unwrap();
+    let run_json = |cmd: &str| {
+        json(
+            &[
+                &[cmd, path.as_str()][..],
+                &EMPS_LOOP,
+                &[
+                    "--controller",
+                    "kp=kp,kv=kv",
+                    "--model",
+                    m,
+                    "--format",
+                    "json",
+                ],
+            ]
+            .concat(),
+        )
+    };
+    let diagnosed = run_json("diagnose");
+    let report = run_json("report");
+    assert_eq!(report["diagnosis"], diagnosed);
+    let identified = json(
+        &[
+            &["identify", path.as_str()][..],
+            &EMPS_LOOP[..6],
+            &["--format", "json"],
+        ]
+        .concat(),
+    );
+    assert_eq!(report["identification"], identified);
+
+    let missing = dir.join("missing.toml");
+    let out = dir.join("never");
+    let (code, _, err) = mms(&[
+        &["report", path.as_str()][..],
+        &EMPS_LOOP,
+        &[
+            "--controller",
+            "kp=kp,kv=kv",
+            "--model",
+            missing.to_str().unwrap(),
+        ],
+        &["--out", out.to_str().unwrap()],
+    ]
+    .concat());
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("missing.toml") && err.lines().count() == 1,
+        "{err}"
+    );
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

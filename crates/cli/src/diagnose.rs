@@ -4,6 +4,7 @@
 
 use crate::identify::IdentifyFormat;
 use crate::recording::RecordingArgs;
+use crate::report::{Links, Outcome};
 use ident::amplitude::{
     amplitude_dependence, AmplitudeDependence, AmplitudeOptions, DampingTrend, Level,
     StiffnessTrend,
@@ -37,10 +38,14 @@ pub enum ModelSource {
     File(PathBuf),
     /// A simulated FRF whose chain model is identified.
     Simulation(PathBuf),
+    /// The best fit of an identification of the same recording, with the
+    /// sensors of a recording with several outputs.
+    Fitted(Box<ModelFile>, Vec<mms::Port>),
 }
 
 /// `--reference`, `--controller`, `--disturbance`: the position loop a
 /// recording was taken in.
+#[derive(Clone)]
 pub struct LoopArgs {
     pub reference: String,
     pub controller: String,
@@ -88,10 +93,16 @@ pub struct DiagnoseArgs<'a> {
 /// Runs the diagnosis; returns the report for stdout when no `--out`
 /// directory is given.
 pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
+    outcome(args, Links::new(args.format, args.out, ""))?.deliver(args.format, args.out)
+}
+
+/// The diagnosis of the recording (or, without a model, the comparison of
+/// its excitation levels), in every format.
+pub fn outcome(args: &DiagnoseArgs, links: Links) -> Result<Outcome, String> {
     // Several outputs, or one with its sensor's place: the model read at
     // every sensor.
     if args.recording.y.len() > 1 || args.recording.y.iter().any(|y| y.contains('@')) {
-        return crate::sensors::diagnose(args);
+        return crate::sensors::diagnose(args, links);
     }
     if args.validate.is_some() && !args.operating_points.is_empty() {
         return Err(format!(
@@ -111,7 +122,7 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     let levels = amplitude(args, &rec, &level_recordings)?;
     let Some(model_source) = args.model else {
         return match &levels {
-            Some((levels, a)) => amplitude_only(args, levels, a),
+            Some((levels, a)) => amplitude_only(args, levels, a, links),
             None => Err("give the model: --model MODEL.toml or --simulation FILE".into()),
         };
     };
@@ -176,79 +187,62 @@ pub fn run(args: &DiagnoseArgs) -> Result<Option<String>, String> {
         }
     };
     let plot = bode(&d);
-    let report = match args.format {
-        IdentifyFormat::Json => {
-            let err = |e: serde_json::Error| format!("JSON: {e}");
-            let mut v = json(&d, amplitude.as_ref(), validation.as_ref().map(|v| &v.1))?;
-            let point = |(other, c, od): &OtherPoint| -> Result<serde_json::Value, String> {
-                Ok(serde_json::json!({
-                    "recording": other,
-                    "comparison": serde_json::to_value(c).map_err(err)?,
-                    "diagnosis": json(od, None, None)?,
-                }))
-            };
-            if !operating.is_empty() {
-                v["operating_points"] = operating
-                    .iter()
-                    .map(point)
-                    .collect::<Result<Vec<_>, _>>()?
-                    .into();
-            }
-            if !level_points.is_empty() {
-                v["levels"] = level_points
-                    .iter()
-                    .map(point)
-                    .collect::<Result<Vec<_>, _>>()?
-                    .into();
-            }
-            let mut s = serde_json::to_string_pretty(&v).map_err(err)?;
-            s.push('\n');
-            s
-        }
-        IdentifyFormat::Md | IdentifyFormat::Html => {
-            let mut m = markdown(
-                &name,
-                &source,
-                &d,
-                (args.format == IdentifyFormat::Md && args.out.is_some()).then_some("bode.svg"),
-            );
-            if rec.excitation.is_none() && !rec.possible_excitations.is_empty() {
-                m.push_str(&crate::identify::possible_excitation_note(
-                    &rec.possible_excitations,
-                ));
-            }
-            if let Some((other, v)) = &validation {
-                m.push_str(&validation_markdown(other, v));
-            }
-            for (other, c, _) in &operating {
-                m.push_str(&operating_markdown(
-                    &name,
-                    other,
-                    c,
-                    "Operating points",
-                    true,
-                ));
-            }
-            for (other, c, _) in &level_points {
-                m.push_str(&operating_markdown(
-                    &name,
-                    other,
-                    c,
-                    "Excitation levels",
-                    false,
-                ));
-            }
-            if let Some(a) = &amplitude {
-                m.push_str(&amplitude_markdown(a));
-            }
-            if args.format == IdentifyFormat::Md {
-                m
-            } else {
-                crate::identify::html_page("mms diagnose", &m, &[&plot])
-            }
-        }
+    let err = |e: serde_json::Error| format!("JSON: {e}");
+    let mut json = json(&d, amplitude.as_ref(), validation.as_ref().map(|v| &v.1))?;
+    let point = |(other, c, od): &OtherPoint| -> Result<serde_json::Value, String> {
+        Ok(serde_json::json!({
+            "recording": other,
+            "comparison": serde_json::to_value(c).map_err(err)?,
+            "diagnosis": crate::diagnose::json(od, None, None)?,
+        }))
     };
-    finish(args, &plot, &d.model_after, report)
+    if !operating.is_empty() {
+        json["operating_points"] = operating
+            .iter()
+            .map(point)
+            .collect::<Result<Vec<_>, _>>()?
+            .into();
+    }
+    if !level_points.is_empty() {
+        json["levels"] = level_points
+            .iter()
+            .map(point)
+            .collect::<Result<Vec<_>, _>>()?
+            .into();
+    }
+    let mut m = markdown(&name, &source, &d, links.to("bode").as_deref());
+    if rec.excitation.is_none() && !rec.possible_excitations.is_empty() {
+        m.push_str(&crate::identify::possible_excitation_note(
+            &rec.possible_excitations,
+        ));
+    }
+    if let Some((other, v)) = &validation {
+        m.push_str(&validation_markdown(other, v));
+    }
+    for (other, c, _) in &operating {
+        m.push_str(&operating_markdown(
+            &name,
+            other,
+            c,
+            "Operating points",
+            true,
+        ));
+    }
+    for (other, c, _) in &level_points {
+        m.push_str(&operating_markdown(
+            &name,
+            other,
+            c,
+            "Excitation levels",
+            false,
+        ));
+    }
+    if let Some(a) = &amplitude {
+        m.push_str(&amplitude_markdown(a));
+    }
+    let mut outcome = Outcome::new("mms diagnose", &m, json, vec![(links.file("bode"), plot)]);
+    outcome.files = vec![("model_after.toml".into(), d.model_after.to_toml())];
+    Ok(outcome)
 }
 
 /// A model file whose FRF cannot be evaluated on the recording's lines
@@ -304,6 +298,7 @@ pub fn load_model(
                 .map_err(|e| format!("{}: {e}", path.display()))?;
             (model, Vec::new())
         }
+        ModelSource::Fitted(model, sensors) => ((**model).clone(), sensors.clone()),
     };
     let source = match model_source {
         ModelSource::File(path) => format!("Model: `{}` ({}).", path.display(), model.model.id()),
@@ -312,6 +307,15 @@ pub fn load_model(
             model.model.id(),
             path.display(),
             ident::diagnose::SIMULATION_TOLERANCE_DB
+        ),
+        // Named as the identification names it: by the paper's ID where
+        // there is one.
+        ModelSource::Fitted(..) => format!(
+            "Model: {}, the best fit of the identification above.",
+            match model.model.paper_id() {
+                Some(p) => format!("{p} ({})", model.model.id()),
+                None => model.model.id(),
+            }
         ),
     };
     Ok((model, sensors, source))
@@ -1267,26 +1271,6 @@ fn parse_controller(spec: &str, path: &Path) -> Result<Controller, String> {
 }
 
 /// The report to stdout, or with the plot and `model_after.toml` into
-/// `--out DIR`.
-pub fn finish(
-    args: &DiagnoseArgs,
-    plot: &Bode,
-    model_after: &ModelFile,
-    report: String,
-) -> Result<Option<String>, String> {
-    let Some(dir) = args.out else {
-        return Ok(Some(report));
-    };
-    crate::identify::write_report_dir(
-        dir,
-        args.format,
-        plot,
-        &[("model_after.toml", model_after.to_toml())],
-        &report,
-    )?;
-    Ok(None)
-}
-
 /// The amplitude dependence of the recording and the `--level` recordings,
 /// with the levels (`None` without `--level`).
 fn amplitude(
@@ -1326,7 +1310,8 @@ fn amplitude_only(
     args: &DiagnoseArgs,
     levels: &[Level],
     a: &AmplitudeDependence,
-) -> Result<Option<String>, String> {
+    links: Links,
+) -> Result<Outcome, String> {
     let name = args.recording.path()?.display().to_string();
     let (lo, hi) = a.band_hz;
     let mut plot = Bode::new("Excitation levels (H1 estimates)");
@@ -1361,37 +1346,22 @@ fn amplitude_only(
         }
     }
     let plot = plot.residual();
-    let report = match args.format {
-        IdentifyFormat::Json => {
-            let v = serde_json::json!({ "version": JSON_VERSION, "amplitude_dependence": a });
-            let mut s = serde_json::to_string_pretty(&v).map_err(|e| format!("JSON: {e}"))?;
-            s.push('\n');
-            s
-        }
-        IdentifyFormat::Md | IdentifyFormat::Html => {
-            let mut m = format!("# Amplitude dependence of `{name}`\n");
-            if args.format == IdentifyFormat::Md && args.out.is_some() {
-                m.push_str("\n![Bode plot: the levels](bode.svg)\n");
-            }
-            m.push_str(
-                amplitude_markdown(a)
-                    .trim_start()
-                    .trim_start_matches("## Amplitude dependence\n"),
-            );
-            if args.format == IdentifyFormat::Md {
-                m
-            } else {
-                crate::identify::html_page("mms diagnose", &m, &[&plot])
-            }
-        }
-    };
-    match args.out {
-        None => Ok(Some(report)),
-        Some(dir) => {
-            crate::identify::write_report_dir(dir, args.format, &plot, &[], &report)?;
-            Ok(None)
-        }
+    let json = serde_json::json!({ "version": JSON_VERSION, "amplitude_dependence": a });
+    let mut m = format!("# Amplitude dependence of `{name}`\n");
+    if let Some(link) = links.to("bode") {
+        let _ = writeln!(m, "\n![Bode plot: the levels]({link})");
     }
+    m.push_str(
+        amplitude_markdown(a)
+            .trim_start()
+            .trim_start_matches("## Amplitude dependence\n"),
+    );
+    Ok(Outcome::new(
+        "mms diagnose",
+        &m,
+        json,
+        vec![(links.file("bode"), plot)],
+    ))
 }
 
 /// What a mode's trends with the level name.

@@ -5,8 +5,8 @@
 use crate::notes::{
     candidate_note, classify_note, equivalent_family, identify_note, no_equivalent,
 };
-use crate::output::write_dir_atomic;
 use crate::recording::RecordingArgs;
+use crate::report::{Links, Outcome};
 use frf::Frf;
 use ident::classify::feature_name;
 use ident::identify::{
@@ -51,6 +51,11 @@ pub struct IdentifyArgs<'a> {
 /// Runs the identification; returns the report text for stdout when no
 /// `--out` directory is given.
 pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
+    outcome(args, Links::new(args.format, args.out, ""))?.deliver(args.format, args.out)
+}
+
+/// The identification of the recording, in every format.
+pub fn outcome(args: &IdentifyArgs, links: Links) -> Result<Outcome, String> {
     let options = IdentifyOptions {
         masses: args.masses,
         gain: if args.fit_gain {
@@ -67,7 +72,7 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
     // Several outputs, or one with its sensor's place: the chain read by
     // those sensors.
     if args.recording.y.len() > 1 || args.recording.y.iter().any(|y| y.contains('@')) {
-        return crate::sensors::run(args, &options);
+        return crate::sensors::outcome(args, &options, links);
     }
     let rec = args.recording.read()?;
     let output: Output = args.recording.output.into();
@@ -99,100 +104,64 @@ pub fn run(args: &IdentifyArgs) -> Result<Option<String>, String> {
     // A figure of a million points helps nobody: the lines the
     // identification worked on.
     let shown = frf::uncertainty::log_binned(&rec.frf, ident::identify::MAX_LINES);
-    let plots = bode(&shown, output, &id);
-    let loop_figure =
-        (args.format == IdentifyFormat::Md && args.out.is_some()).then_some("loop.svg");
+    let mut figures = vec![(links.file("bode"), bode(&shown, output, &id))];
+    if let Some(e) = &rec.excitation {
+        figures.push((links.file("loop"), loop_plot(e)));
+    }
     let closed = match (&rec.excitation, rec.possible_excitations.is_empty()) {
-        (Some(e), _) => Some(closed_loop_section(e, loop_figure)),
+        (Some(e), _) => Some(closed_loop_section(e, links.to("loop").as_deref())),
         (None, false) => Some(possible_excitation_note(&rec.possible_excitations)),
         (None, true) => None,
     };
-    let report = match args.format {
-        IdentifyFormat::Json => {
-            let mut v = to_json(&id, stability.as_ref());
-            if rec.excitation.is_none() && !rec.possible_excitations.is_empty() {
-                v["possible_excitations"] = json!(rec.possible_excitations);
-            }
-            if let Some(e) = &rec.excitation {
-                let peak = e.peak_sensitivity_db();
-                let (to_u, to_y) = e.median_coherences();
-                v["closed_loop"] = json!({
-                    "excitation": e.name,
-                    "estimate": "3-point",
-                    "median_coherence_to_input": to_u,
-                    "median_coherence_to_output": to_y,
-                    "peak_sensitivity_db": peak.map(|p| p.0),
-                    "peak_sensitivity_hz": peak.map(|p| p.1),
-                    "modulus_margin": peak.map(|p| 10f64.powf(-p.0 / 20.0)),
-                    "sensitivity": curve_json(&e.sensitivity),
-                    "process_sensitivity": curve_json(&e.process_sensitivity),
-                });
-            }
-            if !operating.is_empty() {
-                v["operating_points"] = Value::Array(
-                    operating
-                        .iter()
-                        .map(|(name, c)| json!({ "recording": name, "comparison": c }))
-                        .collect(),
-                );
-            }
-            let mut s = serde_json::to_string_pretty(&v).map_err(|e| format!("JSON: {e}"))?;
-            s.push('\n');
-            s
-        }
-        IdentifyFormat::Md => {
-            let mut m = markdown(&name, &id, stability.as_ref(), args.out.map(|_| "bode.svg"));
-            m.push_str(closed.as_deref().unwrap_or(""));
-            m.push_str(&operating_markdown(&name, &operating));
-            m
-        }
-        IdentifyFormat::Html => {
-            let mut m = markdown(&name, &id, stability.as_ref(), None);
-            m.push_str(closed.as_deref().unwrap_or(""));
-            m.push_str(&operating_markdown(&name, &operating));
-            let extra = rec.excitation.as_ref().map(loop_plot);
-            let figures: Vec<&Bode> = std::iter::once(&plots).chain(extra.as_ref()).collect();
-            html_page("mms identify", &m, &figures)
-        }
-    };
-    let Some(dir) = args.out else {
-        return Ok(Some(report));
-    };
-    let files = model_files(
-        id.candidates
-            .first()
-            .map(|best| (best.model, &best.fit, output)),
-        &[],
-    );
-    let loop_plot = rec.excitation.as_ref().map(loop_plot);
-    let mut figures = vec![("bode", &plots)];
-    if let Some(l) = &loop_plot {
-        figures.push(("loop", l));
+    let mut json = to_json(&id, stability.as_ref());
+    if rec.excitation.is_none() && !rec.possible_excitations.is_empty() {
+        json["possible_excitations"] = json!(rec.possible_excitations);
     }
-    write_report_plots(dir, args.format, &figures, &files, &report)?;
-    Ok(None)
+    if let Some(e) = &rec.excitation {
+        let peak = e.peak_sensitivity_db();
+        let (to_u, to_y) = e.median_coherences();
+        json["closed_loop"] = json!({
+            "excitation": e.name,
+            "estimate": "3-point",
+            "median_coherence_to_input": to_u,
+            "median_coherence_to_output": to_y,
+            "peak_sensitivity_db": peak.map(|p| p.0),
+            "peak_sensitivity_hz": peak.map(|p| p.1),
+            "modulus_margin": peak.map(|p| 10f64.powf(-p.0 / 20.0)),
+            "sensitivity": curve_json(&e.sensitivity),
+            "process_sensitivity": curve_json(&e.process_sensitivity),
+        });
+    }
+    if !operating.is_empty() {
+        json["operating_points"] = Value::Array(
+            operating
+                .iter()
+                .map(|(name, c)| json!({ "recording": name, "comparison": c }))
+                .collect(),
+        );
+    }
+    let mut md = markdown(&name, &id, stability.as_ref(), links.to("bode").as_deref());
+    md.push_str(closed.as_deref().unwrap_or(""));
+    md.push_str(&operating_markdown(&name, &operating));
+    let mut outcome = Outcome::new("mms identify", &md, json, figures);
+    if let Some(best) = id.candidates.first() {
+        let file = fitted_model(best.model, &best.fit, output);
+        outcome.files = vec![("model.toml".into(), file.to_toml())];
+        outcome.fitted = Some((file, Vec::new()));
+    }
+    Ok(outcome)
 }
 
-/// `model.toml` of a fitted structure, if any, for the report directory,
-/// with the sensors of a recording with several outputs (none for one).
-pub fn model_files(
-    best: Option<(mms::Model, &ident::fit::Fit, Output)>,
-    sensors: &[mms::Port],
-) -> Vec<(&'static str, String)> {
-    best.map(|(model, fit, output)| {
-        let text = ModelFile {
-            model,
-            output,
-            parameters: fit.parameters.clone(),
-            gain: fit.gain,
-            motion: Motion::Translational,
-            effects: Effects::default(),
-        }
-        .to_toml_with_sensors(sensors);
-        ("model.toml", text)
-    })
-    .into_iter()
-    .collect()
+/// The model file of a fitted structure.
+pub fn fitted_model(model: mms::Model, fit: &ident::fit::Fit, output: Output) -> ModelFile {
+    ModelFile {
+        model,
+        output,
+        parameters: fit.parameters.clone(),
+        gain: fit.gain,
+        motion: Motion::Translational,
+        effects: Effects::default(),
+    }
 }
 
 /// One tick per fitted candidate on stderr (indicatif draws nothing when
@@ -446,47 +415,6 @@ fn equivalent_json(e: &Equivalent) -> Value {
         "family_data": e.family,
         "none_data": e.none,
     })
-}
-
-/// Writes a report directory: `bode.svg`, `bode.png`, the `extra` text
-/// files, then `report.{md,html,json}` last (its presence means the rest is
-/// complete); every file atomically.
-pub fn write_report_dir(
-    dir: &Path,
-    format: IdentifyFormat,
-    plot: &Bode,
-    extra: &[(&str, String)],
-    report: &str,
-) -> Result<(), String> {
-    write_report_plots(dir, format, &[("bode", plot)], extra, report)
-}
-
-/// [`write_report_dir`] with several figures, each `NAME.svg` and
-/// `NAME.png`.
-pub fn write_report_plots(
-    dir: &Path,
-    format: IdentifyFormat,
-    plots: &[(&str, &Bode)],
-    extra: &[(&str, String)],
-    report: &str,
-) -> Result<(), String> {
-    let ext = match format {
-        IdentifyFormat::Md => "md",
-        IdentifyFormat::Html => "html",
-        IdentifyFormat::Json => "json",
-    };
-    let mut files: Vec<(String, Vec<u8>)> = Vec::new();
-    for (name, plot) in plots {
-        // The PNG's rasterising and deflate take longest: beside the SVG.
-        let (svg, png) = rayon::join(|| plot.to_svg(), || plot.to_png());
-        files.push((format!("{name}.svg"), svg.into_bytes()));
-        files.push((format!("{name}.png"), png));
-    }
-    for (name, text) in extra {
-        files.push((name.to_string(), text.clone().into_bytes()));
-    }
-    files.push((format!("report.{ext}"), report.as_bytes().to_vec()));
-    write_dir_atomic(dir, &files)
 }
 
 /// The JSON of the issue's schema.
@@ -885,25 +813,25 @@ fn stability_section(st: &Stability) -> String {
     s
 }
 
-/// One self-contained HTML page: the report's verdict (its Markdown up to
-/// the first section), the figures drawn interactively, the sections,
-/// and the figures' SVGs as the static view.
-pub fn html_page(title: &str, md: &str, figures: &[&Bode]) -> String {
+/// One self-contained HTML page: the report's verdict (its Markdown
+/// before the first section), the figures drawn interactively, the
+/// sections, and the figures' SVGs as the static view.
+pub fn html_page(title: &str, verdict: &str, sections: &str, figures: &[&Bode]) -> String {
     let mut s = format!(
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{title}</title>\n\
          <style>body{{font-family:sans-serif;max-width:60em;margin:2em auto}}\
          table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px}}\
+         code{{overflow-wrap:anywhere}}\
          .mms-readout{{font-size:0.85em;min-height:2.6em;color:#333}}\
          .mms-bode canvas{{cursor:crosshair}}</style>\n\
          </head><body>\n"
     );
-    // The verdict (what precedes the first section), the figures, then
-    // the sections with their tables.
-    let split = md.find("\n## ").map_or(md.len(), |i| i + 1);
-    s.push_str(&markdown_to_html(&md[..split]));
-    s.push_str(
-        "<h2>Bode plot</h2>\n<p><small>Drag across a panel to zoom in frequency, \
+    s.push_str(&markdown_to_html(verdict));
+    let _ = write!(
+        s,
+        "<h2>Bode plot{}</h2>\n<p><small>Drag across a panel to zoom in frequency, \
          double-click to return; click a legend entry to hide or show its curve.</small></p>\n",
+        if figures.len() > 1 { "s" } else { "" }
     );
     // The interactive and the static figures side by side.
     let (interactive, statics) = rayon::join(
@@ -915,7 +843,7 @@ pub fn html_page(title: &str, md: &str, figures: &[&Bode]) -> String {
         || figures.iter().map(|f| f.to_svg()).collect::<String>(),
     );
     s.push_str(&interactive);
-    s.push_str(&markdown_to_html(&md[split..]));
+    s.push_str(&markdown_to_html(sections));
     s.push_str("<details><summary>Static figures (SVG)</summary>\n");
     s.push_str(&statics);
     s.push_str("</details>\n</body></html>\n");

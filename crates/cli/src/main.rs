@@ -12,6 +12,7 @@ mod identify;
 mod notes;
 mod output;
 mod recording;
+mod report;
 mod sensors;
 mod study;
 mod tables;
@@ -243,6 +244,58 @@ enum Command {
         #[arg(long, value_enum, default_value_t = identify::IdentifyFormat::Md)]
         format: identify::IdentifyFormat,
         /// Write report, Bode plots and model_after.toml into this directory.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
+    /// One report on one recording: identify it, diagnose it with --model
+    /// (or, without, with the identification's best fit), and join both
+    /// into one page: the two verdicts first, then the Bode plots, then
+    /// each one's tables.
+    Report {
+        #[command(flatten)]
+        recording: recording::RecordingArgs,
+        /// The model file (TOML) to diagnose the recording with; without it
+        /// (and without --simulation), the best fit of the identification.
+        #[arg(long, value_name = "MODEL.toml", conflicts_with = "simulation")]
+        model: Option<PathBuf>,
+        /// A simulated FRF (FRF CSV or UFF58) whose chain model is
+        /// diagnosed, as for `mms diagnose --simulation`.
+        #[arg(long, value_name = "FILE")]
+        simulation: Option<PathBuf>,
+        /// Number of masses of the identification (default: one more than
+        /// the resonances found).
+        #[arg(long, value_name = "N")]
+        masses: Option<usize>,
+        /// The FRF is not in SI units: fit a gain and hold m1.
+        #[arg(long)]
+        fit_gain: bool,
+        /// Only use the lines in this band, as LO:HI in Hz.
+        #[arg(long, value_name = "LO:HI")]
+        band: Option<String>,
+        /// How an effect must earn its parameters (as for `mms diagnose`).
+        #[arg(long, value_enum, default_value_t = diagnose::SelectArg::Holdout)]
+        select: diagnose::SelectArg,
+        /// How far calibration may move each parameter from its nominal
+        /// value (fraction).
+        #[arg(long, value_name = "FRACTION", default_value_t = 0.2)]
+        tolerance: f64,
+        /// Closed-loop recording: the position reference (as for `mms
+        /// diagnose`).
+        #[arg(long, value_name = "VAR[:COL]", requires = "controller")]
+        reference: Option<String>,
+        /// The position controller of a closed-loop recording (as for `mms
+        /// diagnose`).
+        #[arg(long, value_name = "SPEC", requires = "reference")]
+        controller: Option<String>,
+        /// A known signal added to the controller output (as for `mms
+        /// diagnose`).
+        #[arg(long, value_name = "VAR[:COL]", requires = "reference")]
+        disturbance: Option<String>,
+        #[arg(long, value_enum, default_value_t = identify::IdentifyFormat::Md)]
+        format: identify::IdentifyFormat,
+        /// Write the report, every Bode plot (identify-*.svg/png,
+        /// diagnose-*.svg/png), model.toml and model_after.toml into this
+        /// directory.
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
     },
@@ -487,6 +540,47 @@ fn run(cli: Cli) -> Result<(), String> {
                 out: out.as_deref(),
             };
             output::emit_report(diagnose::run(&args)?)
+        }
+        Command::Report {
+            recording,
+            model,
+            simulation,
+            masses,
+            fit_gain,
+            band,
+            select,
+            tolerance,
+            reference,
+            controller,
+            disturbance,
+            format,
+            out,
+        } => {
+            let source = match (model, simulation) {
+                (Some(m), _) => Some(diagnose::ModelSource::File(m)),
+                (None, Some(s)) => Some(diagnose::ModelSource::Simulation(s)),
+                (None, None) => None,
+            };
+            let args = report::ReportArgs {
+                recording: &recording,
+                masses,
+                fit_gain,
+                band: band.as_deref().map(parse_band).transpose()?,
+                model: source.as_ref(),
+                select,
+                tolerance,
+                closed_loop: match (reference, controller) {
+                    (Some(reference), Some(controller)) => Some(diagnose::LoopArgs {
+                        reference,
+                        controller,
+                        disturbance,
+                    }),
+                    _ => None,
+                },
+                format,
+                out: out.as_deref(),
+            };
+            output::emit_report(report::run(&args)?)
         }
         Command::Study {
             masses,

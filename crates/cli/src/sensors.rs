@@ -4,15 +4,15 @@
 //! formatted here.
 
 use crate::diagnose::{
-    finish, json as diagnosis_json, load_model, markdown as diagnosis_markdown,
+    json as diagnosis_json, load_model, markdown as diagnosis_markdown,
     options as diagnose_options, verdict_text, DiagnoseArgs,
 };
 use crate::identify::{
-    fmt_sig, html_page, model_curve, model_files, parameters_json, progress_bar, show,
-    write_report_dir, IdentifyArgs, IdentifyFormat,
+    fitted_model, fmt_sig, model_curve, parameters_json, progress_bar, show, IdentifyArgs,
 };
 use crate::notes::sensors_note;
 use crate::recording::SensorRecording;
+use crate::report::{Links, Outcome};
 use ident::classify::feature_name;
 use ident::diagnose::EffectKind;
 use ident::diagnosis::{
@@ -29,9 +29,12 @@ use plot::{Bode, Style};
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 
-/// Identifies the chain from every output of the recording; the report
-/// text for stdout when no `--out` directory is given.
-pub fn run(args: &IdentifyArgs, options: &IdentifyOptions) -> Result<Option<String>, String> {
+/// Identifies the chain from every output of the recording.
+pub fn outcome(
+    args: &IdentifyArgs,
+    options: &IdentifyOptions,
+    links: Links,
+) -> Result<Outcome, String> {
     let name = args.recording.path()?.display().to_string();
     if !args.operating_points.is_empty() {
         return Err(format!(
@@ -53,36 +56,29 @@ pub fn run(args: &IdentifyArgs, options: &IdentifyOptions) -> Result<Option<Stri
         .map_err(|e| format!("{name}: {e}"))?;
     bar.finish_and_clear();
     let plots = bode(&outputs, output, &id);
-    let report = match args.format {
-        IdentifyFormat::Json => {
-            let mut s =
-                serde_json::to_string_pretty(&to_json(&id)).map_err(|e| format!("JSON: {e}"))?;
-            s.push('\n');
-            s
-        }
-        IdentifyFormat::Md => markdown(&name, &id, args.out.map(|_| "bode.svg")),
-        IdentifyFormat::Html => html_page("mms identify", &markdown(&name, &id, None), &[&plots]),
-    };
-    let Some(dir) = args.out else {
-        return Ok(Some(report));
-    };
+    let md = markdown(&name, &id, links.to("bode").as_deref());
+    let mut outcome = Outcome::new(
+        "mms identify",
+        &md,
+        to_json(&id),
+        vec![(links.file("bode"), plots)],
+    );
     // The model file of the best candidate, read by the first output's
     // sensor, with every output's sensor (`mms diagnose` reads them); a
     // sensor mounted the other way round (its output's sign reversed) has
     // no port of its own, so then the places are in the report only.
     let reversed = id.outputs.iter().any(|o| o.sensor_reversed);
-    let sensors: Vec<mms::Port> = match id.candidates.first() {
-        Some(best) if !reversed => best.models.iter().map(|m| m.sensor()).collect(),
-        _ => Vec::new(),
-    };
-    let files = model_files(
-        id.candidates
-            .first()
-            .map(|best| (best.models[0], &best.fit, output)),
-        &sensors,
-    );
-    write_report_dir(dir, args.format, &plots, &files, &report)?;
-    Ok(None)
+    if let Some(best) = id.candidates.first() {
+        let sensors: Vec<mms::Port> = if reversed {
+            Vec::new()
+        } else {
+            best.models.iter().map(|m| m.sensor()).collect()
+        };
+        let file = fitted_model(best.models[0], &best.fit, output);
+        outcome.files = vec![("model.toml".into(), file.to_toml_with_sensors(&sensors))];
+        outcome.fitted = Some((file, sensors));
+    }
+    Ok(outcome)
 }
 
 /// Each output's measurement and the best candidate's curve for it.
@@ -353,7 +349,7 @@ fn markdown(name: &str, id: &SensorsIdentification, plot: Option<&str>) -> Strin
 
 /// `mms diagnose` with several `--y`: the model read at each output's
 /// sensor, diagnosed against that output; the effects every output names.
-pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
+pub fn diagnose(args: &DiagnoseArgs, links: Links) -> Result<Outcome, String> {
     let name = args.recording.path()?.display().to_string();
     if !args.levels.is_empty() || args.validate.is_some() || !args.operating_points.is_empty() {
         return Err(format!(
@@ -452,52 +448,40 @@ pub fn diagnose(args: &DiagnoseArgs) -> Result<Option<String>, String> {
     if lo < hi {
         plot = plot.view(lo, hi);
     }
-    let report = match args.format {
-        IdentifyFormat::Json => {
-            let mut each = Vec::new();
-            for (o, port, d) in &runs {
-                let v: Value = diagnosis_json(d, None, None)?;
-                each.push(json!({
-                    "name": o.signal,
-                    "location": o.location,
-                    "sensor": [port.plus, port.minus],
-                    "diagnosis": v,
-                }));
-            }
-            let v = json!({
-                "version": crate::diagnose::JSON_VERSION,
-                "outputs": each,
-                "joint": match &joint {
-                    Some(j) => diagnosis_json(j, None, None)?,
-                    None => Value::Null,
-                },
-                "common_effects": common.iter().map(|c| json!({
-                    "kind": c.kind.as_str(),
-                    "parameter": c.parameter,
-                    "values": c.values,
-                    "spread": c.spread,
-                })).collect::<Vec<_>>(),
-            });
-            let mut s = serde_json::to_string_pretty(&v).map_err(|e| format!("JSON: {e}"))?;
-            s.push('\n');
-            s
-        }
-        IdentifyFormat::Md | IdentifyFormat::Html => {
-            let m = diagnose_markdown(
-                &name,
-                &source_text,
-                &runs,
-                (&common, joint.as_ref()),
-                (args.format == IdentifyFormat::Md && args.out.is_some()).then_some("bode.svg"),
-            );
-            if args.format == IdentifyFormat::Md {
-                m
-            } else {
-                html_page("mms diagnose", &m, &[&plot])
-            }
-        }
-    };
-    finish(args, &plot, &runs[0].2.model_after, report)
+    let mut each = Vec::new();
+    for (o, port, d) in &runs {
+        let v: Value = diagnosis_json(d, None, None)?;
+        each.push(json!({
+            "name": o.signal,
+            "location": o.location,
+            "sensor": [port.plus, port.minus],
+            "diagnosis": v,
+        }));
+    }
+    let json = json!({
+        "version": crate::diagnose::JSON_VERSION,
+        "outputs": each,
+        "joint": match &joint {
+            Some(j) => diagnosis_json(j, None, None)?,
+            None => Value::Null,
+        },
+        "common_effects": common.iter().map(|c| json!({
+            "kind": c.kind.as_str(),
+            "parameter": c.parameter,
+            "values": c.values,
+            "spread": c.spread,
+        })).collect::<Vec<_>>(),
+    });
+    let md = diagnose_markdown(
+        &name,
+        &source_text,
+        &runs,
+        (&common, joint.as_ref()),
+        links.to("bode").as_deref(),
+    );
+    let mut outcome = Outcome::new("mms diagnose", &md, json, vec![(links.file("bode"), plot)]);
+    outcome.files = vec![("model_after.toml".into(), runs[0].2.model_after.to_toml())];
+    Ok(outcome)
 }
 
 /// An effect every output names, with its value on each.
