@@ -75,4 +75,26 @@ run tue2025-moving-fine identify "$real/tue_motion_2025/motor_side_1rads.mat" "$
 run tue2025-operating-points-diagnose diagnose "$real/tue_motion_2025/motor_side_stationary.mat" \
     "${tue[@]}" --nfft 10000 --band 1:150 --model "$out/tue2025-moving-fine/model.toml" \
     --operating-point "$real/tue_motion_2025/motor_side_1rads.mat"
+# One page per recording: `mms report` (identification, then the diagnosis
+# with the best fit or the model given), as HTML.
+report() { # NAME ARGS...: the HTML report into $out/report-NAME/
+    local name=$1
+    shift
+    rm -rf "${out:?}/report-$name"
+    "$mms" report "$@" --format html --out "$out/report-$name"
+}
+for rec in setup18_motor_side_v0.3 setup18_motor_side_v0.5 setup18_load_side_v0.5_m2 \
+    setup29_load_side_v0.5 session02nov_frf_measurement_0; do
+    report "sperte-$rec" "$real/sperte/$rec.mat" "${sperte[@]}"
+done
+report f16-level1 "$real/f16_gvt/F16Data_FullMSine_Level1.mat" "${f16[@]}" --band 4:15 --fit-gain
+report emps "$real/emps/DATA_EMPS.mat" "${emps[@]}" --controller kp=kp,kv=kv
+report emps-pulses "$real/emps/DATA_EMPS_PULSES.mat" "${emps[@]}" \
+    --controller kp=160.18,kv=243.45,filter=0.5:0.5,saturation=10 --disturbance pulses_N
+report robot-arm "$real/robot_arm/robot_arm.dat" --u 1 --y 2 --fs 1 --output acceleration \
+    --nfft 256 --fit-gain
+report tue2025-moving "$real/tue_motion_2025/motor_side_1rads.mat" "${tue[@]}"
+report tue2025-standstill "$real/tue_motion_2025/motor_side_stationary.mat" "${tue[@]}"
+report tue2018-both "$real/tue_motion_2018/scan_10hz_with_feedforward.mat" \
+    --u Data.u --y Data.y1@1 --y Data.y2@N --excitation Data.r --band 1:100 --masses 2
 echo "reports in $out"
