@@ -4,12 +4,14 @@
 //! one report.
 
 use crate::diagnose::{DiagnoseArgs, LoopArgs, ModelSource, SelectArg};
-use crate::identify::{html_page, IdentifyArgs, IdentifyFormat};
+use crate::identify::{IdentifyArgs, IdentifyFormat};
 use crate::output::write_dir_atomic;
 use crate::recording::RecordingArgs;
 use mms::model_file::ModelFile;
 use plot::Bode;
+use rayon::prelude::*;
 use serde_json::{json, Value};
+use std::fmt::Write as _;
 use std::path::Path;
 
 /// Where a report's Markdown links its figures: nowhere (stdout, HTML,
@@ -81,13 +83,34 @@ impl Outcome {
         }
     }
 
+    /// The HTML page of this outcome with its figures drawn.
+    fn html_page(&self, interactive: &str, statics: &[String]) -> String {
+        html_page(
+            self.title,
+            &self.verdict,
+            &self.sections,
+            self.figures.len(),
+            interactive,
+            statics,
+        )
+    }
+
     /// The report's text in `format`.
     pub fn render(&self, format: IdentifyFormat) -> Result<String, String> {
         Ok(match format {
             IdentifyFormat::Md => format!("{}{}", self.verdict, self.sections),
             IdentifyFormat::Html => {
-                let figures: Vec<&Bode> = self.figures.iter().map(|(_, b)| b).collect();
-                html_page(self.title, &self.verdict, &self.sections, &figures)
+                // The interactive and the static figures side by side.
+                let (interactive, statics) = rayon::join(
+                    || interactive_figures(&self.figures),
+                    || {
+                        self.figures
+                            .par_iter()
+                            .map(|(_, f)| f.to_svg())
+                            .collect::<Vec<_>>()
+                    },
+                );
+                self.html_page(&interactive, &statics)
             }
             IdentifyFormat::Json => {
                 let mut s =
@@ -106,19 +129,35 @@ impl Outcome {
         format: IdentifyFormat,
         out: Option<&Path>,
     ) -> Result<Option<String>, String> {
-        let report = self.render(format)?;
         let Some(dir) = out else {
-            return Ok(Some(report));
+            return self.render(format).map(Some);
         };
         let ext = match format {
             IdentifyFormat::Md => "md",
             IdentifyFormat::Html => "html",
             IdentifyFormat::Json => "json",
         };
+        // Every figure's SVG and PNG (the PNG's rasterising and deflate
+        // take longest), beside the HTML page's interactive figures; the
+        // page's static figures are the same SVGs.
+        let (drawn, interactive): (Vec<(String, Vec<u8>)>, Option<String>) = rayon::join(
+            || {
+                self.figures
+                    .par_iter()
+                    .map(|(_, f)| rayon::join(|| f.to_svg(), || f.to_png()))
+                    .collect()
+            },
+            || (format == IdentifyFormat::Html).then(|| interactive_figures(&self.figures)),
+        );
+        let report = match interactive {
+            Some(interactive) => {
+                let statics: Vec<String> = drawn.iter().map(|(svg, _)| svg.clone()).collect();
+                self.html_page(&interactive, &statics)
+            }
+            None => self.render(format)?,
+        };
         let mut files: Vec<(String, Vec<u8>)> = Vec::new();
-        for (name, plot) in &self.figures {
-            // The PNG's rasterising and deflate take longest: beside the SVG.
-            let (svg, png) = rayon::join(|| plot.to_svg(), || plot.to_png());
+        for ((name, _), (svg, png)) in self.figures.iter().zip(drawn) {
             files.push((format!("{name}.svg"), svg.into_bytes()));
             files.push((format!("{name}.png"), png));
         }
@@ -129,6 +168,65 @@ impl Outcome {
         write_dir_atomic(dir, &files)?;
         Ok(None)
     }
+}
+
+/// One self-contained HTML page: the report's verdict (its Markdown
+/// before the first section), the figures drawn interactively, the
+/// sections, and the figures' SVGs as the static view.
+/// `interactive` holds the figures' HTML ([`Bode::to_html`]), `statics`
+/// their SVGs.
+fn html_page(
+    title: &str,
+    verdict: &str,
+    sections: &str,
+    figures: usize,
+    interactive: &str,
+    statics: &[String],
+) -> String {
+    let mut s = format!(
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{title}</title>\n\
+         <style>body{{font-family:sans-serif;max-width:60em;margin:2em auto}}\
+         table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px}}\
+         code{{overflow-wrap:anywhere}}\
+         .mms-readout{{font-size:0.85em;min-height:2.6em;color:#333}}\
+         .mms-bode canvas{{cursor:crosshair}}</style>\n\
+         </head><body>\n"
+    );
+    s.push_str(&markdown_to_html(verdict));
+    let _ = write!(
+        s,
+        "<h2>Bode plot{}</h2>\n<p><small>Drag across a panel to zoom in frequency, \
+         double-click to return; click a legend entry to hide or show its curve.</small></p>\n",
+        if figures > 1 { "s" } else { "" }
+    );
+    s.push_str(interactive);
+    s.push_str(&markdown_to_html(sections));
+    s.push_str("<details><summary>Static figures (SVG)</summary>\n");
+    statics.iter().for_each(|svg| s.push_str(svg));
+    s.push_str("</details>\n</body></html>\n");
+    s
+}
+
+/// The report's Markdown as HTML (CommonMark with tables, by
+/// pulldown-cmark; raw HTML in the text is escaped, as the text comes from
+/// file and variable names).
+fn markdown_to_html(md: &str) -> String {
+    use pulldown_cmark::{Event, Options, Parser};
+    let events = Parser::new_ext(md, Options::ENABLE_TABLES).map(|e| match e {
+        Event::Html(t) | Event::InlineHtml(t) => Event::Text(t),
+        other => other,
+    });
+    let mut out = String::new();
+    pulldown_cmark::html::push_html(&mut out, events);
+    out
+}
+
+/// The figures drawn interactively, one `figure-K` element each; the
+/// last one carries the script.
+fn interactive_figures(figures: &[(String, Bode)]) -> String {
+    (figures.iter().enumerate())
+        .map(|(k, (_, f))| f.to_html(&format!("figure-{}", k + 1), k + 1 == figures.len()))
+        .collect()
 }
 
 /// A report's verdict (everything before its first section) and its
@@ -278,7 +376,7 @@ fn join(name: &str, identified: Outcome, diagnosed: Outcome) -> Outcome {
 
 #[cfg(test)]
 mod tests {
-    use super::{demote, split_verdict};
+    use super::{demote, markdown_to_html, split_verdict};
 
     /// Headings go one level down, the lines of a code block do not,
     /// whatever they start with.
@@ -300,5 +398,26 @@ mod tests {
             ("# T\n\nv\n", "## S\nx\n")
         );
         assert_eq!(split_verdict("# T\n\nv\n"), ("# T\n\nv\n", ""));
+    }
+
+    /// Tables, emphasis, code and lists become their HTML elements, and
+    /// text that looks like HTML stays text.
+    #[test]
+    fn report_markdown_becomes_html() {
+        let md = "# Report\n\n**type** `C`, for <script>x</script>\n\n\
+                  | structure | m1 |\n|---|---:|\n| A1 | 1e-3 |\n\n- one\n- two\n";
+        let html = markdown_to_html(md);
+        assert!(html.contains("<h1>Report</h1>"), "{html}");
+        assert!(html.contains("<strong>type</strong>"), "{html}");
+        assert!(html.contains("<code>C</code>"), "{html}");
+        assert!(html.contains("&lt;script&gt;"), "{html}");
+        assert!(!html.contains("<script>"), "{html}");
+        assert!(html.contains("<th>structure</th>"), "{html}");
+        assert!(
+            html.contains("<td style=\"text-align: right\">1e-3</td>"),
+            "{html}"
+        );
+        assert!(!html.contains("---"), "{html}");
+        assert!(html.contains("<li>two</li>"), "{html}");
     }
 }
