@@ -25,6 +25,8 @@ mod int;
 mod parse;
 mod poly;
 mod rat;
+#[cfg(feature = "serde")]
+mod serde_text;
 
 pub use crate::int::Int;
 pub use crate::parse::ParsePolyError;
