@@ -420,6 +420,31 @@ impl Serialize for UnidentifiableDirection {
     }
 }
 
+/// Read back in the file's order of the parameters (a JSON file written
+/// through a sorted map lists them by name).
+impl<'de> serde::Deserialize<'de> for UnidentifiableDirection {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Components;
+        impl<'de> serde::de::Visitor<'de> for Components {
+            type Value = UnidentifiableDirection;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a map from parameter names to polynomials")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> Result<Self::Value, A::Error> {
+                let mut components = Vec::new();
+                while let Some(entry) = map.next_entry::<String, Poly>()? {
+                    components.push(entry);
+                }
+                Ok(UnidentifiableDirection { components })
+            }
+        }
+        d.deserialize_map(Components)
+    }
+}
+
 /// How the number of determinable parameters (the generic rank of the
 /// Jacobian) is established. The rank at a random point is always a proven
 /// lower bound; the variants say what proves the upper bound.

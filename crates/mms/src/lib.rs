@@ -67,6 +67,7 @@ pub mod render;
 pub mod response;
 pub mod sensors;
 pub mod simulate;
+pub mod table;
 mod tf;
 pub mod xorshift;
 

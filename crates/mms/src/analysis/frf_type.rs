@@ -346,3 +346,18 @@ fn interleavings(
         acc.pop();
     }
 }
+
+/// A type is written as its text (`A^2RR (nm)`), as in the tables.
+impl serde::Serialize for FrfType {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for FrfType {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<FrfType, D::Error> {
+        let text = String::deserialize(d)?;
+        text.parse()
+            .map_err(|e: ParseFrfTypeError| serde::de::Error::custom(e))
+    }
+}

@@ -45,12 +45,11 @@ use crate::model::Model;
 use crate::tf::OMEGA;
 use poly::{Poly, Rat};
 use prover::Prover;
-use prover::{ser_display, ser_poly};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// The verdict on one candidate type.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Status {
     /// Shown by a witness.
@@ -62,56 +61,47 @@ pub enum Status {
 }
 
 /// One candidate type and its verdict.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TypeVerdict {
     /// The type.
-    #[serde(rename = "type", serialize_with = "ser_display")]
+    #[serde(rename = "type")]
     pub frf_type: FrfType,
     /// Possible, impossible or unknown.
     pub status: Status,
     /// Parameters showing the type (possible types).
-    #[serde(
-        skip_serializing_if = "Option::is_none",
-        serialize_with = "ser_opt_point"
-    )]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub witness: Option<BTreeMap<String, Rat>>,
     /// The proof that it cannot occur (impossible types).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub certificate: Option<Proof>,
 }
 
 /// A pole-zero cancellation: a factor of `Res(num, den)` that vanishes for
 /// some positive parameters, and the TF reduced on it.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Cancellation {
     /// The condition `factor = 0`.
-    #[serde(serialize_with = "ser_poly")]
     pub condition: Poly,
     /// Its parametrization.
     pub substitution: Substitution,
     /// The reduced TF on the condition, `(num)/(den)`.
     pub reduced: String,
     /// Reduced numerator on the condition.
-    #[serde(serialize_with = "ser_poly")]
     pub num: Poly,
     /// Reduced denominator on the condition.
-    #[serde(serialize_with = "ser_poly")]
     pub den: Poly,
 }
 
 /// A critical factor of the whole orthant and what the engine knows of it.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CriticalFactor {
     /// The irreducible factor.
-    #[serde(serialize_with = "ser_poly")]
     pub factor: Poly,
     /// It divides a resultant of a numerator and a denominator part (a
     /// pole-zero cancellation where it vanishes).
     pub cancels: bool,
-    /// `definite` (keeps one sign: `sign` and `definiteness` say which
-    /// and why), `wall` (vanishes on the graph of `substitution`) or
-    /// `undetermined` (neither shown; no claim).
-    pub status: &'static str,
+    /// Definite, a wall, or undetermined.
+    pub status: FactorStatus,
     /// For a definite factor: +1 or -1.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sign: Option<i32>,
@@ -123,8 +113,21 @@ pub struct CriticalFactor {
     pub substitution: Option<Substitution>,
 }
 
+/// What is known of a [`CriticalFactor`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FactorStatus {
+    /// Keeps one sign on the orthant (`sign` and `definiteness` say which
+    /// and why).
+    Definite,
+    /// Vanishes on the graph of `substitution`.
+    Wall,
+    /// Neither shown; no claim.
+    Undetermined,
+}
+
 /// The analysis of one model.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ModelAnalysis {
     /// The paper's ID for 3 masses, else the generic ID.
     pub id: String,
@@ -139,10 +142,8 @@ pub struct ModelAnalysis {
     /// Sensor `[plus, minus]`.
     pub sensor: [usize; 2],
     /// Numerator of the undamped TF in `Omega`.
-    #[serde(serialize_with = "ser_poly")]
     pub numerator: Poly,
     /// Denominator of the undamped TF in `Omega`.
-    #[serde(serialize_with = "ser_poly")]
     pub denominator: Poly,
     /// Every candidate type with its verdict: possible first.
     pub types: Vec<TypeVerdict>,
@@ -269,9 +270,11 @@ pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
         .iter()
         .map(|f| {
             let (status, sign, definiteness, substitution) = match (&f.definite, &f.wall) {
-                (Some((sign, d)), _) => ("definite", Some(*sign), Some(d.clone()), None),
-                (None, Some(w)) => ("wall", None, None, Some(w.clone())),
-                (None, None) => ("undetermined", None, None, None),
+                (Some((sign, d)), _) => {
+                    (FactorStatus::Definite, Some(*sign), Some(d.clone()), None)
+                }
+                (None, Some(w)) => (FactorStatus::Wall, None, None, Some(w.clone())),
+                (None, None) => (FactorStatus::Undetermined, None, None, None),
             };
             CriticalFactor {
                 factor: f.poly.clone(),
@@ -295,15 +298,5 @@ pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
         denominator: tf.den,
         types: verdicts,
         pzc,
-    }
-}
-
-fn ser_opt_point<S: serde::Serializer>(
-    p: &Option<BTreeMap<String, Rat>>,
-    s: S,
-) -> Result<S::Ok, S::Error> {
-    match p {
-        Some(p) => prover::ser_point(p, s),
-        None => s.serialize_none(),
     }
 }

@@ -40,23 +40,21 @@ use super::frf_type::{Feature, FrfType};
 use crate::model::Model;
 use crate::tf::OMEGA;
 use poly::{det, factor, Poly};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// The data of a pole-sign certificate (see the module docs).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PoleSigns {
     /// `R` as `unit * prod factor^exponent`.
-    #[serde(serialize_with = "super::prover::ser_display")]
     pub remainder_unit: poly::Rat,
     /// The factors of `R` with their exponents.
     pub remainder_factors: Vec<RemainderFactor>,
 }
 
 /// One factor of the remainder.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RemainderFactor {
     /// The factor.
-    #[serde(serialize_with = "super::prover::ser_display")]
     pub factor: Poly,
     /// Its exponent.
     pub exponent: u32,
@@ -64,26 +62,24 @@ pub struct RemainderFactor {
 
 /// The data of a pole-sign certificate for a denominator that is the
 /// product of several blocks' determinants (see the module docs).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BlockPoleSigns {
     /// Every block whose term the TF has, in chain order.
     pub blocks: Vec<BlockSign>,
 }
 
 /// One block `B` of a [`BlockPoleSigns`] certificate.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BlockSign {
     /// The block's masses (1-based, consecutive).
     pub masses: Vec<usize>,
     /// `n_B = c_B^T adj(K_B - Omega*M_B) b_B`, the block's term of the
     /// receptance over its determinant.
-    #[serde(serialize_with = "super::prover::ser_display")]
     pub numerator: Poly,
     /// Whether the factors below are those of the pseudo-remainder of
     /// `n_B` by the block's pole polynomial (else of `n_B` itself).
     pub remainder: bool,
     /// The factorization: `unit * prod factor^exponent`.
-    #[serde(serialize_with = "super::prover::ser_display")]
     pub unit: poly::Rat,
     /// Its factors: of one sign, `Omega`, or a multiple of the
     /// determinant of a run of the block's masses (a principal minor).

@@ -32,26 +32,24 @@ use crate::model::Model;
 use crate::tf::OMEGA;
 use crate::xorshift::XorShift;
 use poly::{discriminant, factor, gcd, resultant, square_free, Poly, Rat};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::rc::Rc;
 
 /// `var = beta / alpha`, with `alpha` and `beta` polynomials with positive
 /// coefficients in the remaining parameters (so `var > 0` on their orthant).
-#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct Substitution {
     /// The parameter that is eliminated.
     pub var: String,
     /// Denominator, positive coefficients.
-    #[serde(serialize_with = "ser_poly")]
     pub alpha: Poly,
     /// Numerator, positive coefficients.
-    #[serde(serialize_with = "ser_poly")]
     pub beta: Poly,
 }
 
 /// How a factor is shown to keep one sign on the positive orthant.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(tag = "method", rename_all = "snake_case")]
 pub enum Definiteness {
     /// All coefficients have the same sign.
@@ -77,13 +75,12 @@ pub enum Definiteness {
 
 /// The role of a critical factor on a wall: why a type cannot occur there,
 /// or the proof on the wall.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum FactorProof {
     /// The factor keeps the sign `sign` on the stratum.
     Definite {
         /// The factor.
-        #[serde(serialize_with = "ser_poly")]
         factor: Poly,
         /// +1 or -1.
         sign: i32,
@@ -95,20 +92,17 @@ pub enum FactorProof {
     /// many resonances as the stratum has: it cannot occur there.
     NeedsNoCancellation {
         /// The factor.
-        #[serde(serialize_with = "ser_poly")]
         factor: Poly,
     },
     /// The type needs a cancellation, and the wall gives none by itself;
     /// where it meets a cancellation wall, that wall's proof covers it.
     NeedsCancellation {
         /// The factor.
-        #[serde(serialize_with = "ser_poly")]
         factor: Poly,
     },
     /// The wall is a stratum of its own, with its own proof.
     Wall {
         /// The factor.
-        #[serde(serialize_with = "ser_poly")]
         factor: Poly,
         /// The parametrization of its zero set.
         substitution: Substitution,
@@ -118,22 +112,18 @@ pub enum FactorProof {
 }
 
 /// A sign condition `sign(poly) > 0` (or `>= 0`) that a type forces.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SignCondition {
     /// Why the type forces it.
     pub rule: ConditionRule,
     /// The condition as derived: `derived > 0` (or `>= 0`).
-    #[serde(serialize_with = "ser_poly")]
     pub derived: Poly,
     /// `derived = square^2 * positive * reduced` with `positive` free of
     /// subtraction, so `reduced > 0` (resp. `>= 0`) follows.
-    #[serde(serialize_with = "ser_poly")]
     pub square: Poly,
     /// See `square`.
-    #[serde(serialize_with = "ser_poly")]
     pub positive: Poly,
     /// See `square`.
-    #[serde(serialize_with = "ser_poly")]
     pub reduced: Poly,
     /// Strict (`> 0`) or not (`>= 0`).
     pub strict: bool,
@@ -142,7 +132,7 @@ pub struct SignCondition {
 /// The rule a [`SignCondition`] comes from. `part` indexes the linear
 /// parts of [`OpenProof::SignConditions`]; `rho` is that part's root
 /// `-b/a` of `a*Omega + b`, and `sa` the sign of `a`.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "rule", rename_all = "snake_case")]
 pub enum ConditionRule {
     /// The part takes a token: `rho > 0`, derived `-b*sa`.
@@ -171,7 +161,6 @@ pub enum ConditionRule {
     /// `want = sl*(-1)^(d-k)` below, `sl` above.
     SignAt {
         /// The part of degree >= 2 (unique for its side and multiplicity).
-        #[serde(serialize_with = "ser_poly")]
         other: Poly,
         /// Linear part index.
         part: usize,
@@ -184,14 +173,13 @@ pub enum ConditionRule {
     /// the walls: `disc(other) > 0`.
     RealRoots {
         /// The part.
-        #[serde(serialize_with = "ser_poly")]
         other: Poly,
     },
 }
 
 /// One way of assigning the rational roots to the tokens of a type, and the
 /// refutation of the conditions it forces.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SignCase {
     /// For each linear part (in the stratum's order), the token index it
     /// takes, or `None` for a zero off the positive axis.
@@ -201,23 +189,21 @@ pub struct SignCase {
     /// Multipliers with nonnegative coefficients, one per condition:
     /// `sum multipliers[i] * conditions[i].reduced` has no positive
     /// coefficient, and a multiplier of a strict condition is nonzero.
-    #[serde(serialize_with = "ser_polys")]
     pub multipliers: Vec<Poly>,
 }
 
 /// A sample point of a region and the type found there.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RegionSample {
     /// The full parameter point.
-    #[serde(serialize_with = "ser_point")]
     pub point: BTreeMap<String, Rat>,
     /// Its type.
-    #[serde(rename = "type", serialize_with = "ser_display")]
+    #[serde(rename = "type")]
     pub frf_type: FrfType,
 }
 
 /// Why a type cannot occur on the open part of a stratum.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum OpenProof {
     /// The type has more resonances than the stratum's denominator degree
@@ -256,10 +242,8 @@ pub enum OpenProof {
     /// `(AR)^k`. The type is not. Holds on every stratum.
     CollocatedModes {
         /// The numerator at `Omega = 0`, of one sign on the orthant.
-        #[serde(serialize_with = "ser_poly")]
         num_at_zero: Poly,
         /// The denominator at `Omega = 0`, of one sign on the orthant.
-        #[serde(serialize_with = "ser_poly")]
         den_at_zero: Poly,
     },
     /// The numerator's sign at the poles, from its remainder by the one
@@ -280,7 +264,6 @@ pub enum OpenProof {
     /// coefficients in `Omega` have definite signs.
     Descartes {
         /// The part.
-        #[serde(serialize_with = "ser_poly")]
         part: Poly,
         /// Sign changes of its coefficient sequence.
         sign_changes: u32,
@@ -295,7 +278,6 @@ pub enum OpenProof {
         /// The walls in increasing order.
         walls: Vec<Substitution>,
         /// `walls[i+1] - walls[i]` cross-multiplied: positive coefficients.
-        #[serde(serialize_with = "ser_polys")]
         gaps: Vec<Poly>,
         /// One sample per region, in increasing `var`.
         samples: Vec<RegionSample>,
@@ -304,7 +286,6 @@ pub enum OpenProof {
     /// contradictory sign conditions.
     SignConditions {
         /// The linear parts (`Omega` degree 1): numerator first.
-        #[serde(serialize_with = "ser_polys")]
         linear_parts: Vec<Poly>,
         /// One case per assignment.
         cases: Vec<SignCase>,
@@ -312,7 +293,7 @@ pub enum OpenProof {
 }
 
 /// A certificate that a type cannot occur on a stratum.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Proof {
     /// The substitutions that define the stratum (empty: the whole orthant).
     pub stratum: Vec<Substitution>,
@@ -669,7 +650,7 @@ pub(crate) struct Prover<'a> {
 }
 
 /// How far the search goes.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct SearchLimits {
     /// Random samples on the whole orthant.
     pub samples: usize,
@@ -1423,26 +1404,4 @@ fn conditions_for(
         }
     }
     Some(out)
-}
-
-pub(crate) fn ser_poly<S: serde::Serializer>(p: &Poly, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_str(&p.to_string())
-}
-
-fn ser_polys<S: serde::Serializer>(p: &[Poly], s: S) -> Result<S::Ok, S::Error> {
-    s.collect_seq(p.iter().map(|x| x.to_string()))
-}
-
-pub(crate) fn ser_point<S: serde::Serializer>(
-    p: &BTreeMap<String, Rat>,
-    s: S,
-) -> Result<S::Ok, S::Error> {
-    s.collect_map(p.iter().map(|(k, v)| (k, v.to_string())))
-}
-
-pub(crate) fn ser_display<T: std::fmt::Display, S: serde::Serializer>(
-    t: &T,
-    s: S,
-) -> Result<S::Ok, S::Error> {
-    s.serialize_str(&t.to_string())
 }
