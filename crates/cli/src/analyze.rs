@@ -11,10 +11,11 @@ use crate::analyze_cache::Cache;
 use crate::TableFormat3;
 use indicatif::{ProgressBar, ProgressStyle};
 use mms::analysis::{analyze, ModelAnalysis, SearchLimits, Status};
+use mms::identifiability::UnidentifiableDirection;
+use mms::table::{AnalysisTable, Covers, ModelTiming, RunTiming, SimilarSystems, TableModel};
 use mms::Model;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use serde_json::json;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write;
 use std::path::PathBuf;
@@ -89,10 +90,9 @@ pub struct Summary {
     pub determinable_parameters: usize,
     pub moment_invariants: usize,
     /// The proof of the upper bound of `determinable_parameters`.
-    pub unidentifiable_directions: serde_json::Value,
-    /// The whole analysis as `--format json` prints it, before the similar
-    /// systems and the Tab. 5 numbers are added.
-    pub analysis: serde_json::Value,
+    pub unidentifiable_directions: Vec<UnidentifiableDirection>,
+    /// The whole analysis, as the table file holds it.
+    pub analysis: ModelAnalysis,
 }
 
 impl Summary {
@@ -110,9 +110,8 @@ impl Summary {
                 .count(),
             determinable_parameters: idf.determinable_parameters,
             moment_invariants: idf.nonconstant_invariants,
-            unidentifiable_directions: serde_json::to_value(&idf.unidentifiable_directions)
-                .map_err(|e| e.to_string())?,
-            analysis: serde_json::to_value(a).map_err(|e| e.to_string())?,
+            unidentifiable_directions: idf.unidentifiable_directions,
+            analysis: a.clone(),
         })
     }
 
@@ -310,61 +309,49 @@ fn render(
     similar: &Similar,
     format: TableFormat3,
     timings: Option<&Timings>,
-    covers: &serde_json::Value,
+    covers: &Covers,
 ) -> Result<String, String> {
     let mut s = String::new();
     match format {
         TableFormat3::Report => {
-            let n = summaries
-                .first()
-                .and_then(|a| a.analysis["masses"].as_u64())
-                .unwrap_or(0) as usize;
+            let n = summaries.first().map_or(0, |a| a.analysis.masses);
             s = crate::tables::report(n, summaries, similar)?;
         }
         TableFormat3::Json => {
-            let models: Vec<serde_json::Value> = summaries
+            let models: Vec<TableModel> = summaries
                 .iter()
                 .enumerate()
-                .map(|(i, a)| {
-                    let mut v = a.analysis.clone();
-                    let similar: Vec<serde_json::Value> = a
-                        .possible
-                        .iter()
-                        .map(|ty| {
-                            json!({"type": ty,
-                                   "models": similar[&(a.id.clone(), ty.clone())]})
-                        })
-                        .collect();
-                    v["similar"] = json!(similar);
-                    v["determinable_parameters"] = json!(a.determinable_parameters);
-                    v["moment_invariants"] = json!(a.moment_invariants);
-                    v["unidentifiable_directions"] = a.unidentifiable_directions.clone();
-                    if let Some(t) = timings {
-                        let d = &t.models[i];
-                        v["timing"] = json!({"seconds": d.seconds, "cached": d.cached});
-                    }
-                    v
+                .map(|(i, a)| TableModel {
+                    analysis: a.analysis.clone(),
+                    similar: Some(
+                        a.analysis
+                            .possible()
+                            .into_iter()
+                            .map(|ty| SimilarSystems {
+                                frf_type: ty.clone(),
+                                models: similar[&(a.id.clone(), ty.to_string())].clone(),
+                            })
+                            .collect(),
+                    ),
+                    determinable_parameters: Some(a.determinable_parameters),
+                    moment_invariants: Some(a.moment_invariants),
+                    unidentifiable_directions: Some(a.unidentifiable_directions.clone()),
+                    timing: timings.map(|t| ModelTiming {
+                        seconds: t.models[i].seconds,
+                        cached: t.models[i].cached,
+                    }),
                 })
                 .collect();
             // What the file covers, by which engine and search: a reader
             // can tell a complete table from a pruned or foreign one.
-            let mut doc = json!({
-                "covers": covers,
-                "mms_version": env!("CARGO_PKG_VERSION"),
-                "engine_version": mms::analysis::ENGINE_VERSION,
-                "search_limits": SearchLimits::default(),
-                "models": models,
+            let mut table = AnalysisTable::new(covers.clone(), models);
+            table.timing = timings.map(|t| RunTiming {
+                wall_seconds: t.batch.wall_seconds,
+                threads: t.batch.threads,
+                models_analysed: t.batch.done.len(),
+                models_from_cache: t.batch.done.iter().filter(|d| d.cached).count(),
             });
-            if let Some(t) = timings {
-                doc["timing"] = json!({
-                    "wall_seconds": t.batch.wall_seconds,
-                    "threads": t.batch.threads,
-                    "models_analysed": t.batch.done.len(),
-                    "models_from_cache": t.batch.done.iter().filter(|d| d.cached).count(),
-                });
-            }
-            s = serde_json::to_string_pretty(&doc).map_err(|e| e.to_string())?;
-            s.push('\n');
+            s = table.to_json();
         }
         TableFormat3::Table => {
             let _ = writeln!(
@@ -503,9 +490,9 @@ pub fn run(models: &[Model], format: TableFormat3, opts: &Options) -> Result<Str
     let every_class = crate::class_representatives(n)
         .is_ok_and(|reps| reps.iter().map(|m| m.id()).eq(ids.iter().cloned()));
     let covers = if every_class {
-        json!({ "masses": n })
+        Covers::Masses(n)
     } else {
-        json!({ "models": ids })
+        Covers::Models(ids)
     };
     render(own, &similar, format, timings.as_ref(), &covers)
 }

@@ -1,4 +1,5 @@
-//! An independent checker for the output of `mms analyze --format json`.
+//! An independent checker for the output of `mms analyze --format json`
+//! (an [`AnalysisTable`]).
 //!
 //! The checker re-verifies every verdict of such a file with exact
 //! arithmetic. It shares nothing with the prover of [`crate::analysis`] but
@@ -45,10 +46,12 @@
 //! ```
 //! use mms::analysis::{analyze, SearchLimits};
 //! use mms::check::{check_file, CheckError};
+//! use mms::table::{AnalysisTable, Covers, TableModel};
 //!
 //! let a2 = mms::Model::from_id("A2")?;
-//! let analysis = analyze(&a2, &SearchLimits::default());
-//! let mut file = serde_json::json!({ "covers": { "models": ["A2"] }, "models": [analysis] });
+//! let analysis = TableModel::new(analyze(&a2, &SearchLimits::default()));
+//! let table = AnalysisTable::new(Covers::Models(vec!["A2".into()]), vec![analysis]);
+//! let mut file = table.to_value();
 //! let report = check_file(&file.to_string())?;
 //! assert_eq!(report.witnesses, 3); // ARR, RAR and R
 //! assert_eq!(report.to_string(), "checked 3 witnesses and 5 certificates: all valid");
@@ -64,6 +67,7 @@
 //! ```
 
 use crate::model::{Model, Port};
+use crate::table::{AnalysisTable, TableError};
 use poly::{adjugate, det, gcd, interleave_roots, square_free, sylvester_matrix, Poly, Rat, UPoly};
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
@@ -128,9 +132,9 @@ impl fmt::Display for CheckReport {
 /// the type and the failing step.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum CheckError {
-    /// The text is not JSON.
-    #[error("not valid JSON: {0}")]
-    Json(String),
+    /// The text is not an analysis table this version reads.
+    #[error("{0}")]
+    Table(#[from] TableError),
     /// The JSON lacks a key or has a value of the wrong kind outside a model.
     #[error("{path}: {problem}")]
     Malformed {
@@ -159,16 +163,20 @@ pub enum CheckError {
     },
 }
 
-/// Checks a whole file: `{"models": [...]}` as written by
-/// `mms analyze --format json`. See the [module docs](self).
+/// Checks a whole file, an [`AnalysisTable`] as written by `mms analyze
+/// --format json`. See the [module docs](self).
 pub fn check_file(text: &str) -> Result<CheckReport, CheckError> {
-    let v: Value = serde_json::from_str(text).map_err(|e| CheckError::Json(e.to_string()))?;
-    let models = v
-        .get("models")
-        .ok_or_else(|| CheckError::Malformed {
-            path: "file".into(),
-            problem: "missing key \"models\"".into(),
-        })?
+    let table = AnalysisTable::from_json(text).map_err(CheckError::Table)?;
+    check_table(&table)
+}
+
+/// Checks a table: every model it covers, every verdict with its witness
+/// or certificate, and the derived fields. The table is read as the
+/// claims it makes: the check walks its JSON tree with its own code and
+/// re-derives everything, using none of the prover's methods.
+pub fn check_table(table: &AnalysisTable) -> Result<CheckReport, CheckError> {
+    let v = table.to_value();
+    let models = v["models"]
         .as_array()
         .ok_or_else(|| CheckError::Malformed {
             path: "models".into(),
@@ -342,15 +350,20 @@ fn check_coverage(v: &Value, models: &[Value]) -> Result<(), CheckError> {
             "expected model IDs (strings)".into(),
         ));
     }
-    let present: Vec<&str> = structures.iter().map(|(id, _)| id.as_str()).collect();
+    // A model is named by the paper's ID or the generic one: compared as
+    // the structures they name.
+    let mut covered = Vec::with_capacity(ids.len());
     for id in &ids {
-        match present.iter().filter(|p| *p == id).count() {
+        let model =
+            Model::from_id(id).map_err(|e| malformed("covers.models", format!("{id}: {e}")))?;
+        match structures.iter().filter(|(_, m)| *m == model).count() {
             1 => {}
             0 => return Err(malformed("models", format!("{id} is covered but missing"))),
             _ => return Err(malformed("models", format!("{id} appears more than once"))),
         }
+        covered.push(model);
     }
-    if let Some(extra) = present.iter().find(|p| !ids.contains(p)) {
+    if let Some((extra, _)) = structures.iter().find(|(_, m)| !covered.contains(m)) {
         return Err(malformed(
             "models",
             format!("{extra} is not among the models the file covers"),

@@ -4,25 +4,23 @@
 
 use mms::analysis::{analyze, SearchLimits};
 use mms::check::{check_analysis, check_file, CheckError, CheckReport};
+use mms::table::{AnalysisTable, Covers, TableError, TableModel, TABLE_FORMAT_VERSION};
 use mms::{Model, PAPER_IDS};
 use serde_json::{json, Value};
 use std::sync::OnceLock;
 
-/// `{"covers": ..., "models": [...]}` for the eleven paper models, serialized like
-/// `mms analyze --format json` does.
+/// The table of the eleven paper models as `mms analyze --format json`
+/// writes it (without the derived fields), as a JSON value to tamper with.
 fn paper_file() -> &'static Value {
     static FILE: OnceLock<Value> = OnceLock::new();
     FILE.get_or_init(|| {
         let limits = SearchLimits::default();
-        let models: Vec<Value> = PAPER_IDS
+        let models: Vec<TableModel> = PAPER_IDS
             .iter()
-            .map(|(id, ..)| {
-                let m = Model::from_id(id).unwrap();
-                serde_json::to_value(analyze(&m, &limits)).unwrap()
-            })
+            .map(|(id, ..)| TableModel::new(analyze(&Model::from_id(id).unwrap(), &limits)))
             .collect();
         // The paper's eleven models are the eleven classes of three masses.
-        json!({ "covers": { "masses": 3 }, "models": models })
+        AnalysisTable::new(Covers::Masses(3), models).to_value()
     })
 }
 
@@ -383,9 +381,20 @@ fn transfer_function_is_rederived() {
 
 #[test]
 fn malformed_input_names_the_key() {
-    assert!(matches!(check_file("{"), Err(CheckError::Json(_))));
+    assert!(matches!(
+        check_file("{"),
+        Err(CheckError::Table(TableError::Json(_)))
+    ));
     let e = check_file("{}").unwrap_err();
-    assert_eq!(e.to_string(), "file: missing key \"models\"");
+    assert!(
+        e.to_string()
+            .starts_with("format \"\": not an analysis table"),
+        "{e}"
+    );
+    let mut v = paper_file().clone();
+    v.as_object_mut().unwrap().remove("models");
+    let e = check(&v).unwrap_err();
+    assert!(e.to_string().contains("missing field `models`"), "{e}");
     let e = tampered(&verdict_ptr("A1", "AARR"), |v| {
         v.as_object_mut().unwrap().remove("certificate");
     });
@@ -396,15 +405,11 @@ fn malformed_input_names_the_key() {
             .unwrap()
             .remove("kind");
     });
-    assert!(
-        e.to_string()
-            .contains("certificate.open: missing key \"kind\""),
-        "{e}"
-    );
+    assert!(e.to_string().contains("missing field `kind`"), "{e}");
     let e = tampered(&model_ptr("A1"), |m| {
         m.as_object_mut().unwrap().remove("denominator");
     });
-    assert!(e.to_string().contains("missing key \"denominator\""), "{e}");
+    assert!(e.to_string().contains("missing field `denominator`"), "{e}");
     let e = tampered(&verdict_ptr("A1", "AARR"), |v| v["type"] = "AXR".into());
     assert!(e.to_string().contains("not an FRF type"), "{e}");
 }
@@ -980,15 +985,57 @@ fn a_pruned_table_is_refused() {
     let mut v = full.clone();
     v.as_object_mut().unwrap().remove("covers");
     let e = check(&v).unwrap_err().to_string();
-    assert!(e.contains("\"covers\""), "{e}");
+    assert!(e.contains("missing field `covers`"), "{e}");
     // A list of models: exactly those.
     let mut v = full.clone();
     v["covers"] = json!({ "models": ["A1", "A2"] });
     let e = check(&v).unwrap_err().to_string();
     assert!(e.contains("is not among the models the file covers"), "{e}");
-    let one = json!({ "covers": { "models": ["A2"] }, "models": [full["models"][1].clone()] });
+    let mut one = full.clone();
+    one["models"] = json!([full["models"][1].clone()]);
+    one["covers"] = json!({ "models": ["A2"] });
     assert_eq!(one["models"][0]["id"], "A2");
     check(&one).unwrap_or_else(|e| panic!("{e}"));
+    // Named by the generic ID, as mms analyze names it.
+    one["covers"] = json!({ "models": ["N3-g0-a1.0-s2.0"] });
+    check(&one).unwrap_or_else(|e| panic!("{e}"));
+}
+
+/// The table file names its format and version: a file of another
+/// version, of no version (as written before the format was versioned)
+/// or of another format is refused as such, before anything else is read;
+/// and a table read back is the table written.
+#[test]
+fn the_table_format_is_versioned_and_round_trips() {
+    let full = paper_file();
+    let table = AnalysisTable::from_json(&full.to_string()).unwrap();
+    assert_eq!(table.to_value(), *full);
+    assert_eq!(AnalysisTable::from_json(&table.to_json()).unwrap(), table);
+    let mut v = full.clone();
+    v["format_version"] = json!(TABLE_FORMAT_VERSION + 1);
+    // Even with a structure this version cannot read.
+    v["models"] = json!("rewritten");
+    let e = check(&v).unwrap_err();
+    assert_eq!(
+        e,
+        CheckError::Table(TableError::Version {
+            found: u64::from(TABLE_FORMAT_VERSION) + 1
+        })
+    );
+    assert!(e.to_string().contains("reads version 1"), "{e}");
+    let mut v = full.clone();
+    v.as_object_mut().unwrap().remove("format_version");
+    let e = check(&v).unwrap_err().to_string();
+    assert!(e.contains("format_version"), "{e}");
+    let mut v = full.clone();
+    v.as_object_mut().unwrap().remove("format");
+    assert!(matches!(
+        check(&v),
+        Err(CheckError::Table(TableError::Format { .. }))
+    ));
+    v["format"] = json!("another-table");
+    let e = check(&v).unwrap_err().to_string();
+    assert!(e.contains("\"another-table\""), "{e}");
 }
 
 /// The pole-zero cancellations a file lists are recomputed: A2's (its
