@@ -558,3 +558,25 @@ fn analyze_report_summary_matches_the_papers_tab3() {
     assert_eq!(unique.len() + shared.len(), paper.len());
     assert!(out.contains("None: the table is complete."), "{out}");
 }
+
+/// `mms analyze ID --format json` is a table of that one model, which
+/// `mms check` accepts, whether the model is named by the paper's ID or
+/// the generic one (the table's `covers` lists the generic ID, its model
+/// the paper's).
+#[test]
+fn a_table_of_one_model_checks() {
+    let dir = common::temp_dir("cli", "one-model-table");
+    for id in ["A2", "N4-g1-a2.1-s4.0"] {
+        let (code, out, err) = mms(&["analyze", id, "--format", "json"]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["format"], "mms-analysis-table");
+        assert_eq!(v["covers"]["models"].as_array().unwrap().len(), 1);
+        let file = dir.join(format!("{id}.json"));
+        std::fs::write(&file, &out).unwrap();
+        let (code, out, err) = mms(&["check", file.to_str().unwrap()]);
+        assert_eq!(code, 0, "{id}: {err}");
+        assert!(out.ends_with(": all valid\n"), "{out}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
