@@ -28,6 +28,7 @@ mod frf_type;
 mod lp;
 mod pole_signs;
 mod prover;
+mod rename;
 mod targeted;
 mod walls;
 
@@ -164,6 +165,23 @@ impl ModelAnalysis {
         self.with_status(Status::Unknown)
     }
 
+    /// This analysis, of `model`, carried over to the other member of its
+    /// renumbering class ([`Model::mirrored`]): the same verdicts, every
+    /// witness, certificate, cancellation and critical factor renamed to
+    /// that member's parameters.
+    ///
+    /// ```
+    /// use mms::analysis::{analyze, SearchLimits};
+    /// let a2 = mms::Model::from_id("A2")?;
+    /// let carried = analyze(&a2, &SearchLimits::default()).mirrored(&a2);
+    /// assert_eq!(carried.generic_id, a2.mirrored().id());
+    /// assert_eq!(carried.denominator, a2.mirrored().undamped_tf().den);
+    /// # Ok::<(), mms::ModelError>(())
+    /// ```
+    pub fn mirrored(&self, model: &Model) -> ModelAnalysis {
+        rename::Renaming::mirror(model).analysis(self, &model.mirrored())
+    }
+
     fn with_status(&self, s: Status) -> Vec<&FrfType> {
         self.types
             .iter()
@@ -176,10 +194,88 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 10;
+pub const ENGINE_VERSION: u32 = 11;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
+///
+/// The verdicts are the same for every member of the model's renumbering
+/// class: where the search on `model` leaves a type unknown, the other
+/// member ([`Model::mirrored`]) is analysed too, and what it decides is
+/// carried over, renamed (the witness's point, the certificate's
+/// polynomials and masses). So `model` and its mirror give the same
+/// statuses, each with witnesses and certificates of its own parameters.
+///
+/// ```
+/// use mms::analysis::{analyze, SearchLimits};
+/// let m = mms::Model::from_id("N4-g0-a1.0-s3.0")?;
+/// let mirror = m.mirrored(); // N4-g0-a4.0-s2.0
+/// let limits = SearchLimits::default();
+/// let statuses = |a: &mms::analysis::ModelAnalysis| -> Vec<String> {
+///     let mut v: Vec<String> =
+///         a.types.iter().map(|t| format!("{} {:?}", t.frf_type, t.status)).collect();
+///     v.sort();
+///     v
+/// };
+/// assert_eq!(statuses(&analyze(&m, &limits)), statuses(&analyze(&mirror, &limits)));
+/// # Ok::<(), mms::ModelError>(())
+/// ```
 pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
+    let own = analyze_member(model, limits);
+    let mirror = model.mirrored();
+    if mirror == *model || own.unknown().is_empty() {
+        return own;
+    }
+    let other = analyze_member(&mirror, limits).mirrored(&mirror);
+    debug_assert_eq!(
+        (&other.numerator, &other.denominator),
+        (&own.numerator, &own.denominator),
+        "{model}: the mirror's transfer function renamed is not this one's"
+    );
+    completed(own, &other)
+}
+
+/// `own` with every type it leaves unknown decided as `other` (the same
+/// model's analysis by another route) decides it, and the types `other`
+/// witnesses that `own` does not list added.
+fn completed(mut own: ModelAnalysis, other: &ModelAnalysis) -> ModelAnalysis {
+    for v in &other.types {
+        match own.types.iter_mut().find(|o| o.frf_type == v.frf_type) {
+            Some(o) if o.status == Status::Unknown => *o = v.clone(),
+            // A witness against a certificate would be a bug in the prover.
+            Some(o) => debug_assert!(
+                o.status == v.status || v.status == Status::Unknown,
+                "{}: {} is {:?} and {:?}",
+                own.id,
+                o.frf_type,
+                o.status,
+                v.status
+            ),
+            None if v.status == Status::Possible => own.types.push(v.clone()),
+            None => {}
+        }
+    }
+    own.types.sort_by_key(|v| status_rank(v.status)); // stable
+    own
+}
+
+/// Possible types first, then unknown ones, then impossible ones.
+fn status_rank(s: Status) -> u8 {
+    match s {
+        Status::Possible => 0,
+        Status::Unknown => 1,
+        Status::Impossible => 2,
+    }
+}
+
+/// The search on `model` alone, without what its mirror decides: the
+/// verdicts may then depend on which member of a class is analysed (the
+/// search's samples and walls are in the member's own parameters).
+pub fn analyze_alone(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
+    analyze_member(model, limits)
+}
+
+/// [`analyze`] of `model` alone.
+fn analyze_member(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
     let tf = model.undamped_tf();
     let mut prover = Prover::new(model, tf.num.clone(), tf.den.clone());
     prover.search(limits);
@@ -243,12 +339,7 @@ pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
             .all(|v| v.status != Status::Impossible || !prover.witnesses.contains_key(&v.frf_type)),
         "{model}: a witness for a type certified impossible"
     );
-    let rank = |s: Status| match s {
-        Status::Possible => 0,
-        Status::Unknown => 1,
-        Status::Impossible => 2,
-    };
-    verdicts.sort_by_key(|v| rank(v.status)); // stable: keeps candidate order
+    verdicts.sort_by_key(|v| status_rank(v.status)); // stable: keeps candidate order
     let pzc = top
         .factors
         .iter()
@@ -298,5 +389,47 @@ pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
         denominator: tf.den,
         types: verdicts,
         pzc,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A verdict left unknown is taken from the other analysis, with its
+    /// witness or certificate; a decided one is kept.
+    #[test]
+    fn unknown_verdicts_are_completed_from_the_other_member() {
+        let a2 = Model::from_id("A2").unwrap();
+        let limits = SearchLimits::default();
+        let own = analyze_member(&a2, &limits);
+        let other = analyze_member(&a2.mirrored(), &limits).mirrored(&a2.mirrored());
+        let mut blanked = own.clone();
+        for v in blanked.types.iter_mut().step_by(2) {
+            *v = TypeVerdict {
+                status: Status::Unknown,
+                witness: None,
+                certificate: None,
+                ..v.clone()
+            };
+        }
+        let done = completed(blanked, &other);
+        let by_type = |a: &ModelAnalysis| -> BTreeMap<String, TypeVerdict> {
+            a.types
+                .iter()
+                .map(|v| (v.frf_type.to_string(), v.clone()))
+                .collect()
+        };
+        let (own, other, done) = (by_type(&own), by_type(&other), by_type(&done));
+        assert_eq!(done.len(), own.len());
+        for (k, (t, v)) in done.iter().enumerate() {
+            assert_eq!(v.status, own[t].status, "{t}");
+            // Every other verdict was blanked (in the analysis's order,
+            // not this map's): each one is either its own or the other's.
+            assert!(*v == own[t] || *v == other[t], "{t} ({k})");
+        }
+        assert!(done
+            .iter()
+            .any(|(t, v)| *v == other[t] && other[t] != own[t]));
     }
 }
