@@ -580,3 +580,82 @@ fn a_table_of_one_model_checks() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A table analysed in slices (`--shard K/N`, as separate machines would)
+/// and joined by `mms merge` is the table one run writes, byte for byte,
+/// for every split; each slice checks on its own; a missing or doubled
+/// slice, a slice of other settings and a malformed shard spec are refused
+/// in one line, naming the classes or the file.
+#[test]
+fn sliced_tables_merge_into_the_whole_table() {
+    let dir = common::temp_dir("cli", "shards");
+    let (code, whole, err) = mms(&["analyze", "--masses", "3", "--format", "json"]);
+    assert_eq!(code, 0, "{err}");
+    let slice = |k: usize, n: usize| -> String {
+        let spec = format!("{k}/{n}");
+        let (code, out, err) = mms(&[
+            "analyze", "--masses", "3", "--format", "json", "--shard", &spec,
+        ]);
+        assert_eq!(code, 0, "{spec}: {err}");
+        let file = dir.join(format!("slice-{k}-of-{n}.json"));
+        std::fs::write(&file, out).unwrap();
+        file.to_string_lossy().into_owned()
+    };
+    for n in [1, 2, 3, 11] {
+        // Given in reverse order: the merge puts the classes in order.
+        let files: Vec<String> = (1..=n).rev().map(|k| slice(k, n)).collect();
+        let mut args = vec!["merge"];
+        args.extend(files.iter().map(String::as_str));
+        let (code, merged, err) = mms(&args);
+        assert_eq!(code, 0, "{n} slices: {err}");
+        assert_eq!(merged, whole, "{n} slices");
+    }
+    let parts: Vec<String> = (1..=3).map(|k| slice(k, 3)).collect();
+    let (code, out, err) = mms(&["check", &parts[1]]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.ends_with("all valid\n"), "{out}");
+    let one_line = |args: &[&str], want: &str| {
+        let (code, _, err) = mms(args);
+        assert_eq!(code, 2, "{args:?}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    };
+    one_line(&["merge", &parts[0], &parts[2]], "gap: the classes of");
+    one_line(
+        &["merge", &parts[0], &parts[1], &parts[2], &parts[1]],
+        "overlap",
+    );
+    let mut other: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&parts[2]).unwrap()).unwrap();
+    other["engine_version"] = (other["engine_version"].as_u64().unwrap() + 1).into();
+    let edited = dir.join("other-engine.json");
+    std::fs::write(&edited, other.to_string()).unwrap();
+    one_line(
+        &["merge", &parts[0], &parts[1], edited.to_str().unwrap()],
+        "the engine version differs",
+    );
+    one_line(
+        &["merge", &parts[0], &whole_file(&dir, &whole)],
+        "not a slice",
+    );
+    for spec in ["0/3", "4/3", "a/b", "-1/3"] {
+        one_line(
+            &[
+                "analyze", "--masses", "3", "--format", "json", "--shard", spec,
+            ],
+            "expected K/N",
+        );
+    }
+    one_line(
+        &["analyze", "A2", "--format", "json", "--shard", "1/2"],
+        "--masses",
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `text` written into `dir` as a file; its path.
+fn whole_file(dir: &std::path::Path, text: &str) -> String {
+    let file = dir.join("whole.json");
+    std::fs::write(&file, text).unwrap();
+    file.to_string_lossy().into_owned()
+}

@@ -12,7 +12,9 @@ use crate::TableFormat3;
 use indicatif::{ProgressBar, ProgressStyle};
 use mms::analysis::{analyze, ModelAnalysis, SearchLimits, Status};
 use mms::identifiability::UnidentifiableDirection;
-use mms::table::{AnalysisTable, Covers, ModelTiming, RunTiming, SimilarSystems, TableModel};
+use mms::table::{
+    AnalysisTable, Covers, ModelTiming, RunTiming, Shard, SimilarSystems, TableModel,
+};
 use mms::Model;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -132,6 +134,8 @@ pub struct Options {
     pub cache: Option<PathBuf>,
     /// Add the per-model times to `--format json`.
     pub timings: bool,
+    /// Only this slice of the classes (with `--masses`).
+    pub shard: Option<Shard>,
 }
 
 /// A finished model: its summary, the wall time of its analysis (as
@@ -167,6 +171,8 @@ fn analyse_all(models: &[Model], opts: &Options) -> Result<Batch, String> {
             .progress_chars("=> "),
     );
     progress.set_prefix("analyze");
+    // The clock runs while a slow model is in progress.
+    progress.enable_steady_tick(std::time::Duration::from_secs(1));
     let running = Mutex::new(BTreeSet::new());
     let show = |f: &dyn Fn(&mut BTreeSet<String>)| {
         // A poisoned lock only means another job panicked, and that panic
@@ -323,7 +329,9 @@ fn render(
                 .enumerate()
                 .map(|(i, a)| TableModel {
                     analysis: a.analysis.clone(),
-                    similar: Some(
+                    // A slice's similar systems are those of the whole
+                    // table: `mms merge` fills them in.
+                    similar: (!matches!(covers, Covers::Slice { .. })).then(|| {
                         a.analysis
                             .possible()
                             .into_iter()
@@ -331,8 +339,8 @@ fn render(
                                 frf_type: ty.clone(),
                                 models: similar[&(a.id.clone(), ty.to_string())].clone(),
                             })
-                            .collect(),
-                    ),
+                            .collect()
+                    }),
                     determinable_parameters: Some(a.determinable_parameters),
                     moment_invariants: Some(a.moment_invariants),
                     unidentifiable_directions: Some(a.unidentifiable_directions.clone()),
@@ -451,6 +459,26 @@ pub fn run(models: &[Model], format: TableFormat3, opts: &Options) -> Result<Str
         return Err("--timings adds timing fields to --format json only".into());
     }
     let n = models.first().map(|m| m.n_masses()).unwrap_or(0);
+    // A slice: the classes at the slice's positions in the class order.
+    let sliced: Vec<Model>;
+    let models = match opts.shard {
+        None => models,
+        Some(shard) => {
+            let classes = mms::equivalence_classes(n, mms::Symmetry::Renumbering)
+                .map_err(|e| format!("--masses {n}: {e}"))?;
+            sliced = models
+                .iter()
+                .copied()
+                .filter(|m| {
+                    classes
+                        .iter()
+                        .position(|c| c.contains(m))
+                        .is_some_and(|c| shard.holds(c))
+                })
+                .collect();
+            &sliced[..]
+        }
+    };
     // Similar systems are looked up among all classes of the same size,
     // which is cheap up to 3 masses; beyond, among the models given.
     let peers = if n <= 3 && models.len() == 1 {
@@ -489,10 +517,10 @@ pub fn run(models: &[Model], format: TableFormat3, opts: &Options) -> Result<Str
     let ids: Vec<String> = models.iter().map(|m| m.id()).collect();
     let every_class = crate::class_representatives(n)
         .is_ok_and(|reps| reps.iter().map(|m| m.id()).eq(ids.iter().cloned()));
-    let covers = if every_class {
-        Covers::Masses(n)
-    } else {
-        Covers::Models(ids)
+    let covers = match opts.shard {
+        Some(shard) => Covers::Slice { masses: n, shard },
+        None if every_class => Covers::Masses(n),
+        None => Covers::Models(ids),
     };
     render(own, &similar, format, timings.as_ref(), &covers)
 }

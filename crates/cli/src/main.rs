@@ -9,6 +9,7 @@ mod derive;
 mod diagnose;
 mod enumerate;
 mod identify;
+mod merge;
 mod notes;
 mod output;
 mod recording;
@@ -104,6 +105,23 @@ enum Command {
         /// and one for the run), which makes the output differ between runs.
         #[arg(long)]
         timings: bool,
+        /// Analyse only slice K of N of the classes (with --masses and
+        /// --format json), e.g. one task of a Slurm array or a Kubernetes
+        /// indexed Job; `mms merge` joins the N files into the table.
+        #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
+        shard: Option<String>,
+    },
+    /// Join the slices of a table (`mms analyze --masses N --shard K/N
+    /// --format json`, one file each) into the whole table, as one run
+    /// writes it; slices of other versions or settings, overlaps and gaps
+    /// are refused.
+    Merge {
+        /// The slice files, in any order.
+        #[arg(value_name = "FILE", required = true)]
+        files: Vec<PathBuf>,
+        /// Write the table to this file (atomically) instead of stdout.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
     },
     /// Write out the derivation of one verdict: witness or certificate (eqs. 22-31 style).
     Prove {
@@ -367,23 +385,10 @@ impl From<OutputArg> for mms::Output {
     }
 }
 
-/// One model of every renumbering class of `n` masses: the one the paper's
-/// rule (3) keeps where it keeps one, else the first in the class.
+/// One model of every renumbering class of `n` masses, in the tables'
+/// order ([`mms::class_representatives`]).
 pub fn class_representatives(n: usize) -> Result<Vec<mms::Model>, String> {
-    let classes = mms::equivalence_classes(n, mms::Symmetry::Renumbering)
-        .map_err(|e| format!("--masses {n}: {e}"))?;
-    let mut reps: Vec<mms::Model> = classes
-        .iter()
-        .map(|c| {
-            c.iter()
-                .copied()
-                .find(mms::Model::satisfies_rule3)
-                .unwrap_or(c[0])
-        })
-        .collect();
-    // Paper IDs (3 masses) in the paper's order, then generic IDs.
-    reps.sort_by_key(|m| (m.paper_id().is_none(), m.paper_id(), *m));
-    Ok(reps)
+    mms::class_representatives(n).map_err(|e| format!("--masses {n}: {e}"))
 }
 
 /// The models a selection names.
@@ -432,15 +437,31 @@ fn run(cli: Cli) -> Result<(), String> {
             jobs,
             cache,
             timings,
+            shard,
         } => {
+            let shard = match shard {
+                None => None,
+                Some(spec) => {
+                    let shard: mms::table::Shard =
+                        spec.parse().map_err(|e| format!("--shard: {e}"))?;
+                    if selection.masses.is_none() || format != TableFormat3::Json {
+                        return Err(format!(
+                            "--shard {spec}: slices a table: give --masses N and --format json"
+                        ));
+                    }
+                    Some(shard)
+                }
+            };
             let models = select(&selection)?;
             let opts = analyze::Options {
                 jobs,
                 cache,
                 timings,
+                shard,
             };
             output::emit(None, &analyze::run(&models, format, &opts)?)
         }
+        Command::Merge { files, out } => output::emit(out.as_deref(), &merge::run(&files)?),
         Command::Prove {
             id,
             frf_type,

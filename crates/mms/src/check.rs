@@ -297,13 +297,38 @@ fn check_coverage(v: &Value, models: &[Value]) -> Result<(), CheckError> {
         let model = read_model(m, &path).map_err(|e| malformed(&path, e))?;
         structures.push((id.to_string(), model));
     }
-    if let Some(n) = covers.get("masses") {
+    // Every class of N masses, or every `count`-th from `index - 1` (a
+    // slice of such a table).
+    let (masses, slice) = match (covers.get("masses"), covers.get("slice")) {
+        (Some(n), _) => (Some(n), None),
+        (None, Some(s)) => {
+            let number = |key: &str| {
+                s.get("shard")
+                    .and_then(|sh| sh.get(key))
+                    .and_then(Value::as_u64)
+                    .map(index)
+            };
+            let (k, c) = (number("index"), number("count"));
+            match (k, c) {
+                (Some(k), Some(c)) if k >= 1 && k <= c => (s.get("masses"), Some((k, c))),
+                _ => {
+                    return Err(malformed(
+                        "covers.slice",
+                        "expected a shard K/N with 1 <= K <= N".into(),
+                    ))
+                }
+            }
+        }
+        (None, None) => (None, None),
+    };
+    if let Some(n) = masses {
         let n = n
             .as_u64()
             .filter(|&n| (1..=crate::model::MAX_MASSES as u64).contains(&n))
             .ok_or_else(|| malformed("covers.masses", format!("not a number of masses: {n}")))?;
         let classes = crate::enumerate::equivalence_classes(index(n), crate::Symmetry::Renumbering)
             .map_err(|e| malformed("covers.masses", e.to_string()))?;
+        let held = |c: usize| slice.is_none_or(|(k, count)| c % count + 1 == k);
         let mut seen: Vec<Option<String>> = vec![None; classes.len()];
         for (id, model) in &structures {
             let Some(c) = classes.iter().position(|c| c.contains(model)) else {
@@ -312,6 +337,13 @@ fn check_coverage(v: &Value, models: &[Value]) -> Result<(), CheckError> {
                     format!("{id} is not a model of {n} masses"),
                 ));
             };
+            if !held(c) {
+                let (k, count) = slice.unwrap_or((1, 1));
+                return Err(malformed(
+                    "models",
+                    format!("{id} is not in slice {k}/{count} of the classes of {n} masses"),
+                ));
+            }
             if let Some(other) = &seen[c] {
                 return Err(malformed(
                     "models",
@@ -320,7 +352,7 @@ fn check_coverage(v: &Value, models: &[Value]) -> Result<(), CheckError> {
             }
             seen[c] = Some(id.clone());
         }
-        if let Some(c) = seen.iter().position(Option::is_none) {
+        if let Some(c) = (0..classes.len()).find(|&c| held(c) && seen[c].is_none()) {
             return Err(malformed(
                 "models",
                 format!(

@@ -113,6 +113,33 @@ pub fn equivalence_classes(n: usize, sym: Symmetry) -> Result<Vec<Vec<Model>>, M
     Ok(classes.into_values().collect())
 }
 
+/// One model of every renumbering class of `n` masses, in the order of
+/// the tables: the member the paper's rule (3) keeps where it keeps one,
+/// else the first of the class; the paper's IDs (3 masses) in the paper's
+/// order, then generic IDs.
+///
+/// ```
+/// let reps = mms::class_representatives(3)?;
+/// let ids: Vec<String> = reps.iter().map(|m| m.name()).collect();
+/// assert_eq!(ids[..3], ["A1*", "A2", "A3"]);
+/// assert_eq!(reps.len(), 11);
+/// # Ok::<(), mms::ModelError>(())
+/// ```
+pub fn class_representatives(n: usize) -> Result<Vec<Model>, ModelError> {
+    let classes = equivalence_classes(n, Symmetry::Renumbering)?;
+    let mut reps: Vec<Model> = classes
+        .iter()
+        .map(|c| {
+            c.iter()
+                .copied()
+                .find(Model::satisfies_rule3)
+                .unwrap_or(c[0])
+        })
+        .collect();
+    reps.sort_by_key(|m| (m.paper_id().is_none(), m.paper_id(), *m));
+    Ok(reps)
+}
+
 /// The model counts of Tab. 1 for `n` masses, plus the true class counts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct Counts {

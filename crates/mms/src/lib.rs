@@ -75,8 +75,8 @@ pub use crate::backsolve::{
     back_solve, back_solve_with, invariant_relations, BackSolution, BackSolveError, Target,
 };
 pub use crate::enumerate::{
-    basic_models, counts, degradation_free_models, equivalence_classes, redundancy_report,
-    rule3_models, Counts, RedundancyReport, Symmetry,
+    basic_models, class_representatives, counts, degradation_free_models, equivalence_classes,
+    redundancy_report, rule3_models, Counts, RedundancyReport, Symmetry,
 };
 pub use crate::identifiability::{
     identical_transfer_functions, identifiability, identifiability_with, mirror_renaming,

@@ -68,6 +68,61 @@ pub enum Covers {
     Masses(usize),
     /// Exactly these models (generic IDs).
     Models(Vec<String>),
+    /// One slice of the classes of `masses` masses ([`Shard`]), for a
+    /// table computed on several machines and joined by [`merge`].
+    Slice {
+        /// The number of masses.
+        masses: usize,
+        /// Which slice.
+        shard: Shard,
+    },
+}
+
+/// Slice `index` of `count` (1-based) of the classes of a table: the
+/// classes at positions `index - 1`, `index - 1 + count`, ... of
+/// [`crate::equivalence_classes`] (every `count`-th, so the slow classes
+/// spread over the slices).
+///
+/// ```
+/// use mms::table::Shard;
+/// let s: Shard = "2/3".parse()?;
+/// assert!(s.holds(1) && s.holds(4) && !s.holds(2));
+/// assert!("0/3".parse::<Shard>().is_err() && "4/3".parse::<Shard>().is_err());
+/// # Ok::<(), mms::table::ShardError>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    /// Which slice, from 1.
+    pub index: usize,
+    /// How many slices.
+    pub count: usize,
+}
+
+/// A shard spec that is not `K/N` with `1 <= K <= N`.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("shard {0:?}: expected K/N with 1 <= K <= N, e.g. 2/8 for the second of eight slices")]
+pub struct ShardError(pub String);
+
+impl std::str::FromStr for Shard {
+    type Err = ShardError;
+    fn from_str(s: &str) -> Result<Shard, ShardError> {
+        let bad = || ShardError(s.to_string());
+        let (k, n) = s.split_once('/').ok_or_else(bad)?;
+        let index: usize = k.trim().parse().map_err(|_| bad())?;
+        let count: usize = n.trim().parse().map_err(|_| bad())?;
+        if index == 0 || index > count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+impl Shard {
+    /// Whether the class at `position` (0-based, in the order of
+    /// [`crate::equivalence_classes`]) is in this slice.
+    pub fn holds(&self, position: usize) -> bool {
+        position % self.count + 1 == self.index
+    }
 }
 
 /// One model of a table: its analysis and what the table derives for it.
@@ -229,6 +284,224 @@ impl AnalysisTable {
             .iter()
             .find(|m| m.analysis.id.trim_end_matches('*') == id || m.analysis.generic_id == id)
     }
+}
+
+impl AnalysisTable {
+    /// Fills every model's `similar`: for each type it can show, the other
+    /// models of the table that can show it too, in the table's order.
+    pub fn fill_similar(&mut self) {
+        let possible: Vec<Vec<&FrfType>> =
+            self.models.iter().map(|m| m.analysis.possible()).collect();
+        let similar: Vec<Vec<SimilarSystems>> = (0..self.models.len())
+            .map(|i| {
+                possible[i]
+                    .iter()
+                    .map(|t| SimilarSystems {
+                        frf_type: (*t).clone(),
+                        models: (0..self.models.len())
+                            .filter(|&j| j != i && possible[j].contains(t))
+                            .map(|j| self.models[j].analysis.id.clone())
+                            .collect(),
+                    })
+                    .collect()
+            })
+            .collect();
+        for (m, s) in self.models.iter_mut().zip(similar) {
+            m.similar = Some(s);
+        }
+    }
+}
+
+/// Why slices of a table cannot be joined.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum MergeError {
+    /// No slice given.
+    #[error("no slice to merge")]
+    Empty,
+    /// A file that is not a slice.
+    #[error("{file}: not a slice of a table (it covers {covers}); give the files of mms analyze --masses N --shard K/N")]
+    NotASlice {
+        /// The file.
+        file: String,
+        /// What it covers instead.
+        covers: String,
+    },
+    /// A slice made otherwise than the first.
+    #[error("{file}: {what} differs from {first}'s ({theirs} against {ours}); slices must come from the same version and settings")]
+    Mismatch {
+        /// The slice that differs.
+        file: String,
+        /// The first slice.
+        first: String,
+        /// What differs.
+        what: &'static str,
+        /// Its value in the slice that differs.
+        theirs: String,
+        /// Its value in the first slice.
+        ours: String,
+    },
+    /// A model that is no class of the table's masses, or in the wrong
+    /// slice.
+    #[error("{file}: {model} {why}")]
+    Foreign {
+        /// The file.
+        file: String,
+        /// The model's ID.
+        model: String,
+        /// Why it does not belong.
+        why: String,
+    },
+    /// Classes in more than one slice.
+    #[error("overlap: the classes of {} are in more than one slice", .0.join(", "))]
+    Overlap(Vec<String>),
+    /// Classes in no slice.
+    #[error("gap: the classes of {} are in no slice (of {total} classes)", .missing.join(", "))]
+    Missing {
+        /// Representatives of the missing classes.
+        missing: Vec<String>,
+        /// The number of classes.
+        total: usize,
+    },
+}
+
+/// Joins the slices of a table (`(file name, slice)`, any order) into the
+/// whole table: every class once, in the table's order, the similar
+/// systems computed over all of them, as `mms analyze --masses N` writes
+/// it in one run. Slices of other versions or settings, overlaps and gaps
+/// are refused, naming the file or the classes.
+pub fn merge(slices: &[(String, AnalysisTable)]) -> Result<AnalysisTable, MergeError> {
+    let (first_name, first) = slices.first().ok_or(MergeError::Empty)?;
+    let slice_of = |name: &str, t: &AnalysisTable| match t.covers {
+        Covers::Slice { masses, shard } => Ok((masses, shard.count)),
+        ref other => Err(MergeError::NotASlice {
+            file: name.to_string(),
+            covers: format!("{other:?}"),
+        }),
+    };
+    let (n, count) = slice_of(first_name, first)?;
+    for (name, t) in slices {
+        let (masses, slices_count) = slice_of(name, t)?;
+        let mismatch = |what: &'static str, theirs: String, ours: String| {
+            Err(MergeError::Mismatch {
+                file: name.clone(),
+                first: first_name.clone(),
+                what,
+                theirs,
+                ours,
+            })
+        };
+        if masses != n {
+            return mismatch("the number of masses", masses.to_string(), n.to_string());
+        }
+        if slices_count != count {
+            return mismatch(
+                "the number of slices",
+                slices_count.to_string(),
+                count.to_string(),
+            );
+        }
+        if t.mms_version != first.mms_version {
+            return mismatch(
+                "the mms version",
+                t.mms_version.clone(),
+                first.mms_version.clone(),
+            );
+        }
+        if t.engine_version != first.engine_version {
+            return mismatch(
+                "the engine version",
+                t.engine_version.to_string(),
+                first.engine_version.to_string(),
+            );
+        }
+        if t.search_limits != first.search_limits {
+            return mismatch(
+                "the search limits",
+                format!("{:?}", t.search_limits),
+                format!("{:?}", first.search_limits),
+            );
+        }
+    }
+    let classes = crate::equivalence_classes(n, crate::Symmetry::Renumbering).map_err(|e| {
+        MergeError::Foreign {
+            file: first_name.clone(),
+            model: format!("{n} masses"),
+            why: e.to_string(),
+        }
+    })?;
+    // Each class's entry, and where it came from.
+    let mut found: Vec<Vec<(&String, &TableModel)>> = vec![Vec::new(); classes.len()];
+    for (name, t) in slices {
+        let Covers::Slice { shard, .. } = t.covers else {
+            unreachable!("checked above")
+        };
+        for m in &t.models {
+            let a = &m.analysis;
+            let foreign = |why: String| MergeError::Foreign {
+                file: name.clone(),
+                model: a.id.clone(),
+                why,
+            };
+            let model = crate::Model::from_id(&a.generic_id).map_err(|e| foreign(e.to_string()))?;
+            let c = classes
+                .iter()
+                .position(|c| c.contains(&model))
+                .ok_or_else(|| foreign(format!("is not a model of {n} masses")))?;
+            if !shard.holds(c) {
+                return Err(foreign(format!(
+                    "is not in slice {}/{} (its class belongs to slice {}/{})",
+                    shard.index,
+                    shard.count,
+                    c % shard.count + 1,
+                    shard.count
+                )));
+            }
+            found[c].push((name, m));
+        }
+    }
+    let name_of = |c: usize| classes[c][0].id();
+    let doubled: Vec<String> = (0..classes.len())
+        .filter(|&c| found[c].len() > 1)
+        .map(name_of)
+        .collect();
+    if !doubled.is_empty() {
+        return Err(MergeError::Overlap(doubled));
+    }
+    let missing: Vec<String> = (0..classes.len())
+        .filter(|&c| found[c].is_empty())
+        .map(name_of)
+        .collect();
+    if !missing.is_empty() {
+        return Err(MergeError::Missing {
+            missing,
+            total: classes.len(),
+        });
+    }
+    // The table's order: that of the class representatives.
+    let order = crate::class_representatives(n).map_err(|e| MergeError::Foreign {
+        file: first_name.clone(),
+        model: format!("{n} masses"),
+        why: e.to_string(),
+    })?;
+    let mut models = Vec::with_capacity(order.len());
+    for rep in &order {
+        let c = classes
+            .iter()
+            .position(|c| c.contains(rep))
+            .expect("every representative is of a class");
+        let mut m = found[c][0].1.clone();
+        // Times are no claim, and differ from run to run.
+        m.timing = None;
+        models.push(m);
+    }
+    let mut table = AnalysisTable {
+        covers: Covers::Masses(n),
+        models,
+        timing: None,
+        ..first.clone()
+    };
+    table.fill_similar();
+    Ok(table)
 }
 
 impl TableModel {
