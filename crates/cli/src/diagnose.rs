@@ -32,6 +32,53 @@ pub enum SelectArg {
     Holdout,
 }
 
+/// How a recording is diagnosed: the flags `mms diagnose` and `mms report`
+/// share.
+#[derive(clap::Args)]
+pub struct DiagnosisFlags {
+    /// How an effect must earn its parameters: bic (information
+    /// criterion on all lines) or holdout (every 4th line held out of
+    /// the fits, the effect must lower their cost).
+    #[arg(long, value_enum, default_value_t = SelectArg::Holdout)]
+    pub select: SelectArg,
+    /// How far calibration may move each parameter from its nominal
+    /// value (fraction).
+    #[arg(long, value_name = "FRACTION", default_value_t = 0.2)]
+    pub tolerance: f64,
+    /// Closed-loop recording: the position reference (VAR[:COL], as for
+    /// --u). The model is then simulated inside the loop of
+    /// --controller, driven by this reference, instead of from the
+    /// recorded input.
+    #[arg(long, value_name = "VAR[:COL]", requires = "controller")]
+    pub reference: Option<String>,
+    /// The position controller of a closed-loop recording, u = kv (kp
+    /// (r - q) - v) with v the backward difference of the FIR-filtered
+    /// position: kp=K,kv=K[,filter=A:B:..][,saturation=S]. Each value
+    /// is a number or, in a .mat recording, the name of a scalar
+    /// variable (kp=kp,kv=kv). Default filter 0.5:0.5 (v = (q[k] -
+    /// q[k-2]) fs / 2).
+    #[arg(long, value_name = "SPEC", requires = "reference")]
+    pub controller: Option<String>,
+    /// A known signal added to the controller output of a closed-loop
+    /// recording (VAR[:COL]), e.g. injected pulses.
+    #[arg(long, value_name = "VAR[:COL]", requires = "reference")]
+    pub disturbance: Option<String>,
+}
+
+impl DiagnosisFlags {
+    /// The position loop the flags describe, if any.
+    pub fn closed_loop(&self) -> Option<LoopArgs> {
+        match (&self.reference, &self.controller) {
+            (Some(reference), Some(controller)) => Some(LoopArgs {
+                reference: reference.clone(),
+                controller: controller.clone(),
+                disturbance: self.disturbance.clone(),
+            }),
+            _ => None,
+        }
+    }
+}
+
 /// Where the model comes from.
 pub enum ModelSource {
     /// A model file.

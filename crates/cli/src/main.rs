@@ -228,37 +228,12 @@ enum Command {
         /// friction at standstill). Repeat for several.
         #[arg(long = "operating-point", value_name = "FILE")]
         operating_points: Vec<PathBuf>,
-        /// How an effect must earn its parameters: bic (information
-        /// criterion on all lines) or holdout (every 4th line held out of
-        /// the fits, the effect must lower their cost).
-        #[arg(long, value_enum, default_value_t = diagnose::SelectArg::Holdout)]
-        select: diagnose::SelectArg,
-        /// How far calibration may move each parameter from its nominal
-        /// value (fraction).
-        #[arg(long, value_name = "FRACTION", default_value_t = 0.2)]
-        tolerance: f64,
+        #[command(flatten)]
+        diagnosis: diagnose::DiagnosisFlags,
         /// Only use the lines in this band, as LO:HI in Hz (default: the
         /// band the classification trusts).
         #[arg(long, value_name = "LO:HI")]
         band: Option<String>,
-        /// Closed-loop recording: the position reference (VAR[:COL], as for
-        /// --u). The model is then simulated inside the loop of
-        /// --controller, driven by this reference, instead of from the
-        /// recorded input.
-        #[arg(long, value_name = "VAR[:COL]", requires = "controller")]
-        reference: Option<String>,
-        /// The position controller of a closed-loop recording, u = kv (kp
-        /// (r - q) - v) with v the backward difference of the FIR-filtered
-        /// position: kp=K,kv=K[,filter=A:B:..][,saturation=S]. Each value
-        /// is a number or, in a .mat recording, the name of a scalar
-        /// variable (kp=kp,kv=kv). Default filter 0.5:0.5 (v = (q[k] -
-        /// q[k-2]) fs / 2).
-        #[arg(long, value_name = "SPEC", requires = "reference")]
-        controller: Option<String>,
-        /// A known signal added to the controller output of a closed-loop
-        /// recording (VAR[:COL]), e.g. injected pulses.
-        #[arg(long, value_name = "VAR[:COL]", requires = "reference")]
-        disturbance: Option<String>,
         #[arg(long, value_enum, default_value_t = identify::IdentifyFormat::Md)]
         format: identify::IdentifyFormat,
         /// Write report, Bode plots and model_after.toml into this directory.
@@ -290,25 +265,8 @@ enum Command {
         /// Only use the lines in this band, as LO:HI in Hz.
         #[arg(long, value_name = "LO:HI")]
         band: Option<String>,
-        /// How an effect must earn its parameters (as for `mms diagnose`).
-        #[arg(long, value_enum, default_value_t = diagnose::SelectArg::Holdout)]
-        select: diagnose::SelectArg,
-        /// How far calibration may move each parameter from its nominal
-        /// value (fraction).
-        #[arg(long, value_name = "FRACTION", default_value_t = 0.2)]
-        tolerance: f64,
-        /// Closed-loop recording: the position reference (as for `mms
-        /// diagnose`).
-        #[arg(long, value_name = "VAR[:COL]", requires = "controller")]
-        reference: Option<String>,
-        /// The position controller of a closed-loop recording (as for `mms
-        /// diagnose`).
-        #[arg(long, value_name = "SPEC", requires = "reference")]
-        controller: Option<String>,
-        /// A known signal added to the controller output (as for `mms
-        /// diagnose`).
-        #[arg(long, value_name = "VAR[:COL]", requires = "reference")]
-        disturbance: Option<String>,
+        #[command(flatten)]
+        diagnosis: diagnose::DiagnosisFlags,
         #[arg(long, value_enum, default_value_t = identify::IdentifyFormat::Md)]
         format: identify::IdentifyFormat,
         /// Write the report, every Bode plot (identify-*.svg/png,
@@ -519,12 +477,8 @@ fn run(cli: Cli) -> Result<(), String> {
             levels,
             validate,
             operating_points,
-            select,
-            tolerance,
+            diagnosis,
             band,
-            reference,
-            controller,
-            disturbance,
             format,
             out,
         } => {
@@ -546,17 +500,10 @@ fn run(cli: Cli) -> Result<(), String> {
                 levels: &levels,
                 validate: validate.as_deref(),
                 operating_points: &operating_points,
-                select,
-                tolerance,
+                select: diagnosis.select,
+                tolerance: diagnosis.tolerance,
                 band: band.as_deref().map(parse_band).transpose()?,
-                closed_loop: match (reference, controller) {
-                    (Some(reference), Some(controller)) => Some(diagnose::LoopArgs {
-                        reference,
-                        controller,
-                        disturbance,
-                    }),
-                    _ => None,
-                },
+                closed_loop: diagnosis.closed_loop(),
                 format,
                 out: out.as_deref(),
             };
@@ -569,11 +516,7 @@ fn run(cli: Cli) -> Result<(), String> {
             masses,
             fit_gain,
             band,
-            select,
-            tolerance,
-            reference,
-            controller,
-            disturbance,
+            diagnosis,
             format,
             out,
         } => {
@@ -588,16 +531,9 @@ fn run(cli: Cli) -> Result<(), String> {
                 fit_gain,
                 band: band.as_deref().map(parse_band).transpose()?,
                 model: source.as_ref(),
-                select,
-                tolerance,
-                closed_loop: match (reference, controller) {
-                    (Some(reference), Some(controller)) => Some(diagnose::LoopArgs {
-                        reference,
-                        controller,
-                        disturbance,
-                    }),
-                    _ => None,
-                },
+                select: diagnosis.select,
+                tolerance: diagnosis.tolerance,
+                closed_loop: diagnosis.closed_loop(),
                 format,
                 out: out.as_deref(),
             };
