@@ -148,3 +148,47 @@ proptest! {
         prop_assert_eq!(a.pow(e), product);
     }
 }
+
+proptest! {
+    #![proptest_config(config(60))]
+
+    /// `interleave_roots` against polynomials built from their roots: each
+    /// of two polynomials a product of `(x - r)^k` (rational `r`, possibly
+    /// shared between them) times a factor without real roots, so the
+    /// true interleaving and multiplicities are known by construction. The
+    /// checker's and the prover's type classification both stand on this
+    /// order.
+    #[test]
+    fn interleaved_roots_are_the_planted_ones_in_order(
+        roots_a in prop::collection::vec((-8i64..=8, 1i64..=3, 1u32..=2), 0..4),
+        roots_b in prop::collection::vec((-8i64..=8, 1i64..=3, 1u32..=2), 0..4),
+        shift in 1i64..=5,
+    ) {
+        use poly::{interleave_roots, UPoly};
+        use std::collections::BTreeMap;
+        // Root -> multiplicity in each polynomial (repeated draws add up).
+        let mut planted: BTreeMap<Rat, [u32; 2]> = BTreeMap::new();
+        let mut build = |roots: &[(i64, i64, u32)], which: usize| {
+            // x^2 + shift has no real root.
+            let mut p = UPoly::from_i64s(&[shift, 0, 1]);
+            for &(num, den, k) in roots {
+                let r = Rat::new(num.into(), den.into());
+                // den*x - num vanishes at r.
+                let linear = UPoly::from_i64s(&[-num, den]);
+                for _ in 0..k {
+                    p = &p * &linear;
+                }
+                planted.entry(r).or_insert([0, 0])[which] += k;
+            }
+            p
+        };
+        let (a, b) = (build(&roots_a, 0), build(&roots_b, 1));
+        let found = interleave_roots(&[a, b]);
+        let want: Vec<(Rat, [u32; 2])> = planted.into_iter().collect();
+        prop_assert_eq!(found.len(), want.len());
+        for (r, (root, m)) in found.iter().zip(&want) {
+            prop_assert!(r.lo <= *root && *root <= r.hi, "{} not in [{}, {}]", root, r.lo, r.hi);
+            prop_assert_eq!(&r.multiplicities[..], &m[..]);
+        }
+    }
+}
