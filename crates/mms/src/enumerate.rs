@@ -121,7 +121,7 @@ pub fn equivalence_classes(n: usize, sym: Symmetry) -> Result<Vec<Vec<Model>>, M
 /// ```
 /// let reps = mms::class_representatives(3)?;
 /// let ids: Vec<String> = reps.iter().map(|m| m.name()).collect();
-/// assert_eq!(ids[..3], ["A1*", "A2", "A3"]);
+/// assert_eq!(ids[..3], ["A1", "A2", "A3"]);
 /// assert_eq!(reps.len(), 11);
 /// # Ok::<(), mms::ModelError>(())
 /// ```
