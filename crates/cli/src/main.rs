@@ -34,6 +34,23 @@ struct Cli {
     command: Command,
 }
 
+/// How a recording is identified: the flags `mms identify` and `mms
+/// report` share.
+#[derive(clap::Args)]
+pub struct IdentificationFlags {
+    /// Number of masses (default: one more than the resonances found).
+    #[arg(long, value_name = "N")]
+    masses: Option<usize>,
+    /// The FRF is not in SI units (e.g. volts in, encoder counts out):
+    /// fit a gain and hold m1, so only parameter ratios are identified.
+    #[arg(long)]
+    fit_gain: bool,
+    /// Only use the lines in this band (e.g. the excitation band of a
+    /// multisine), as LO:HI in Hz.
+    #[arg(long, value_name = "LO:HI")]
+    band: Option<String>,
+}
+
 /// Which models a command works on: all classes of N masses, or one model.
 #[derive(clap::Args, Clone)]
 #[group(required = true, multiple = false)]
@@ -158,17 +175,8 @@ enum Command {
     Identify {
         #[command(flatten)]
         recording: recording::RecordingArgs,
-        /// Number of masses (default: one more than the resonances found).
-        #[arg(long, value_name = "N")]
-        masses: Option<usize>,
-        /// The FRF is not in SI units (e.g. volts in, encoder counts out):
-        /// fit a gain and hold m1, so only parameter ratios are identified.
-        #[arg(long)]
-        fit_gain: bool,
-        /// Only use the lines in this band (e.g. the excitation band of a
-        /// multisine), as LO:HI in Hz.
-        #[arg(long, value_name = "LO:HI")]
-        band: Option<String>,
+        #[command(flatten)]
+        identification: IdentificationFlags,
         /// A recording of the same rig at another operating point
         /// (standstill and moving, another speed or level), read with the
         /// same options: its features are compared with this one's, and a
@@ -255,16 +263,8 @@ enum Command {
         /// diagnosed, as for `mms diagnose --simulation`.
         #[arg(long, value_name = "FILE")]
         simulation: Option<PathBuf>,
-        /// Number of masses of the identification (default: one more than
-        /// the resonances found).
-        #[arg(long, value_name = "N")]
-        masses: Option<usize>,
-        /// The FRF is not in SI units: fit a gain and hold m1.
-        #[arg(long)]
-        fit_gain: bool,
-        /// Only use the lines in this band, as LO:HI in Hz.
-        #[arg(long, value_name = "LO:HI")]
-        band: Option<String>,
+        #[command(flatten)]
+        identification: IdentificationFlags,
         #[command(flatten)]
         diagnosis: diagnose::DiagnosisFlags,
         #[arg(long, value_enum, default_value_t = identify::IdentifyFormat::Md)]
@@ -452,18 +452,16 @@ fn run(cli: Cli) -> Result<(), String> {
         } => output::emit(out.as_deref(), &recording::run(&recording, format)?),
         Command::Identify {
             recording,
-            masses,
-            fit_gain,
-            band,
+            identification,
             operating_points,
             format,
             out,
         } => {
             let args = identify::IdentifyArgs {
                 recording: &recording,
-                masses,
-                fit_gain,
-                band: band.as_deref().map(parse_band).transpose()?,
+                masses: identification.masses,
+                fit_gain: identification.fit_gain,
+                band: identification.band.as_deref().map(parse_band).transpose()?,
                 operating_points: &operating_points,
                 format,
                 out: out.as_deref(),
@@ -513,9 +511,7 @@ fn run(cli: Cli) -> Result<(), String> {
             recording,
             model,
             simulation,
-            masses,
-            fit_gain,
-            band,
+            identification,
             diagnosis,
             format,
             out,
@@ -527,9 +523,9 @@ fn run(cli: Cli) -> Result<(), String> {
             };
             let args = report::ReportArgs {
                 recording: &recording,
-                masses,
-                fit_gain,
-                band: band.as_deref().map(parse_band).transpose()?,
+                masses: identification.masses,
+                fit_gain: identification.fit_gain,
+                band: identification.band.as_deref().map(parse_band).transpose()?,
                 model: source.as_ref(),
                 select: diagnosis.select,
                 tolerance: diagnosis.tolerance,
