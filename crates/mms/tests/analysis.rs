@@ -225,3 +225,50 @@ fn analyses_carry_over_to_the_other_member_of_a_class() {
     }
     assert!(pairs >= 20, "{pairs} classes of two members");
 }
+
+/// Both members of every renumbering class of 5 masses give the same
+/// verdicts through `analyze`, and the checker accepts both members'
+/// witnesses and certificates. About 20 minutes on two cores in release,
+/// so not in CI: run with `cargo test --release -p mms --test analysis --
+/// --ignored every_class_of_five`; the last run is in docs/performance.md.
+#[test]
+#[ignore = "about 20 minutes in release; run by hand, result in docs/performance.md"]
+fn every_class_of_five_masses_gives_its_members_the_same_verdicts() {
+    use mms::table::{AnalysisTable, Covers, TableModel};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let limits = SearchLimits::default();
+    let classes = mms::equivalence_classes(5, mms::Symmetry::Renumbering).unwrap();
+    let pairs: Vec<(Model, Model)> = classes
+        .iter()
+        .filter_map(|c| match c[..] {
+            [a, b] => Some((a, b)),
+            _ => None,
+        })
+        .collect();
+    let next = AtomicUsize::new(0);
+    let differing = std::sync::Mutex::new(Vec::new());
+    // Two workers, each taking the next class.
+    std::thread::scope(|s| {
+        for _ in 0..2 {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                let Some(&(a, b)) = pairs.get(i) else { break };
+                let (full_a, full_b) = (analyze(&a, &limits), analyze(&b, &limits));
+                if statuses(&full_a) != statuses(&full_b) {
+                    differing.lock().unwrap().push(format!("{a} / {b}"));
+                }
+                let table = AnalysisTable::new(
+                    Covers::Models(vec![a.id(), b.id()]),
+                    vec![TableModel::new(full_a), TableModel::new(full_b)],
+                );
+                mms::check::check_table(&table).unwrap_or_else(|e| panic!("{a}, {b}: {e}"));
+            });
+        }
+    });
+    let differing = differing.into_inner().unwrap();
+    assert!(differing.is_empty(), "{differing:?}");
+    eprintln!(
+        "{} classes of two members: the same verdicts, all checked",
+        pairs.len()
+    );
+}
