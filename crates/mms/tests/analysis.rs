@@ -247,22 +247,26 @@ fn every_class_of_five_masses_gives_its_members_the_same_verdicts() {
         .collect();
     let next = AtomicUsize::new(0);
     let differing = std::sync::Mutex::new(Vec::new());
-    // Two workers, each taking the next class.
+    // Two workers, each taking the next class, with a main thread's stack
+    // (the exact algebra recurses deeply).
     std::thread::scope(|s| {
         for _ in 0..2 {
-            s.spawn(|| loop {
-                let i = next.fetch_add(1, Ordering::Relaxed);
-                let Some(&(a, b)) = pairs.get(i) else { break };
-                let (full_a, full_b) = (analyze(&a, &limits), analyze(&b, &limits));
-                if statuses(&full_a) != statuses(&full_b) {
-                    differing.lock().unwrap().push(format!("{a} / {b}"));
-                }
-                let table = AnalysisTable::new(
-                    Covers::Models(vec![a.id(), b.id()]),
-                    vec![TableModel::new(full_a), TableModel::new(full_b)],
-                );
-                mms::check::check_table(&table).unwrap_or_else(|e| panic!("{a}, {b}: {e}"));
-            });
+            let worker = std::thread::Builder::new().stack_size(8 << 20);
+            worker
+                .spawn_scoped(s, || loop {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(&(a, b)) = pairs.get(i) else { break };
+                    let (full_a, full_b) = (analyze(&a, &limits), analyze(&b, &limits));
+                    if statuses(&full_a) != statuses(&full_b) {
+                        differing.lock().unwrap().push(format!("{a} / {b}"));
+                    }
+                    let table = AnalysisTable::new(
+                        Covers::Models(vec![a.id(), b.id()]),
+                        vec![TableModel::new(full_a), TableModel::new(full_b)],
+                    );
+                    mms::check::check_table(&table).unwrap_or_else(|e| panic!("{a}, {b}: {e}"));
+                })
+                .expect("a worker thread");
         }
     });
     let differing = differing.into_inner().unwrap();
