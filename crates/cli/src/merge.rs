@@ -14,5 +14,5 @@ pub fn run(files: &[PathBuf]) -> Result<String, String> {
         let table = AnalysisTable::from_json(&text).map_err(|e| format!("{name}: {e}"))?;
         slices.push((name, table));
     }
-    Ok(merge(&slices).map_err(|e| e.to_string())?.to_json())
+    Ok(merge(slices).map_err(|e| e.to_string())?.to_json())
 }

@@ -369,7 +369,7 @@ pub enum MergeError {
 /// systems computed over all of them, as `mms analyze --masses N` writes
 /// it in one run. Slices of other versions or settings, overlaps and gaps
 /// are refused, naming the file or the classes.
-pub fn merge(slices: &[(String, AnalysisTable)]) -> Result<AnalysisTable, MergeError> {
+pub fn merge(slices: Vec<(String, AnalysisTable)>) -> Result<AnalysisTable, MergeError> {
     let (first_name, first) = slices.first().ok_or(MergeError::Empty)?;
     let slice_of = |name: &str, t: &AnalysisTable| match t.covers {
         Covers::Slice { masses, shard } => Ok((masses, shard.count)),
@@ -379,7 +379,7 @@ pub fn merge(slices: &[(String, AnalysisTable)]) -> Result<AnalysisTable, MergeE
         }),
     };
     let (n, count) = slice_of(first_name, first)?;
-    for (name, t) in slices {
+    for (name, t) in &slices {
         let (masses, slices_count) = slice_of(name, t)?;
         let mismatch = |what: &'static str, theirs: String, ours: String| {
             Err(MergeError::Mismatch {
@@ -429,13 +429,24 @@ pub fn merge(slices: &[(String, AnalysisTable)]) -> Result<AnalysisTable, MergeE
             why: e.to_string(),
         }
     })?;
-    // Each class's entry, and where it came from.
-    let mut found: Vec<Vec<(&String, &TableModel)>> = vec![Vec::new(); classes.len()];
+    // What every slice shares, kept before the slices are taken apart.
+    let made = AnalysisTable {
+        covers: Covers::Masses(n),
+        models: Vec::new(),
+        timing: None,
+        format: first.format.clone(),
+        format_version: first.format_version,
+        mms_version: first.mms_version.clone(),
+        engine_version: first.engine_version,
+        search_limits: first.search_limits.clone(),
+    };
+    // Each class's entries.
+    let mut found: Vec<Vec<TableModel>> = vec![Vec::new(); classes.len()];
     for (name, t) in slices {
         let Covers::Slice { shard, .. } = t.covers else {
             unreachable!("checked above")
         };
-        for m in &t.models {
+        for m in t.models {
             let a = &m.analysis;
             let foreign = |why: String| MergeError::Foreign {
                 file: name.clone(),
@@ -456,7 +467,7 @@ pub fn merge(slices: &[(String, AnalysisTable)]) -> Result<AnalysisTable, MergeE
                     shard.count
                 )));
             }
-            found[c].push((name, m));
+            found[c].push(m);
         }
     }
     let name_of = |c: usize| classes[c][0].id();
@@ -479,27 +490,21 @@ pub fn merge(slices: &[(String, AnalysisTable)]) -> Result<AnalysisTable, MergeE
     }
     // The table's order: that of the class representatives.
     let order = crate::class_representatives(n).map_err(|e| MergeError::Foreign {
-        file: first_name.clone(),
+        file: "the slices".into(),
         model: format!("{n} masses"),
         why: e.to_string(),
     })?;
-    let mut models = Vec::with_capacity(order.len());
+    let mut table = made;
     for rep in &order {
         let c = classes
             .iter()
             .position(|c| c.contains(rep))
             .expect("every representative is of a class");
-        let mut m = found[c][0].1.clone();
+        let mut m = found[c].pop().expect("every class once, checked above");
         // Times are no claim, and differ from run to run.
         m.timing = None;
-        models.push(m);
+        table.models.push(m);
     }
-    let mut table = AnalysisTable {
-        covers: Covers::Masses(n),
-        models,
-        timing: None,
-        ..first.clone()
-    };
     table.fill_similar();
     Ok(table)
 }
