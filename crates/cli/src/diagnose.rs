@@ -235,23 +235,23 @@ pub fn outcome(args: &DiagnoseArgs, links: Links) -> Result<Outcome, String> {
     };
     let plot = bode(&d);
     let err = |e: serde_json::Error| format!("JSON: {e}");
-    let mut json = json(&d, amplitude.as_ref(), validation.as_ref().map(|v| &v.1))?;
+    let mut report = json(&d, amplitude.as_ref(), validation.as_ref().map(|v| &v.1))?;
     let point = |(other, c, od): &OtherPoint| -> Result<serde_json::Value, String> {
         Ok(serde_json::json!({
             "recording": other,
             "comparison": serde_json::to_value(c).map_err(err)?,
-            "diagnosis": crate::diagnose::json(od, None, None)?,
+            "diagnosis": json(od, None, None)?,
         }))
     };
     if !operating.is_empty() {
-        json["operating_points"] = operating
+        report["operating_points"] = operating
             .iter()
             .map(point)
             .collect::<Result<Vec<_>, _>>()?
             .into();
     }
     if !level_points.is_empty() {
-        json["levels"] = level_points
+        report["levels"] = level_points
             .iter()
             .map(point)
             .collect::<Result<Vec<_>, _>>()?
@@ -287,7 +287,7 @@ pub fn outcome(args: &DiagnoseArgs, links: Links) -> Result<Outcome, String> {
     if let Some(a) = &amplitude {
         m.push_str(&amplitude_markdown(a));
     }
-    let mut outcome = Outcome::new("mms diagnose", &m, json, vec![(links.file("bode"), plot)]);
+    let mut outcome = Outcome::new("mms diagnose", &m, report, vec![(links.file("bode"), plot)]);
     outcome.files = vec![("model_after.toml".into(), d.model_after.to_toml())];
     Ok(outcome)
 }

@@ -84,7 +84,7 @@ impl Outcome {
     }
 
     /// The HTML page of this outcome with its figures drawn.
-    fn html_page(&self, interactive: &str, statics: &[String]) -> String {
+    fn html_page(&self, interactive: &str, statics: &[&str]) -> String {
         html_page(
             self.title,
             &self.verdict,
@@ -110,6 +110,7 @@ impl Outcome {
                             .collect::<Vec<_>>()
                     },
                 );
+                let statics: Vec<&str> = statics.iter().map(String::as_str).collect();
                 self.html_page(&interactive, &statics)
             }
             IdentifyFormat::Json => {
@@ -151,7 +152,7 @@ impl Outcome {
         );
         let report = match interactive {
             Some(interactive) => {
-                let statics: Vec<String> = drawn.iter().map(|(svg, _)| svg.clone()).collect();
+                let statics: Vec<&str> = drawn.iter().map(|(svg, _)| svg.as_str()).collect();
                 self.html_page(&interactive, &statics)
             }
             None => self.render(format)?,
@@ -181,7 +182,7 @@ fn html_page(
     sections: &str,
     figures: usize,
     interactive: &str,
-    statics: &[String],
+    statics: &[&str],
 ) -> String {
     let mut s = format!(
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{title}</title>\n\
