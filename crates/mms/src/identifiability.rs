@@ -1053,7 +1053,7 @@ pub fn mirror_renaming(model: &Model) -> BTreeMap<String, String> {
     let (n, gap) = (model.n_masses(), model.gap());
     let mut map = BTreeMap::new();
     for i in gap + 1..=n {
-        let j = n + gap + 1 - i;
+        let j = model.mirrored_mass(i);
         if i != j {
             map.insert(mass_name(i), mass_name(j));
         }

@@ -487,42 +487,6 @@ impl Model {
         }
     }
 
-    /// The name in the [`Model::mirrored`] model of each parameter of this
-    /// one (masses, springs and dampers): the same physical part under its
-    /// new number. Its transfer function is this one's with the names
-    /// replaced.
-    ///
-    /// ```
-    /// use mms::Model;
-    /// let b2 = Model::from_id("B2")?; // gap 1: m1 grounded, m2-m3 free
-    /// let names = b2.mirrored_names();
-    /// assert_eq!(names["m2"], "m3");
-    /// assert_eq!(names["c23"], "c23");
-    /// assert_eq!(names["c1"], "c1");
-    /// let tf = b2.undamped_tf();
-    /// let renamed = tf.num.rename(|v| names.get(v).cloned().unwrap_or(v.to_string()));
-    /// assert_eq!(renamed, b2.mirrored().undamped_tf().num);
-    /// # Ok::<(), mms::ModelError>(())
-    /// ```
-    pub fn mirrored_names(&self) -> std::collections::BTreeMap<String, String> {
-        let mut names = std::collections::BTreeMap::new();
-        for i in 1..=self.n {
-            names.insert(mass_name(i), mass_name(self.mirrored_mass(i)));
-        }
-        // Link `i` joins masses `i` and `i + 1`; mirrored, it joins the
-        // images of `i + 1` and `i`, the lower of which names it.
-        for i in (0..self.n).filter(|&i| self.has_link(i)) {
-            let j = if i > self.gap {
-                self.mirrored_mass(i + 1)
-            } else {
-                i
-            };
-            names.insert(spring_name(i), spring_name(j));
-            names.insert(damper_name(i), damper_name(j));
-        }
-        names
-    }
-
     /// Applies a renumbering of the masses: `perm[i]` is the new number of
     /// mass `i` (`perm[0]` must be 0, the ground, and `perm` a permutation of
     /// `0 ..= N`). Returns the renumbered model when the relabelled springs

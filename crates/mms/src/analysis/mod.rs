@@ -220,12 +220,12 @@ pub const ENGINE_VERSION: u32 = 11;
 /// # Ok::<(), mms::ModelError>(())
 /// ```
 pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
-    let own = analyze_member(model, limits);
+    let own = analyze_alone(model, limits);
     let mirror = model.mirrored();
     if mirror == *model || own.unknown().is_empty() {
         return own;
     }
-    let other = analyze_member(&mirror, limits).mirrored(&mirror);
+    let other = analyze_alone(&mirror, limits).mirrored(&mirror);
     debug_assert_eq!(
         (&other.numerator, &other.denominator),
         (&own.numerator, &own.denominator),
@@ -271,11 +271,6 @@ fn status_rank(s: Status) -> u8 {
 /// verdicts may then depend on which member of a class is analysed (the
 /// search's samples and walls are in the member's own parameters).
 pub fn analyze_alone(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
-    analyze_member(model, limits)
-}
-
-/// [`analyze`] of `model` alone.
-fn analyze_member(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
     let tf = model.undamped_tf();
     let mut prover = Prover::new(model, tf.num.clone(), tf.den.clone());
     prover.search(limits);
@@ -402,8 +397,8 @@ mod tests {
     fn unknown_verdicts_are_completed_from_the_other_member() {
         let a2 = Model::from_id("A2").unwrap();
         let limits = SearchLimits::default();
-        let own = analyze_member(&a2, &limits);
-        let other = analyze_member(&a2.mirrored(), &limits).mirrored(&a2.mirrored());
+        let own = analyze_alone(&a2, &limits);
+        let other = analyze_alone(&a2.mirrored(), &limits).mirrored(&a2.mirrored());
         let mut blanked = own.clone();
         for v in blanked.types.iter_mut().step_by(2) {
             *v = TypeVerdict {

@@ -20,10 +20,11 @@ pub(crate) struct Renaming {
 }
 
 impl Renaming {
-    /// From `model` to its [`Model::mirrored`] model.
+    /// From `model` to its [`Model::mirrored`] model (the names that do not
+    /// change are not in the map).
     pub(crate) fn mirror(model: &Model) -> Renaming {
         Renaming {
-            names: model.mirrored_names(),
+            names: crate::identifiability::mirror_renaming(model),
             masses: (0..=model.n_masses())
                 .map(|i| model.mirrored_mass(i))
                 .collect(),
