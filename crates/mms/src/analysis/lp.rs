@@ -4,7 +4,7 @@
 //! certificate with nonnegative multipliers).
 
 use poly::{Int, Poly, Rat};
-use std::collections::BTreeMap;
+use std::collections::HashMap;
 
 /// Maximizes `c.x` subject to `rows.x <= rhs`, `x >= 0`, with `rhs >= 0`
 /// (so the origin is feasible). Returns the optimal `x`, or `None` when the
@@ -122,35 +122,57 @@ pub(crate) fn positive_combination(
     vars: &[String],
     max_deg: u32,
 ) -> Option<Vec<Poly>> {
+    // Every variable, the multipliers' first: the rows' exponent vectors.
+    let mut names: Vec<String> = vars.to_vec();
+    for (g, _) in conditions {
+        for v in g.vars() {
+            if !names.contains(v) {
+                names.push(v.clone());
+            }
+        }
+    }
     for deg in 0..=max_deg {
         let basis = monomials(vars, deg);
-        // Column (i, mu): the polynomial mu * g_i.
-        let mut cols: Vec<(usize, Poly)> = Vec::new();
-        let mut products: Vec<Poly> = Vec::new();
-        for (i, (g, _)) in conditions.iter().enumerate() {
-            for mu in &basis {
-                cols.push((i, mu.clone()));
-                products.push(mu * g);
-            }
-        }
-        // One row per monomial of the products: its coefficient <= 0.
-        let mut index: BTreeMap<String, usize> = BTreeMap::new();
-        let mut entries: Vec<Vec<(usize, Rat)>> = Vec::new();
-        for (j, p) in products.iter().enumerate() {
-            for (mono, coef) in monomial_coefficients(p) {
-                let r = *index.entry(mono).or_insert_with(|| {
-                    entries.push(Vec::new());
-                    entries.len() - 1
-                });
-                entries[r].push((j, coef));
-            }
-        }
+        // Column (i, mu): the polynomial mu * g_i. One row per monomial of
+        // the products: its coefficient <= 0. A monomial times `g_i` has the
+        // terms of `g_i` shifted, with the same coefficients, so the rows
+        // come from the supports without multiplying.
+        let cols: Vec<(usize, &Poly)> = (0..conditions.len())
+            .flat_map(|i| basis.iter().map(move |mu| (i, mu)))
+            .collect();
         let n = cols.len();
-        // The simplex is dense: beyond this size (five masses, nine
-        // variables, degree-2 multipliers) it would take gigabytes. Such a
-        // case stays unknown rather than exhausting the machine.
-        if (entries.len() + 1).saturating_mul(n) > MAX_TABLEAU_ENTRIES {
-            return None;
+        let row_limit = (MAX_TABLEAU_ENTRIES / n.max(1)).saturating_sub(1);
+        let shifts: Vec<Vec<u32>> = basis.iter().map(|mu| exponents(mu, &names)).collect();
+        let supports: Vec<Vec<(Vec<u32>, &Rat)>> = conditions
+            .iter()
+            .map(|(g, _)| {
+                let at = positions(g, &names);
+                g.terms()
+                    .iter()
+                    .map(|t| (spread(&t.exps, &at, names.len()), &t.coef))
+                    .collect()
+            })
+            .collect();
+        let mut index: HashMap<Vec<u32>, usize> = HashMap::new();
+        let mut entries: Vec<Vec<(usize, Rat)>> = Vec::new();
+        for (j, (i, _)) in cols.iter().enumerate() {
+            let shift = &shifts[j % basis.len()];
+            for (exps, coef) in &supports[*i] {
+                let mono: Vec<u32> = exps.iter().zip(shift).map(|(a, b)| a + b).collect();
+                let next = entries.len();
+                let r = *index.entry(mono).or_insert(next);
+                if r == next {
+                    // The simplex is dense: beyond this size (five masses,
+                    // nine variables, degree-2 multipliers) it would take
+                    // gigabytes. Such a case stays unknown rather than
+                    // exhausting the machine.
+                    if next >= row_limit {
+                        return None;
+                    }
+                    entries.push(Vec::new());
+                }
+                entries[r].push((j, (*coef).clone()));
+            }
         }
         let mut rows: Vec<Vec<Rat>> = entries
             .iter()
@@ -196,21 +218,34 @@ pub(crate) fn positive_combination(
     None
 }
 
-/// The coefficients of `p` keyed by the text of their monomial.
-fn monomial_coefficients(p: &Poly) -> Vec<(String, Rat)> {
-    p.terms()
+/// The exponents of the monomial `mu` over `names`.
+fn exponents(mu: &Poly, names: &[String]) -> Vec<u32> {
+    match mu.terms().first() {
+        Some(t) => spread(&t.exps, &positions(mu, names), names.len()),
+        None => vec![0; names.len()],
+    }
+}
+
+/// Where each variable of `p` sits in `names` (which holds them all).
+fn positions(p: &Poly, names: &[String]) -> Vec<usize> {
+    p.vars()
         .iter()
-        .map(|t| {
-            let mono: Vec<String> = p
-                .vars()
+        .map(|v| {
+            names
                 .iter()
-                .zip(&t.exps)
-                .filter(|(_, e)| **e > 0)
-                .map(|(v, e)| format!("{v}^{e}"))
-                .collect();
-            (mono.join("*"), t.coef.clone())
+                .position(|n| n == v)
+                .expect("every variable is named")
         })
         .collect()
+}
+
+/// `exps`, in the order `at` maps into `names`, over all `width` names.
+fn spread(exps: &[u32], at: &[usize], width: usize) -> Vec<u32> {
+    let mut e = vec![0; width];
+    for (x, &k) in exps.iter().zip(at) {
+        e[k] = *x;
+    }
+    e
 }
 
 /// `ps` times one positive rational so that all their coefficients are

@@ -1213,6 +1213,9 @@ fn sign_conditions(s: &Stratum, t: &FrfType, limits: &SearchLimits) -> Option<Op
             .iter()
             .map(|c| (c.reduced.clone(), c.strict))
             .collect();
+        if holds_at_a_sample(&reduced, &s.vars) {
+            return None;
+        }
         let found = positive_combination(&reduced, &s.vars, limits.multiplier_degree);
         let multipliers = found?;
         cases.push(SignCase {
@@ -1225,6 +1228,34 @@ fn sign_conditions(s: &Stratum, t: &FrfType, limits: &SearchLimits) -> Option<Op
         linear_parts: linear.iter().map(|l| l.poly.clone()).collect(),
         cases,
     })
+}
+
+/// Points tried before a linear program is set up for a sign case.
+const CASE_SAMPLES: usize = 32;
+
+/// Whether every condition (`> 0` when strict, else `>= 0`) holds at one
+/// of a few sample points of the orthant, checked exactly. Then no positive
+/// combination exists at any multiplier degree: it would be positive at
+/// that point and yet have no positive coefficient. So the linear program,
+/// which costs seconds at five masses, is known to fail without running it.
+fn holds_at_a_sample(conditions: &[(Poly, bool)], vars: &[String]) -> bool {
+    let mut rng = Sampler::new(0xCA5E);
+    let holds = |p: &BTreeMap<String, Rat>| {
+        let approx: BTreeMap<String, f64> =
+            p.iter().map(|(k, v)| (k.clone(), v.to_f64())).collect();
+        // f64 first, to skip the exact evaluation where it plainly fails.
+        let plausible = conditions.iter().all(|(g, _)| {
+            g.eval_f64(&approx)
+                .is_ok_and(|v| v > -1e-9 * (1.0 + v.abs()))
+        });
+        plausible
+            && conditions.iter().all(|(g, strict)| {
+                g.eval(p)
+                    .is_ok_and(|v| v.signum() > 0 || (!strict && v.is_zero()))
+            })
+    };
+    let ones: BTreeMap<String, Rat> = vars.iter().map(|v| (v.clone(), Rat::ONE)).collect();
+    holds(&ones) || (0..CASE_SAMPLES).any(|_| holds(&rng.point(vars)))
 }
 
 fn condition(rule: ConditionRule, derived: Poly, strict: bool) -> SignCondition {
@@ -1404,4 +1435,64 @@ fn conditions_for(
         }
     }
     Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::lp::positive_combination;
+    use crate::xorshift::XorShift;
+
+    fn p(s: &str) -> Poly {
+        s.parse().unwrap()
+    }
+
+    /// The shortcut claims a point where every condition holds: the linear
+    /// program, run by itself, must then find no combination at any degree.
+    /// Random systems of two or three conditions, some satisfiable, some
+    /// not.
+    #[test]
+    fn a_sample_where_the_conditions_hold_means_no_combination_exists() {
+        let vars: Vec<String> = ["x", "y", "z"].map(String::from).to_vec();
+        let monos = ["x", "y", "z", "x*y", "y*z", "x*z", "x^2", "1"];
+        let mut rng = XorShift::new(7);
+        let (mut shortcut, mut refuted) = (0, 0);
+        for _ in 0..200 {
+            let k = 2 + (rng.next_u64() % 2) as usize;
+            let conditions: Vec<(Poly, bool)> = (0..k)
+                .map(|_| {
+                    let terms: Vec<String> = (0..3)
+                        .map(|_| {
+                            let c = (rng.next_u64() % 7) as i64 - 3;
+                            format!("({c})*{}", monos[(rng.next_u64() % 8) as usize])
+                        })
+                        .collect();
+                    (p(&terms.join(" + ")), rng.next_u64() % 3 != 0)
+                })
+                .filter(|(g, _)| !g.is_zero())
+                .collect();
+            let combination = positive_combination(&conditions, &vars, 2);
+            if holds_at_a_sample(&conditions, &vars) {
+                shortcut += 1;
+                assert!(combination.is_none(), "{conditions:?}");
+            } else if combination.is_some() {
+                refuted += 1;
+            }
+        }
+        // Both sides occur, so the assertion above was exercised.
+        assert!(shortcut > 20 && refuted > 20, "{shortcut} {refuted}");
+    }
+
+    /// The design note's A2 pair contradicts itself: no point satisfies it
+    /// (the combination exists), so the shortcut must not claim one.
+    #[test]
+    fn contradictory_conditions_hold_at_no_sample() {
+        let vars: Vec<String> = ["c12", "c23", "m1", "m2", "m3"].map(String::from).to_vec();
+        let conditions = [
+            (p("c12*m3 - c23*m1"), true),
+            (p("c23*m1*(m2 - m3) - c12*m3*(m1 + m2)"), true),
+        ];
+        assert!(!holds_at_a_sample(&conditions, &vars));
+        assert!(holds_at_a_sample(&conditions[..1], &vars));
+    }
 }
