@@ -442,10 +442,11 @@ fn polya(f: &Poly) -> Option<(i32, Definiteness)> {
         return Some((-1, Definiteness::NoSubtraction));
     }
     let vars = f.vars().to_vec();
+    let degree = f.total_degree();
     let homogeneous = f
         .terms()
         .iter()
-        .all(|t| t.exps.iter().sum::<u32>() == f.total_degree());
+        .all(|t| t.exps.iter().sum::<u32>() == degree);
     let mut sum = if homogeneous {
         Poly::zero()
     } else {
