@@ -585,12 +585,9 @@ pub(crate) fn build_stratum(
             });
         }
     }
-    factors.sort_by(|a, b| {
-        a.poly
-            .total_degree()
-            .cmp(&b.poly.total_degree())
-            .then_with(|| a.poly.to_string().cmp(&b.poly.to_string()))
-    });
+    // The keys once per factor: printing a large factor in every
+    // comparison cost more than the sort.
+    factors.sort_by_cached_key(|f| (f.poly.total_degree(), f.poly.to_string()));
     Stratum {
         subs,
         vars,
