@@ -588,7 +588,9 @@ fn tangent_points(
     let Some(eqs) = eqs else {
         return Vec::new();
     };
-    let res = poly::resultant(&eqs[0], &eqs[1], w);
+    // Scaled to integer coefficients: the same roots, and the determinant
+    // in integers instead of fractions reduced at every product.
+    let res = poly::resultant(&eqs[0].primitive().1, &eqs[1].primitive().1, w);
     let mut points = Vec::new();
     for r in rational_roots(&res, OMEGA) {
         if &r == sigma {
