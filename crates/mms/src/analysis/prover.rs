@@ -1465,7 +1465,7 @@ mod tests {
                             format!("({c})*{}", monos[(rng.next_u64() % 8) as usize])
                         })
                         .collect();
-                    (p(&terms.join(" + ")), rng.next_u64() % 3 != 0)
+                    (p(&terms.join(" + ")), !rng.next_u64().is_multiple_of(3))
                 })
                 .filter(|(g, _)| !g.is_zero())
                 .collect();
