@@ -93,11 +93,22 @@ pub struct Cancellation {
     pub den: Poly,
 }
 
+/// Undetermined critical factors with more terms than this are listed by
+/// their size only: at six masses one discriminant factor runs to millions
+/// of terms (hundreds of megabytes of text) and claims nothing. The largest
+/// at five masses has 33455 terms.
+pub const LARGEST_LISTED_FACTOR: usize = 100_000;
+
 /// A critical factor of the whole orthant and what the engine knows of it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CriticalFactor {
-    /// The irreducible factor.
-    pub factor: Poly,
+    /// The irreducible factor; `None` for an undetermined one of more than
+    /// [`LARGEST_LISTED_FACTOR`] terms (then `size` says how large).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub factor: Option<Poly>,
+    /// For a factor left out: its number of terms and total degree.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<FactorSize>,
     /// It divides a resultant of a numerator and a denominator part (a
     /// pole-zero cancellation where it vanishes).
     pub cancels: bool,
@@ -112,6 +123,15 @@ pub struct CriticalFactor {
     /// For a wall: the parametrization of its zero set.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub substitution: Option<Substitution>,
+}
+
+/// How large a critical factor is that an analysis does not write out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FactorSize {
+    /// Number of terms.
+    pub terms: usize,
+    /// Total degree.
+    pub total_degree: u32,
 }
 
 /// What is known of a [`CriticalFactor`].
@@ -362,8 +382,14 @@ pub fn analyze_alone(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
                 (None, Some(w)) => (FactorStatus::Wall, None, None, Some(w.clone())),
                 (None, None) => (FactorStatus::Undetermined, None, None, None),
             };
+            let omitted =
+                status == FactorStatus::Undetermined && f.poly.num_terms() > LARGEST_LISTED_FACTOR;
             CriticalFactor {
-                factor: f.poly.clone(),
+                factor: (!omitted).then(|| f.poly.clone()),
+                size: omitted.then(|| FactorSize {
+                    terms: f.poly.num_terms(),
+                    total_degree: f.poly.total_degree(),
+                }),
                 cancels: f.cancels,
                 status,
                 sign,

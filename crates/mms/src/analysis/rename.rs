@@ -87,7 +87,8 @@ impl Renaming {
 
     fn critical(&self, c: &CriticalFactor) -> CriticalFactor {
         CriticalFactor {
-            factor: self.poly(&c.factor),
+            factor: c.factor.as_ref().map(|f| self.poly(f)),
+            size: c.size,
             cancels: c.cancels,
             status: c.status,
             sign: c.sign,
