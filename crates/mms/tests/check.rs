@@ -1071,19 +1071,29 @@ fn pole_zero_cancellations_are_recomputed() {
     assert!(e.contains("no pole cancels"), "{e}");
 }
 
+/// The pointer of A2's critical factors, and the index of its
+/// cancellation wall `c12*m3 - c23*m1` among them.
+fn a2_cancellation_wall() -> (String, usize) {
+    let ptr = format!("{}/critical", model_ptr("A2"));
+    let wall = paper_file()
+        .pointer(&ptr)
+        .unwrap()
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|c| c["factor"] == "c12*m3 - c23*m1")
+        .expect("A2's cancellation wall");
+    (ptr, wall)
+}
+
 /// The critical factors a model lists are recomputed: A2's are accepted,
 /// and refused with one dropped (a critical polynomial left uncovered),
 /// with a factor that is not critical, and with `cancels` flipped.
 #[test]
 fn critical_factors_are_recomputed() {
     let full = paper_file();
-    let ptr = format!("{}/critical", model_ptr("A2"));
-    let listed = full.pointer(&ptr).unwrap().as_array().unwrap().clone();
-    let wall = listed
-        .iter()
-        .position(|c| c["factor"] == "c12*m3 - c23*m1")
-        .expect("A2's cancellation wall");
-    assert_eq!(listed[wall]["cancels"], true);
+    let (ptr, wall) = a2_cancellation_wall();
+    assert_eq!(full.pointer(&ptr).unwrap()[wall]["cancels"], true);
     let mut v = full.clone();
     v.pointer_mut(&ptr)
         .unwrap()
@@ -1109,12 +1119,7 @@ fn critical_factors_are_recomputed() {
 #[test]
 fn only_undetermined_factors_may_be_left_out() {
     let full = paper_file();
-    let ptr = format!("{}/critical", model_ptr("A2"));
-    let listed = full.pointer(&ptr).unwrap().as_array().unwrap().clone();
-    let wall = listed
-        .iter()
-        .position(|c| c["factor"] == "c12*m3 - c23*m1")
-        .expect("A2's cancellation wall");
+    let (ptr, wall) = a2_cancellation_wall();
     let before = check(full).unwrap().undetermined_factors;
     let mut v = full.clone();
     let entry = &mut v.pointer_mut(&ptr).unwrap()[wall];
