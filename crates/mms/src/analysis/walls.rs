@@ -590,7 +590,7 @@ fn tangent_points(
     };
     // Scaled to integer coefficients: the same roots, and the determinant
     // in integers instead of fractions reduced at every product.
-    let res = poly::resultant(&eqs[0].primitive().1, &eqs[1].primitive().1, w);
+    let res = poly::resultant(&eqs[0].primitive_part(), &eqs[1].primitive_part(), w);
     let mut points = Vec::new();
     for r in rational_roots(&res, OMEGA) {
         if &r == sigma {
