@@ -601,7 +601,7 @@ fn check_critical(
 ) -> Result<usize, String> {
     let mut factors = Vec::new();
     let mut undetermined = 0;
-    let mut left_out = 0;
+    let mut leaves_one_out = false;
     for (i, e) in arr_field(m, "critical", path)?.iter().enumerate() {
         let cpath = format!("critical[{i}]");
         if e.get("factor").is_none() {
@@ -612,7 +612,7 @@ fn check_critical(
             }
             field(e, "size", &cpath)?;
             undetermined += 1;
-            left_out += 1;
+            leaves_one_out = true;
             continue;
         }
         let f = poly_field(e, "factor", &cpath)?;
@@ -662,15 +662,18 @@ fn check_critical(
         }
         factors.push(f);
     }
+    // A factor left out covers nothing, so whatever the listed ones leave
+    // of a critical polynomial is then no error, and not worth dividing out.
+    if leaves_one_out {
+        return Ok(undetermined);
+    }
     let factors: Vec<&Poly> = factors.iter().collect();
     for c in top.critical.iter().filter(|c| !c.poly.is_zero()) {
         if let Some(rest) = uncovered(&c.poly, &factors) {
-            if left_out == 0 || rest.is_zero() {
-                return Err(format!(
-                    "critical: {} is not covered by the listed factors (left {rest})",
-                    c.what
-                ));
-            }
+            return Err(format!(
+                "critical: {} is not covered by the listed factors (left {rest})",
+                c.what
+            ));
         }
     }
     Ok(undetermined)
