@@ -1067,6 +1067,52 @@ impl Poly {
         Ok(acc)
     }
 
+    /// The value at `point` of every variable but `keep`: a polynomial in
+    /// `keep` alone, built in one pass over the terms (substituting one
+    /// variable at a time would rebuild a large polynomial once per
+    /// variable). `Err(name)` names a variable without a value.
+    ///
+    /// ```
+    /// use poly::{Poly, Rat};
+    /// use std::collections::BTreeMap;
+    /// let p: Poly = "a*x^2 + b*x + a*b".parse().unwrap();
+    /// let point = BTreeMap::from([("a".to_string(), Rat::from(2)), ("b".to_string(), Rat::from(3))]);
+    /// assert_eq!(p.eval_except("x", &point).unwrap().to_string(), "2*x^2 + 3*x + 6");
+    /// assert_eq!(p.eval_except("a", &point), Err("a".to_string()));
+    /// ```
+    pub fn eval_except(&self, keep: &str, point: &BTreeMap<String, Rat>) -> Result<Poly, String> {
+        let Some(k) = self.var_index(keep) else {
+            return self.eval(point).map(Poly::constant);
+        };
+        let mut powers: Vec<Vec<Rat>> = Vec::with_capacity(self.vars.len());
+        for (i, v) in self.vars.iter().enumerate() {
+            if i == k {
+                powers.push(Vec::new());
+                continue;
+            }
+            let value = point.get(v).ok_or_else(|| v.clone())?;
+            let d = self.terms.iter().map(|t| t.exps[i]).max().unwrap_or(0) as usize;
+            let mut p = vec![Rat::ONE];
+            for e in 1..=d {
+                p.push(&p[e - 1] * value);
+            }
+            powers.push(p);
+        }
+        let mut coeffs = vec![Rat::ZERO; self.degree(keep) as usize + 1];
+        for t in &self.terms {
+            let mut m = t.coef.clone();
+            for (i, &e) in t.exps.iter().enumerate() {
+                if e > 0 && i != k {
+                    m = &m * &powers[i][e as usize];
+                }
+            }
+            let slot = &mut coeffs[t.exps[k] as usize];
+            *slot = &*slot + &m;
+        }
+        let coeffs: Vec<Poly> = coeffs.into_iter().map(Poly::constant).collect();
+        Ok(Poly::from_coeffs_in(keep, &coeffs))
+    }
+
     /// Floating-point value at a point; `Err(name)` names a variable without a value.
     pub fn eval_f64(&self, point: &BTreeMap<String, f64>) -> Result<f64, String> {
         let vals: Vec<f64> = self

@@ -192,3 +192,28 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(config(64))]
+
+    /// Setting every variable but one in a single pass equals substituting
+    /// them one at a time, and then the last one gives the full value.
+    #[test]
+    fn eval_except_equals_substitution_one_at_a_time(
+        a in poly(3, 6, 3),
+        y in -4i64..=4,
+        z in 1i64..=5,
+        x in -3i64..=3,
+    ) {
+        let point = std::collections::BTreeMap::from([
+            ("y".to_string(), Rat::from(y)),
+            ("z".to_string(), Rat::new(z.into(), 3.into())),
+        ]);
+        let one_pass = a.eval_except("x", &point).unwrap();
+        let stepwise = a.subs("y", &point["y"]).subs("z", &point["z"]);
+        prop_assert_eq!(&one_pass, &stepwise);
+        let mut full = point.clone();
+        full.insert("x".to_string(), Rat::from(x));
+        prop_assert_eq!(one_pass.subs("x", &full["x"]).as_constant(), Some(a.eval(&full).unwrap()));
+    }
+}
