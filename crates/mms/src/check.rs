@@ -681,6 +681,77 @@ fn check_critical(
 
 /// What is left of `p` once every power of `factors` is divided out, if
 /// that is not a nonzero constant (`p` is then not covered by them).
+/// `p` in an error message: in full up to a few hundred characters, else
+/// by its size (a six-mass critical polynomial can be hundreds of megabytes).
+fn abridged(p: &Poly) -> String {
+    if p.num_terms() <= 20 {
+        p.to_string()
+    } else {
+        format!(
+            "a polynomial of {} terms and total degree {}",
+            p.num_terms(),
+            p.total_degree()
+        )
+    }
+}
+
+/// True when `a` is shown to have no common factor of positive degree with
+/// any of `others`. For each variable `x` of `a` the other variables are
+/// set to integers where the leading coefficient of `a` in `x` does not
+/// vanish; a common factor `g` keeps its degree in `x` there (its leading
+/// coefficient divides `a`'s) and divides both images, so when the images
+/// are coprime `g` is free of `x`. Free of every variable of `a`, it is a
+/// constant. This never computes a multivariate gcd, whose cost on the
+/// six-mass discriminants is out of reach. `false` may also mean that no
+/// tried point separated them.
+fn coprime_to_all(a: &Poly, others: &[&Poly]) -> bool {
+    const TRIES: i64 = 4;
+    if others.iter().any(|b| b.is_zero()) {
+        return a.is_constant() && !a.is_zero();
+    }
+    let mut vars: Vec<&String> = a.vars().iter().collect();
+    for b in others {
+        for v in b.vars() {
+            if !vars.contains(&v) {
+                vars.push(v);
+            }
+        }
+    }
+    vars.sort();
+    for x in a.vars() {
+        let lead = a.lead_in(x);
+        let mut pending: Vec<&Poly> = others.to_vec();
+        for k in 0..TRIES {
+            if pending.is_empty() {
+                break;
+            }
+            // Distinct small integers, different for every try.
+            let point: BTreeMap<String, Rat> = vars
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| **v != x)
+                .map(|(i, v)| ((*v).clone(), Rat::from(2 + (7 * i as i64 + 13 * k) % 29)))
+                .collect();
+            if lead.eval(&point).map_or(true, |l| l.is_zero()) {
+                continue;
+            }
+            let image = |p: &Poly| -> Option<UPoly> {
+                let q = p.eval_except(x, &point).ok()?;
+                UPoly::from_poly(&q, x).map(|(_, u)| u)
+            };
+            let Some(ua) = image(a) else { continue };
+            pending.retain(|b| match image(b) {
+                Some(ub) if !ub.is_zero() => !ua.gcd(&ub).is_constant(),
+                _ => true,
+            });
+        }
+        if !pending.is_empty() {
+            return false;
+        }
+    }
+    true
+}
+
 fn uncovered(p: &Poly, factors: &[&Poly]) -> Option<Poly> {
     let mut rest = p.clone();
     loop {
@@ -1645,6 +1716,20 @@ impl ModelChecker {
             });
         }
 
+        // Factors the certificate leaves unlisted, and their claimed role.
+        let unlisted = match p.get("unlisted") {
+            None => None,
+            Some(v) => match v.as_str() {
+                Some("needs_cancellation") => Some("needs_cancellation"),
+                _ => {
+                    return Err(err(format!(
+                        "{jp}.unlisted: expected \"needs_cancellation\", found {v}"
+                    )))
+                }
+            },
+        };
+        let mut remainders: Vec<(&str, Poly)> = Vec::new();
+
         // Coverage of the critical polynomials (not needed when the type
         // has more resonances than the stratum has poles anywhere).
         if !matches!(
@@ -1661,19 +1746,51 @@ impl ModelChecker {
                     return Err(err(format!("critical polynomial: {} is zero", c.what)));
                 }
                 if let Some(rest) = uncovered(&c.poly, &factors) {
-                    return Err(err(format!(
-                        "critical polynomial: {} is not covered by the factors (left {rest})",
-                        c.what
-                    )));
+                    if unlisted.is_none() {
+                        return Err(err(format!(
+                            "critical polynomial: {} is not covered by the factors (left {})",
+                            c.what,
+                            abridged(&rest)
+                        )));
+                    }
+                    remainders.push((&c.what, rest));
                 }
             }
         }
 
+        let boundary_definite = entries.iter().all(|e| !e.boundary || e.kind == "definite");
+        let r_t = t.resonances();
+        if unlisted.is_some() {
+            let step = |m: String| err(format!("the unlisted factors (needs_cancellation): {m}"));
+            if r_t >= s.den_degree {
+                return Err(step(format!(
+                    "the type has {r_t} resonances, not fewer than the stratum's denominator degree {}",
+                    s.den_degree
+                )));
+            }
+            if !boundary_definite {
+                return Err(step("a boundary factor has no definite proof".into()));
+            }
+            // No irreducible factor of what the listed factors leave may
+            // divide a resultant of the parts (it would cancel a pole) or a
+            // boundary polynomial (it would need a definite proof).
+            let others: Vec<&Poly> = s
+                .critical
+                .iter()
+                .filter(|c| c.role != Role::Other)
+                .map(|c| &c.poly)
+                .collect();
+            for (what, rest) in &remainders {
+                if !coprime_to_all(rest, &others) {
+                    return Err(step(format!(
+                        "what the listed factors leave of {what} is not shown coprime to the resultants of the parts and the boundary polynomials"
+                    )));
+                }
+            }
+        }
         self.check_open(open, &open_jp, kind, &s, &entries, t)
             .map_err(err)?;
 
-        let boundary_definite = entries.iter().all(|e| !e.boundary || e.kind == "definite");
-        let r_t = t.resonances();
         for (i, e) in entries.iter().enumerate() {
             let step = |m: String| err(format!("factor {i} ({}) {}: {m}", e.poly, e.kind));
             match e.kind {

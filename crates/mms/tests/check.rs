@@ -276,6 +276,107 @@ fn dropped_factor_is_rejected() {
     assert!(step.contains("is not covered by the factors"), "{e}");
 }
 
+/// A proof may leave its `needs_cancellation` factors unlisted (six-mass
+/// discriminant factors are too large to write) if it says so: the checker
+/// then shows what the listed factors leave coprime to every resultant of
+/// the parts and boundary polynomial. Leaving out a factor of another role
+/// under that claim, or claiming it where the type has every pole, fails.
+#[test]
+fn unlisted_factors_must_need_a_cancellation() {
+    let drop_kind = |p: &mut Value, kind: &str| {
+        let list = p["factors"].as_array_mut().unwrap();
+        let before = list.len();
+        list.retain(|f| f["kind"] != kind);
+        assert!(list.len() < before, "no {kind} factor");
+        p["unlisted"] = json!("needs_cancellation");
+    };
+    let has = |p: &str, kind: &str| {
+        paper_file().pointer(p).unwrap()["factors"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|f| f["kind"] == kind)
+    };
+    let counting: Vec<String> = proof_ptrs()
+        .into_iter()
+        .filter(|p| has(p, "needs_cancellation"))
+        .collect();
+    assert!(!counting.is_empty());
+    // Every such proof holds with those factors unlisted.
+    let mut v = paper_file().clone();
+    for p in &counting {
+        drop_kind(v.pointer_mut(p).unwrap(), "needs_cancellation");
+    }
+    let full = check(paper_file()).unwrap();
+    let r = check(&v).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(r.to_string(), full.to_string());
+
+    // Without the claim, the factors left out leave a critical polynomial
+    // uncovered.
+    let e = tampered(&counting[0], |p| {
+        drop_kind(p, "needs_cancellation");
+        p.as_object_mut().unwrap().remove("unlisted");
+    });
+    assert!(
+        type_step(&e).2.contains("is not covered by the factors"),
+        "{e}"
+    );
+
+    // A definite boundary factor left out with them is not coprime to the
+    // boundary polynomials.
+    let e = tampered(&counting[0], |p| {
+        drop_kind(p, "needs_cancellation");
+        drop_kind(p, "definite");
+    });
+    let step = type_step(&e).2;
+    assert!(
+        step.contains("the unlisted factors (needs_cancellation)"),
+        "{e}"
+    );
+    assert!(step.contains("is not shown coprime"), "{e}");
+
+    // A factor that cancels a pole may not be left out as needing a
+    // cancellation; nor can the claim stand when the type has every pole.
+    let cancelling = proof_ptrs()
+        .into_iter()
+        .find(|p| has(p, "needs_no_cancellation"))
+        .expect("a proof with a needs_no_cancellation factor");
+    let e = tampered(&cancelling, |p| drop_kind(p, "needs_no_cancellation"));
+    assert!(
+        type_step(&e)
+            .2
+            .contains("not fewer than the stratum's denominator degree"),
+        "{e}"
+    );
+
+    // A cancellation wall left out under the claim: it divides a resultant.
+    let (ptr, wall) = counting
+        .iter()
+        .filter(|p| p.ends_with("/certificate"))
+        .find_map(|p| {
+            let m: usize = p.split('/').nth(2)?.parse().ok()?;
+            let critical = paper_file()["models"][m]["critical"].as_array()?;
+            let factors = paper_file().pointer(p)?["factors"].as_array()?;
+            let i = factors.iter().position(|f| {
+                f["kind"] == "wall"
+                    && critical
+                        .iter()
+                        .any(|c| c["factor"] == f["factor"] && c["cancels"] == true)
+            })?;
+            Some((p.clone(), i))
+        })
+        .expect("a counting proof with a cancellation wall");
+    let e = tampered(&ptr, |p| {
+        p["factors"].as_array_mut().unwrap().remove(wall);
+        drop_kind(p, "needs_cancellation");
+    });
+    assert!(type_step(&e).2.contains("is not shown coprime"), "{e}");
+
+    let e = tampered(&counting[0], |p| p["unlisted"] = json!("definite"));
+    // The typed reader refuses it before the check, naming the place.
+    assert!(e.to_string().contains("unknown variant `definite`"), "{e}");
+}
+
 #[test]
 fn certificate_for_a_possible_type_is_rejected() {
     // Every certificate of every model, relabelled as one of the model's

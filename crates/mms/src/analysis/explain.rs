@@ -1,7 +1,10 @@
 //! A verdict written out for a reader: the witness and its roots, or the
 //! certificate as a derivation in the style of the paper's eqs. (22)-(31).
 
-use super::prover::{ConditionRule, Definiteness, FactorProof, OpenProof, Proof, Substitution};
+use super::prover::{
+    ConditionRule, Definiteness, FactorProof, OpenProof, Proof, Substitution, UnlistedRole,
+};
+use super::LARGEST_LISTED_FACTOR;
 use super::{FrfType, ModelAnalysis, Status};
 use crate::render::{render_poly, RenderOptions};
 use crate::tf::OMEGA;
@@ -226,7 +229,7 @@ fn proof(w: &mut W, p: &Proof, level: usize) {
     };
     w.heading(level, &format!("On {where_}"));
     open(w, &p.open);
-    if !p.factors.is_empty() {
+    if !p.factors.is_empty() || p.unlisted.is_some() {
         w.para("Critical factors (leading and trailing coefficients, discriminants, resultants of the parts):");
         for f in &p.factors {
             match f {
@@ -270,6 +273,10 @@ fn proof(w: &mut W, p: &Proof, level: usize) {
                     w.item(0, &s);
                 }
             }
+        }
+        if let Some(UnlistedRole::NeedsCancellation) = p.unlisted {
+            let s = format!("Every other factor (each of more than {LARGEST_LISTED_FACTOR} terms, not written out) cancels no pole, but the type needs a cancellation: covered by the cancellation walls.");
+            w.item(0, &s);
         }
         w.out.push('\n');
         for f in &p.factors {

@@ -39,7 +39,7 @@ pub use frf_type::{
 pub use pole_signs::{BlockPoleSigns, BlockSign, PoleSigns, RemainderFactor};
 pub use prover::{
     ConditionRule, Definiteness, FactorProof, OpenProof, Proof, RegionSample, SearchLimits,
-    SignCase, SignCondition, Substitution,
+    SignCase, SignCondition, Substitution, UnlistedRole,
 };
 
 use crate::model::Model;
@@ -214,7 +214,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 11;
+pub const ENGINE_VERSION: u32 = 12;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///

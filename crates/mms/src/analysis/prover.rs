@@ -28,6 +28,7 @@ use super::pole_signs::{
     block_pole_sign_data, pole_sign_data, type_fits, BlockPoleSigns, BlockSignData, PoleSignData,
     PoleSigns,
 };
+use super::LARGEST_LISTED_FACTOR;
 use crate::model::Model;
 use crate::tf::OMEGA;
 use crate::xorshift::XorShift;
@@ -300,8 +301,27 @@ pub struct Proof {
     /// The open part.
     pub open: OpenProof,
     /// Every irreducible critical factor of the stratum and its treatment
-    /// (empty for [`OpenProof::TooManyResonances`]).
+    /// (empty for [`OpenProof::TooManyResonances`]), except those that
+    /// `unlisted` covers.
     pub factors: Vec<FactorProof>,
+    /// Critical factors of more than [`LARGEST_LISTED_FACTOR`] terms that
+    /// the proof treats by counting are not written out (at six masses they
+    /// run to hundreds of megabytes, repeated in every such certificate).
+    /// When set, every irreducible factor of the stratum's critical
+    /// polynomials that `factors` leaves uncovered has this role.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unlisted: Option<UnlistedRole>,
+}
+
+/// The role of the critical factors a [`Proof`] leaves unlisted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum UnlistedRole {
+    /// As [`FactorProof::NeedsCancellation`]: none of them divides a
+    /// resultant of a numerator part and a denominator part, nor a leading
+    /// coefficient or value at `Omega = 0`, and the type has fewer
+    /// resonances than the stratum's denominator degree.
+    NeedsCancellation,
 }
 
 /// One stratum with the data the proofs need.
@@ -749,7 +769,7 @@ impl<'a> Prover<'a> {
         self.search_in(&[], limits, 0, &mut visited, &mut rng);
     }
 
-    fn search_in(
+    pub(crate) fn search_in(
         &mut self,
         subs: &[Substitution],
         limits: &SearchLimits,
@@ -811,6 +831,7 @@ impl<'a> Prover<'a> {
                     degree: r_s,
                 },
                 factors: Vec::new(),
+                unlisted: None,
             });
         }
         // Structural theorems, valid on the whole orthant and so on
@@ -820,6 +841,7 @@ impl<'a> Prover<'a> {
                 stratum: s.subs.clone(),
                 open: OpenProof::SimpleResonances,
                 factors: Vec::new(),
+                unlisted: None,
             });
         }
         if self.model.is_collocated() && !t.is_rigid_body_interlacing() {
@@ -833,6 +855,7 @@ impl<'a> Prover<'a> {
                         den_at_zero,
                     },
                     factors: Vec::new(),
+                    unlisted: None,
                 });
             }
         }
@@ -863,6 +886,7 @@ impl<'a> Prover<'a> {
             stratum: s.subs.clone(),
             open,
             factors: Vec::new(),
+            unlisted: None,
         })
     }
 
@@ -875,6 +899,7 @@ impl<'a> Prover<'a> {
             .iter()
             .all(|f| !f.boundary || f.definite.is_some());
         let mut factors = Vec::new();
+        let mut unlisted = None;
         for f in &s.factors {
             if let Some((sign, d)) = &f.definite {
                 factors.push(FactorProof::Definite {
@@ -891,9 +916,13 @@ impl<'a> Prover<'a> {
                 continue;
             }
             if lc_definite && !f.cancels && r_t < r_s {
-                factors.push(FactorProof::NeedsCancellation {
-                    factor: f.poly.clone(),
-                });
+                if f.poly.num_terms() > LARGEST_LISTED_FACTOR {
+                    unlisted = Some(UnlistedRole::NeedsCancellation);
+                } else {
+                    factors.push(FactorProof::NeedsCancellation {
+                        factor: f.poly.clone(),
+                    });
+                }
                 continue;
             }
             let w = f.wall.clone()?;
@@ -913,6 +942,7 @@ impl<'a> Prover<'a> {
             stratum: s.subs.clone(),
             open,
             factors,
+            unlisted,
         })
     }
 

@@ -120,6 +120,7 @@ impl Renaming {
             stratum: p.stratum.iter().map(|s| self.substitution(s)).collect(),
             open: self.open(&p.open),
             factors: p.factors.iter().map(|f| self.factor(f)).collect(),
+            unlisted: p.unlisted,
         }
     }
 
