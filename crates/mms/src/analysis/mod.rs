@@ -22,6 +22,7 @@
 //! # Ok::<(), mms::ModelError>(())
 //! ```
 
+mod cancellations;
 mod configurations;
 mod explain;
 mod frf_type;
@@ -214,7 +215,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 12;
+pub const ENGINE_VERSION: u32 = 14;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
@@ -337,7 +338,9 @@ pub fn analyze_alone(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
         + prover.root_condition_search(&unknown, 0x2007_C0DE)
         + prover.cancellation_search(&unknown, 0xCA2C_E11E)
         + prover.discriminant_search(&unknown, 0xD15C_0001)
-        + prover.elimination_search(&unknown, 0xE11_4A7E);
+        + prover.elimination_search(&unknown, 0xE11_4A7E)
+        + prover.symmetric_search(&unknown, limits)
+        + prover.resting_mass_search(&unknown, 0x2E57_1A55);
     if found > 0 {
         for v in verdicts.iter_mut().filter(|v| v.status == Status::Unknown) {
             if let Some(w) = prover.witnesses.get(&v.frf_type) {
