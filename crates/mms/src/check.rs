@@ -681,6 +681,32 @@ fn check_critical(
 
 /// What is left of `p` once every power of `factors` is divided out, if
 /// that is not a nonzero constant (`p` is then not covered by them).
+/// The premises of a factor treated by counting: a type with every pole
+/// (`every_pole`, the factor cancels a pole) or with fewer resonances than
+/// the stratum has poles (the factor cancels none), and every boundary
+/// factor of the stratum definite (no pole escapes to zero or infinity).
+fn counting_premises(
+    resonances: u32,
+    degree: u32,
+    boundary_definite: bool,
+    every_pole: bool,
+) -> Result<(), String> {
+    if every_pole && resonances != degree {
+        return Err(format!(
+            "the type has {resonances} resonances, the stratum's denominator degree {degree}"
+        ));
+    }
+    if !every_pole && resonances >= degree {
+        return Err(format!(
+            "the type has {resonances} resonances, not fewer than the stratum's denominator degree {degree}"
+        ));
+    }
+    if !boundary_definite {
+        return Err("a boundary factor has no definite proof".into());
+    }
+    Ok(())
+}
+
 /// `p` in an error message: in full up to a few hundred characters, else
 /// by its size (a six-mass critical polynomial can be hundreds of megabytes).
 fn abridged(p: &Poly) -> String {
@@ -1762,15 +1788,7 @@ impl ModelChecker {
         let r_t = t.resonances();
         if unlisted.is_some() {
             let step = |m: String| err(format!("the unlisted factors (needs_cancellation): {m}"));
-            if r_t >= s.den_degree {
-                return Err(step(format!(
-                    "the type has {r_t} resonances, not fewer than the stratum's denominator degree {}",
-                    s.den_degree
-                )));
-            }
-            if !boundary_definite {
-                return Err(step("a boundary factor has no definite proof".into()));
-            }
+            counting_premises(r_t, s.den_degree, boundary_definite, false).map_err(step)?;
             // No irreducible factor of what the listed factors leave may
             // divide a resultant of the parts (it would cancel a pole) or a
             // boundary polynomial (it would need a definite proof).
@@ -1807,15 +1825,7 @@ impl ModelChecker {
                                 .into(),
                         ));
                     }
-                    if r_t != s.den_degree {
-                        return Err(step(format!(
-                            "the type has {r_t} resonances, the stratum's denominator degree {}",
-                            s.den_degree
-                        )));
-                    }
-                    if !boundary_definite {
-                        return Err(step("a boundary factor has no definite proof".into()));
-                    }
+                    counting_premises(r_t, s.den_degree, boundary_definite, true).map_err(step)?;
                 }
                 "needs_cancellation" => {
                     if e.cancels {
@@ -1824,15 +1834,7 @@ impl ModelChecker {
                                 .into(),
                         ));
                     }
-                    if r_t >= s.den_degree {
-                        return Err(step(format!(
-                            "the type has {r_t} resonances, not fewer than the stratum's denominator degree {}",
-                            s.den_degree
-                        )));
-                    }
-                    if !boundary_definite {
-                        return Err(step("a boundary factor has no definite proof".into()));
-                    }
+                    counting_premises(r_t, s.den_degree, boundary_definite, false).map_err(step)?;
                 }
                 "wall" => {
                     let sub = Sub::parse(

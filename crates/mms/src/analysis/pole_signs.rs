@@ -288,6 +288,19 @@ pub(crate) fn pencil(mass: &[Vec<Poly>], stiff: &[Vec<Poly>], idx: &[usize]) -> 
         .collect()
 }
 
+/// `det(K - Omega*M)` of the run of masses `lo..hi` (0-based).
+pub(crate) fn run_det(mass: &[Vec<Poly>], stiff: &[Vec<Poly>], lo: usize, hi: usize) -> Poly {
+    poly::det(&pencil(mass, stiff, &(lo..hi).collect::<Vec<_>>()))
+}
+
+/// The chain's blocks as ranges `first..last + 1` of masses (0-based).
+pub(crate) fn block_ranges(stiff: &[Vec<Poly>]) -> Vec<(usize, usize)> {
+    chain_blocks(stiff)
+        .iter()
+        .map(|b| (b[0], b[b.len() - 1] + 1))
+        .collect()
+}
+
 /// The chain's blocks: maximal runs of masses joined by springs (0-based).
 pub(crate) fn chain_blocks(stiff: &[Vec<Poly>]) -> Vec<Vec<usize>> {
     let mut blocks: Vec<Vec<usize>> = Vec::new();

@@ -22,7 +22,7 @@
 //! measure-zero types live on walls, which the exact search samples.
 
 use super::frf_type::{Feature, FrfType};
-use super::pole_signs::{chain_blocks, pencil};
+use super::pole_signs::{block_ranges, run_det};
 use super::prover::{positive_full_point, substitute, Prover, Sampler, Substitution};
 use crate::tf::UndampedCoefficients;
 use crate::tf::OMEGA;
@@ -803,13 +803,8 @@ impl Prover<'_> {
     pub(super) fn cancellation_mechanisms(&self) -> Vec<Mechanism> {
         let mass = self.model.mass_matrix();
         let stiff = self.model.stiffness_matrix();
-        let det_of =
-            |lo: usize, hi: usize| poly::det(&pencil(&mass, &stiff, &(lo..hi).collect::<Vec<_>>()));
-        // Blocks as [first, last + 1).
-        let blocks: Vec<(usize, usize)> = chain_blocks(&stiff)
-            .iter()
-            .map(|b| (b[0], b[b.len() - 1] + 1))
-            .collect();
+        let det_of = |lo: usize, hi: usize| run_det(&mass, &stiff, lo, hi);
+        let blocks = block_ranges(&stiff);
         let mut mechanisms: Vec<Mechanism> = Vec::new();
         for (k, &(lo, hi)) in blocks.iter().enumerate() {
             let whole = det_of(lo, hi);
