@@ -665,6 +665,21 @@ pub(crate) struct Prover<'a> {
     pole_signs: Option<Option<PoleSignData>>,
     /// The same for the block-product premise.
     block_pole_signs: Option<Option<BlockSignData>>,
+    /// Sign conditions recur across sign cases, types and strata.
+    conditions: ConditionCache,
+}
+
+/// What the sign conditions of [`OpenProof::SignConditions`] share: the
+/// reduction of a derived condition (a factorization), the discriminant of
+/// a part, and a condition's signs at the sample points of a stratum's
+/// parameters ([`holds_at_a_sample`]). At six masses the same
+/// discriminants and their factorizations were computed for every
+/// assignment of every type.
+#[derive(Default)]
+pub(crate) struct ConditionCache {
+    reduced: HashMap<Poly, (Poly, Poly, Poly)>,
+    discriminants: HashMap<Poly, Poly>,
+    signs: HashMap<(Poly, Vec<String>), Vec<i32>>,
 }
 
 /// How far the search goes.
@@ -708,6 +723,7 @@ impl<'a> Prover<'a> {
             memo: HashMap::new(),
             pole_signs: None,
             block_pole_signs: None,
+            conditions: ConditionCache::default(),
         }
     }
 
@@ -967,7 +983,7 @@ impl<'a> Prover<'a> {
             }
             return None;
         }
-        sign_conditions(s, t, limits)
+        sign_conditions(&mut self.conditions, s, t, limits)
     }
 
     /// The regions of the open part when the walls never cross, with their
@@ -1187,7 +1203,12 @@ struct LinearPart {
 }
 
 /// Sign conditions from the rational roots, refuted per assignment.
-fn sign_conditions(s: &Stratum, t: &FrfType, limits: &SearchLimits) -> Option<OpenProof> {
+fn sign_conditions(
+    cache: &mut ConditionCache,
+    s: &Stratum,
+    t: &FrfType,
+    limits: &SearchLimits,
+) -> Option<OpenProof> {
     let linear: Vec<LinearPart> = s
         .num_parts
         .iter()
@@ -1236,12 +1257,12 @@ fn sign_conditions(s: &Stratum, t: &FrfType, limits: &SearchLimits) -> Option<Op
     }
     let mut cases = Vec::new();
     for a in assignments {
-        let conditions = conditions_for(s, t, &linear, &a)?;
+        let conditions = conditions_for(cache, s, t, &linear, &a)?;
         let reduced: Vec<(Poly, bool)> = conditions
             .iter()
             .map(|c| (c.reduced.clone(), c.strict))
             .collect();
-        if holds_at_a_sample(&reduced, &s.vars) {
+        if holds_at_a_sample(cache, &reduced, &s.vars) {
             return None;
         }
         let found = positive_combination(&reduced, &s.vars, limits.multiplier_degree);
@@ -1266,28 +1287,53 @@ const CASE_SAMPLES: usize = 32;
 /// combination exists at any multiplier degree: it would be positive at
 /// that point and yet have no positive coefficient. So the linear program,
 /// which costs seconds at five masses, is known to fail without running it.
-fn holds_at_a_sample(conditions: &[(Poly, bool)], vars: &[String]) -> bool {
-    let mut rng = Sampler::new(0xCA5E);
-    let holds = |p: &BTreeMap<String, Rat>| {
-        let approx: BTreeMap<String, f64> =
-            p.iter().map(|(k, v)| (k.clone(), v.to_f64())).collect();
-        // f64 first, to skip the exact evaluation where it plainly fails.
-        let plausible = conditions.iter().all(|(g, _)| {
-            g.eval_f64(&approx)
-                .is_ok_and(|v| v > -1e-9 * (1.0 + v.abs()))
-        });
-        plausible
-            && conditions.iter().all(|(g, strict)| {
-                g.eval(p)
-                    .is_ok_and(|v| v.signum() > 0 || (!strict && v.is_zero()))
-            })
-    };
-    let ones: BTreeMap<String, Rat> = vars.iter().map(|v| (v.clone(), Rat::ONE)).collect();
-    holds(&ones) || (0..CASE_SAMPLES).any(|_| holds(&rng.point(vars)))
+fn holds_at_a_sample(
+    cache: &mut ConditionCache,
+    conditions: &[(Poly, bool)],
+    vars: &[String],
+) -> bool {
+    let mut signs: Vec<(&Vec<i32>, bool)> = Vec::with_capacity(conditions.len());
+    for (g, _) in conditions {
+        let key = (g.clone(), vars.to_vec());
+        if !cache.signs.contains_key(&key) {
+            let v = sample_points(vars)
+                .iter()
+                .map(|p| g.eval(p).map_or(-1, |v| v.signum()))
+                .collect();
+            cache.signs.insert(key.clone(), v);
+        }
+    }
+    for (g, strict) in conditions {
+        signs.push((&cache.signs[&(g.clone(), vars.to_vec())], *strict));
+    }
+    (0..=CASE_SAMPLES).any(|j| {
+        signs
+            .iter()
+            .all(|(s, strict)| s[j] > 0 || (!strict && s[j] == 0))
+    })
 }
 
-fn condition(rule: ConditionRule, derived: Poly, strict: bool) -> SignCondition {
-    let (square, positive, reduced) = reduce_condition(&derived);
+/// The points of [`holds_at_a_sample`]: all ones, then [`CASE_SAMPLES`]
+/// drawn with a fixed seed.
+fn sample_points(vars: &[String]) -> Vec<BTreeMap<String, Rat>> {
+    let mut rng = Sampler::new(0xCA5E);
+    let ones: BTreeMap<String, Rat> = vars.iter().map(|v| (v.clone(), Rat::ONE)).collect();
+    let mut points = vec![ones];
+    points.extend((0..CASE_SAMPLES).map(|_| rng.point(vars)));
+    points
+}
+
+fn condition(
+    cache: &mut ConditionCache,
+    rule: ConditionRule,
+    derived: Poly,
+    strict: bool,
+) -> SignCondition {
+    let (square, positive, reduced) = cache
+        .reduced
+        .entry(derived.clone())
+        .or_insert_with(|| reduce_condition(&derived))
+        .clone();
     SignCondition {
         rule,
         derived,
@@ -1318,6 +1364,7 @@ pub(crate) fn eval_at_root(q: &Poly, l: &Poly) -> Poly {
 /// inconsistent with the parts (then it needs no refutation... but we only
 /// skip what the counting already excludes, so it is treated as unprovable).
 fn conditions_for(
+    cache: &mut ConditionCache,
     s: &Stratum,
     t: &FrfType,
     linear: &[LinearPart],
@@ -1333,6 +1380,7 @@ fn conditions_for(
                 // rho = -b/a > 0
                 let derived = (-b).scale(&Rat::from(sa as i64));
                 out.push(condition(
+                    cache,
                     ConditionRule::RootPositive { part: i },
                     derived,
                     true,
@@ -1341,6 +1389,7 @@ fn conditions_for(
             None => {
                 let derived = b.scale(&Rat::from(sa as i64));
                 out.push(condition(
+                    cache,
                     ConditionRule::RootNotPositive { part: i },
                     derived,
                     false,
@@ -1365,6 +1414,7 @@ fn conditions_for(
             let d = &(&ci[0] * &cj[1]) - &(&cj[0] * &ci[1]);
             let sign = lead(&linear[i])? * lead(&linear[j])?;
             out.push(condition(
+                cache,
                 ConditionRule::RootOrder { lower: i, upper: j },
                 d.scale(&Rat::from(sign as i64)),
                 true,
@@ -1411,11 +1461,17 @@ fn conditions_for(
         let real_rooted = slots.len() as u32 == d;
         if real_rooted {
             // d real simple roots (off the walls): positive discriminant.
+            let disc = cache
+                .discriminants
+                .entry((*o).clone())
+                .or_insert_with(|| discriminant(o, OMEGA))
+                .clone();
             out.push(condition(
+                cache,
                 ConditionRule::RealRoots {
                     other: (*o).clone(),
                 },
-                discriminant(o, OMEGA),
+                disc,
                 true,
             ));
         }
@@ -1431,6 +1487,7 @@ fn conditions_for(
                 * if d.is_multiple_of(2) { 1 } else { sa };
             let derived = eval_at_root(o, &l.poly).scale(&Rat::from(sgn as i64));
             out.push(condition(
+                cache,
                 ConditionRule::SignAt {
                     other: (*o).clone(),
                     part: i,
@@ -1449,6 +1506,7 @@ fn conditions_for(
                     let sgn = want * if dk % 2 == 0 { 1 } else { sa };
                     let derived = eval_at_root(&q, &l.poly).scale(&Rat::from(sgn as i64));
                     out.push(condition(
+                        cache,
                         ConditionRule::SignAt {
                             other: (*o).clone(),
                             part: i,
@@ -1500,7 +1558,7 @@ mod tests {
                 .filter(|(g, _)| !g.is_zero())
                 .collect();
             let combination = positive_combination(&conditions, &vars, 2);
-            if holds_at_a_sample(&conditions, &vars) {
+            if holds_at_a_sample(&mut ConditionCache::default(), &conditions, &vars) {
                 shortcut += 1;
                 assert!(combination.is_none(), "{conditions:?}");
             } else if combination.is_some() {
@@ -1520,7 +1578,15 @@ mod tests {
             (p("c12*m3 - c23*m1"), true),
             (p("c23*m1*(m2 - m3) - c12*m3*(m1 + m2)"), true),
         ];
-        assert!(!holds_at_a_sample(&conditions, &vars));
-        assert!(holds_at_a_sample(&conditions[..1], &vars));
+        assert!(!holds_at_a_sample(
+            &mut ConditionCache::default(),
+            &conditions,
+            &vars
+        ));
+        assert!(holds_at_a_sample(
+            &mut ConditionCache::default(),
+            &conditions[..1],
+            &vars
+        ));
     }
 }
