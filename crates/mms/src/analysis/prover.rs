@@ -679,7 +679,8 @@ pub(crate) struct Prover<'a> {
 pub(crate) struct ConditionCache {
     reduced: HashMap<Poly, (Poly, Poly, Poly)>,
     discriminants: HashMap<Poly, Poly>,
-    signs: HashMap<(Poly, Vec<String>), Vec<i32>>,
+    /// By the stratum's parameters, then by condition.
+    signs: HashMap<Vec<String>, HashMap<Poly, Vec<i32>>>,
 }
 
 /// How far the search goes.
@@ -1292,20 +1293,20 @@ fn holds_at_a_sample(
     conditions: &[(Poly, bool)],
     vars: &[String],
 ) -> bool {
-    let mut signs: Vec<(&Vec<i32>, bool)> = Vec::with_capacity(conditions.len());
+    let known = cache.signs.entry(vars.to_vec()).or_default();
     for (g, _) in conditions {
-        let key = (g.clone(), vars.to_vec());
-        if !cache.signs.contains_key(&key) {
+        if !known.contains_key(g) {
             let v = sample_points(vars)
                 .iter()
                 .map(|p| g.eval(p).map_or(-1, |v| v.signum()))
                 .collect();
-            cache.signs.insert(key.clone(), v);
+            known.insert(g.clone(), v);
         }
     }
-    for (g, strict) in conditions {
-        signs.push((&cache.signs[&(g.clone(), vars.to_vec())], *strict));
-    }
+    let signs: Vec<(&Vec<i32>, bool)> = conditions
+        .iter()
+        .map(|(g, strict)| (&known[g], *strict))
+        .collect();
     (0..=CASE_SAMPLES).any(|j| {
         signs
             .iter()
@@ -1329,11 +1330,14 @@ fn condition(
     derived: Poly,
     strict: bool,
 ) -> SignCondition {
-    let (square, positive, reduced) = cache
-        .reduced
-        .entry(derived.clone())
-        .or_insert_with(|| reduce_condition(&derived))
-        .clone();
+    let (square, positive, reduced) = match cache.reduced.get(&derived) {
+        Some(r) => r.clone(),
+        None => {
+            let r = reduce_condition(&derived);
+            cache.reduced.insert(derived.clone(), r.clone());
+            r
+        }
+    };
     SignCondition {
         rule,
         derived,
@@ -1461,11 +1465,14 @@ fn conditions_for(
         let real_rooted = slots.len() as u32 == d;
         if real_rooted {
             // d real simple roots (off the walls): positive discriminant.
-            let disc = cache
-                .discriminants
-                .entry((*o).clone())
-                .or_insert_with(|| discriminant(o, OMEGA))
-                .clone();
+            let disc = match cache.discriminants.get(*o) {
+                Some(d) => d.clone(),
+                None => {
+                    let d = discriminant(o, OMEGA);
+                    cache.discriminants.insert((*o).clone(), d.clone());
+                    d
+                }
+            };
             out.push(condition(
                 cache,
                 ConditionRule::RealRoots {
