@@ -679,8 +679,33 @@ pub(crate) struct Prover<'a> {
 pub(crate) struct ConditionCache {
     reduced: HashMap<Poly, (Poly, Poly, Poly)>,
     discriminants: HashMap<Poly, Poly>,
-    /// By the stratum's parameters, then by condition.
-    signs: HashMap<Vec<String>, HashMap<Poly, Vec<i32>>>,
+    /// By the stratum's parameters: the sample points, and each
+    /// condition's exact signs there as far as they were needed.
+    signs: HashMap<Vec<String>, SampleSigns>,
+    /// [`eval_at_root`] by linear part, then by polynomial.
+    at_roots: HashMap<Poly, HashMap<Poly, Poly>>,
+}
+
+#[derive(Default)]
+struct SampleSigns {
+    points: Vec<BTreeMap<String, Rat>>,
+    approx: Vec<BTreeMap<String, f64>>,
+    signs: HashMap<Poly, Vec<Option<i32>>>,
+}
+
+impl ConditionCache {
+    /// [`eval_at_root`]`(q, l)`, computed once.
+    fn at_root(&mut self, q: &Poly, l: &Poly) -> Poly {
+        if let Some(v) = self.at_roots.get(l).and_then(|m| m.get(q)) {
+            return v.clone();
+        }
+        let v = eval_at_root(q, l);
+        self.at_roots
+            .entry(l.clone())
+            .or_default()
+            .insert(q.clone(), v.clone());
+        v
+    }
 }
 
 /// How far the search goes.
@@ -1293,25 +1318,47 @@ fn holds_at_a_sample(
     conditions: &[(Poly, bool)],
     vars: &[String],
 ) -> bool {
-    let known = cache.signs.entry(vars.to_vec()).or_default();
-    for (g, _) in conditions {
-        if !known.contains_key(g) {
-            let v = sample_points(vars)
-                .iter()
-                .map(|p| g.eval(p).map_or(-1, |v| v.signum()))
-                .collect();
-            known.insert(g.clone(), v);
+    let known = cache.signs.entry(vars.to_vec()).or_insert_with(|| {
+        let points = sample_points(vars);
+        let approx = points
+            .iter()
+            .map(|p| p.iter().map(|(k, v)| (k.clone(), v.to_f64())).collect())
+            .collect();
+        SampleSigns {
+            points,
+            approx,
+            signs: HashMap::new(),
+        }
+    });
+    for j in 0..known.points.len() {
+        // f64 first, to skip the exact evaluation where it plainly fails.
+        let plausible = conditions.iter().all(|(g, _)| {
+            g.eval_f64(&known.approx[j])
+                .is_ok_and(|v| v > -1e-9 * (1.0 + v.abs()))
+        });
+        if !plausible {
+            continue;
+        }
+        let mut all = true;
+        for (g, strict) in conditions {
+            if !known.signs.contains_key(g) {
+                known
+                    .signs
+                    .insert(g.clone(), vec![None; known.points.len()]);
+            }
+            let slot = &mut known.signs.get_mut(g).expect("just stored")[j];
+            let sign =
+                *slot.get_or_insert_with(|| g.eval(&known.points[j]).map_or(-1, |v| v.signum()));
+            if !(sign > 0 || (!strict && sign == 0)) {
+                all = false;
+                break;
+            }
+        }
+        if all {
+            return true;
         }
     }
-    let signs: Vec<(&Vec<i32>, bool)> = conditions
-        .iter()
-        .map(|(g, strict)| (&known[g], *strict))
-        .collect();
-    (0..=CASE_SAMPLES).any(|j| {
-        signs
-            .iter()
-            .all(|(s, strict)| s[j] > 0 || (!strict && s[j] == 0))
-    })
+    false
 }
 
 /// The points of [`holds_at_a_sample`]: all ones, then [`CASE_SAMPLES`]
@@ -1492,7 +1539,7 @@ fn conditions_for(
             let sgn = slc
                 * if above.is_multiple_of(2) { 1 } else { -1 }
                 * if d.is_multiple_of(2) { 1 } else { sa };
-            let derived = eval_at_root(o, &l.poly).scale(&Rat::from(sgn as i64));
+            let derived = cache.at_root(o, &l.poly).scale(&Rat::from(sgn as i64));
             out.push(condition(
                 cache,
                 ConditionRule::SignAt {
@@ -1511,7 +1558,7 @@ fn conditions_for(
                     let dk = d - k;
                     let want = slc * if above == d && dk % 2 == 1 { -1 } else { 1 };
                     let sgn = want * if dk % 2 == 0 { 1 } else { sa };
-                    let derived = eval_at_root(&q, &l.poly).scale(&Rat::from(sgn as i64));
+                    let derived = cache.at_root(&q, &l.poly).scale(&Rat::from(sgn as i64));
                     out.push(condition(
                         cache,
                         ConditionRule::SignAt {
