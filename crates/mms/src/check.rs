@@ -1742,17 +1742,16 @@ impl ModelChecker {
             });
         }
 
-        // Factors the certificate leaves unlisted, and their claimed role.
+        // Whether the certificate leaves factors unlisted, with the one
+        // role that allows it.
         let unlisted = match p.get("unlisted") {
-            None => None,
-            Some(v) => match v.as_str() {
-                Some("needs_cancellation") => Some("needs_cancellation"),
-                _ => {
-                    return Err(err(format!(
-                        "{jp}.unlisted: expected \"needs_cancellation\", found {v}"
-                    )))
-                }
-            },
+            None => false,
+            Some(v) if v.as_str() == Some("needs_cancellation") => true,
+            Some(v) => {
+                return Err(err(format!(
+                    "{jp}.unlisted: expected \"needs_cancellation\", found {v}"
+                )))
+            }
         };
         let mut remainders: Vec<(&str, Poly)> = Vec::new();
 
@@ -1772,7 +1771,7 @@ impl ModelChecker {
                     return Err(err(format!("critical polynomial: {} is zero", c.what)));
                 }
                 if let Some(rest) = uncovered(&c.poly, &factors) {
-                    if unlisted.is_none() {
+                    if !unlisted {
                         return Err(err(format!(
                             "critical polynomial: {} is not covered by the factors (left {})",
                             c.what,
@@ -1786,7 +1785,7 @@ impl ModelChecker {
 
         let boundary_definite = entries.iter().all(|e| !e.boundary || e.kind == "definite");
         let r_t = t.resonances();
-        if unlisted.is_some() {
+        if unlisted {
             let step = |m: String| err(format!("the unlisted factors (needs_cancellation): {m}"));
             counting_premises(r_t, s.den_degree, boundary_definite, false).map_err(step)?;
             // No irreducible factor of what the listed factors leave may

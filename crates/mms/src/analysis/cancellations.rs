@@ -88,24 +88,15 @@ impl Prover<'_> {
         let Some(subs) = free_block_mirror(self.model) else {
             return 0;
         };
-        let before = wanted
-            .iter()
-            .filter(|t| self.witnesses.contains_key(t))
-            .count();
+        let before = self.witnessed(wanted);
         let mut visited = BTreeSet::new();
         let mut rng = Sampler::new(0x0005_E110_FA11);
         // Depth 1: the stratum is sampled as a wall and its own walls are
         // followed one level less deep than the orthant's.
         self.search_in(&subs, limits, 1, &mut visited, &mut rng);
-        wanted
-            .iter()
-            .filter(|t| self.witnesses.contains_key(t))
-            .count()
-            - before
+        self.witnessed(wanted) - before
     }
-}
 
-impl Prover<'_> {
     /// The coincidences that cancel a pole with the actuator's or the
     /// sensor's mass at rest: for each such mass `k` of a block with masses
     /// on both sides, the determinants of the two sides and the masses
@@ -162,10 +153,7 @@ impl Prover<'_> {
         if open == 0 {
             return 0;
         }
-        let before = wanted
-            .iter()
-            .filter(|t| self.witnesses.contains_key(t))
-            .count();
+        let before = self.witnessed(wanted);
         // With the coincidences of two blocks' eigenvalues (whole
         // determinants in disjoint parameters) and of a run's with its
         // block's (the second equation holds every parameter of the block,
@@ -218,11 +206,7 @@ impl Prover<'_> {
                 self.record(point);
             }
         }
-        wanted
-            .iter()
-            .filter(|t| self.witnesses.contains_key(t))
-            .count()
-            - before
+        self.witnessed(wanted) - before
     }
 }
 

@@ -686,7 +686,6 @@ pub(crate) struct ConditionCache {
     at_roots: HashMap<Poly, HashMap<Poly, Poly>>,
 }
 
-#[derive(Default)]
 struct SampleSigns {
     points: Vec<BTreeMap<String, Rat>>,
     approx: Vec<BTreeMap<String, f64>>,

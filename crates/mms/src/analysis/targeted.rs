@@ -509,10 +509,7 @@ impl Prover<'_> {
         let mut visited = BTreeSet::new();
         let mut budget = PARTIAL_WALL_BUDGET;
         self.partial_walls(&[], wanted, depth, &mut visited, &mut rng, &mut budget);
-        wanted
-            .iter()
-            .filter(|t| self.witnesses.contains_key(t))
-            .count()
+        self.witnessed(wanted)
     }
 
     fn partial_walls(
@@ -708,10 +705,7 @@ impl Prover<'_> {
                 self.solve_root_conditions(&vars, fixed, &cancel, &multiple, &derivatives);
             }
         }
-        wanted
-            .iter()
-            .filter(|t| self.witnesses.contains_key(t))
-            .count()
+        self.witnessed(wanted)
     }
 
     /// Constructs cancellations from the chain's blocks:
@@ -790,10 +784,7 @@ impl Prover<'_> {
                 self.record(point);
             }
         }
-        wanted
-            .iter()
-            .filter(|t| self.witnesses.contains_key(t))
-            .count()
+        self.witnessed(wanted)
     }
 
     /// The ways a pole cancels (see [`Self::cancellation_search`]): the

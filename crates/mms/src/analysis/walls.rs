@@ -75,7 +75,7 @@ impl Prover<'_> {
     }
 
     /// How many of `wanted` have witnesses.
-    fn witnessed(&self, wanted: &[FrfType]) -> usize {
+    pub(super) fn witnessed(&self, wanted: &[FrfType]) -> usize {
         wanted
             .iter()
             .filter(|t| self.witnesses.contains_key(t))
