@@ -2356,6 +2356,7 @@ impl ModelChecker {
                 runs,
                 collocated,
                 omega_power,
+                degree: n.degree(OMEGA),
             });
         }
         if infos.len() > 2 {
@@ -2627,6 +2628,8 @@ struct CheckBlock {
     collocated: i64,
     /// How often `Omega` divides `n_B`.
     omega_power: u32,
+    /// The degree of `n_B` in `Omega`.
+    degree: u32,
 }
 
 impl CheckBlock {
@@ -3089,6 +3092,8 @@ fn configuration_fits(
         None
     };
     let mut samples: Vec<CheckSample> = Vec::new();
+    // Where the poles that stay are: the type's resonances.
+    let mut resonances: Vec<usize> = Vec::new();
     // The position the next event must have for the interval from the
     // last sample to it to hold no other event.
     let mut adjacent: Option<usize> = None;
@@ -3123,6 +3128,7 @@ fn configuration_fits(
         if let Some(&(_, double)) = shared.iter().find(|&&(j, _)| j == i) {
             if !double {
                 samples.push(CheckSample::Pole(None));
+                resonances.push(i);
             }
             mark(&mut samples);
             continue;
@@ -3146,6 +3152,7 @@ fn configuration_fits(
                         }
                     }
                     samples.push(CheckSample::Pole(Some(reduced(i, s))));
+                    resonances.push(i);
                 }
                 mark(&mut samples);
             }
@@ -3219,6 +3226,9 @@ fn configuration_fits(
     if n_poles + 1 != counts.len() {
         return false;
     }
+    if blocks.len() == 2 && !rolle_allows(blocks, order, shared, &resonances, counts) {
+        return false;
+    }
     #[allow(clippy::too_many_arguments)]
     fn spread(
         samples: &[CheckSample],
@@ -3280,6 +3290,87 @@ fn configuration_fits(
         CheckSample::Sign(first) => spread(&samples, counts, 1, 0, counts[0], 0, first, None),
         _ => false,
     }
+}
+
+/// Rolle's bound on the zeros between two resonances (or `0`, or
+/// infinity): the positive zeros of the numerator are those of `n_0 d_1 +
+/// n_1 d_0`. If one of the two products has degree below `k`, the `k`-th
+/// derivative of the sum is that of the other, `P`, whose roots are
+/// events of the order (the poles of its `d`, `0` for a free block, the
+/// runs' eigenvalues of its `n` when those give all of `n`'s zeros, `0` as
+/// often as `Omega` divides `n`); between two of its roots `x_i <=
+/// x_(i+k)` lies the `i`-th root of `P^(k)`, and an open interval holds at
+/// most `k` zeros more than the `k`-th derivative has there.
+fn rolle_allows(
+    blocks: &[CheckBlock],
+    order: &[(usize, CheckEvent)],
+    shared: &[(usize, bool)],
+    resonances: &[usize],
+    counts: &[u32],
+) -> bool {
+    // A coincident pair is one point: its second event takes the first's
+    // place. Places are shifted by one so that 0 is Omega = 0.
+    let place = |i: usize| {
+        if shared.iter().any(|&(j, _)| j + 1 == i) {
+            i
+        } else {
+            i + 1
+        }
+    };
+    let infinity = order.len() + 1;
+    let mut bounds: Vec<usize> = vec![0];
+    bounds.extend(resonances.iter().map(|&i| place(i)));
+    bounds.push(infinity);
+    for low in 0..2 {
+        // `low` contributes n_low d_high, of degree below k; P = n_high d_low.
+        let high = 1 - low;
+        let (bl, bh) = (&blocks[low], &blocks[high]);
+        if !bh.direct {
+            continue;
+        }
+        let k = bl.degree as usize + bh.size + 1;
+        let mut roots: Vec<usize> = vec![0; bh.omega_power as usize + usize::from(bl.free)];
+        for (i, (b, e)) in order.iter().enumerate() {
+            match e {
+                CheckEvent::Pole { on, .. } => {
+                    if *b == low {
+                        roots.push(place(i));
+                    } else {
+                        for &r in on {
+                            for _ in 0..bh.runs[r].exponent {
+                                roots.push(place(i));
+                            }
+                        }
+                    }
+                }
+                CheckEvent::Eig { run } => {
+                    if *b == high {
+                        for _ in 0..bh.runs[*run].exponent {
+                            roots.push(place(i));
+                        }
+                    }
+                }
+            }
+        }
+        let degree = bh.degree as usize + bl.size;
+        if roots.len() != degree || k >= degree {
+            continue;
+        }
+        roots.sort_unstable();
+        for from in 0..bounds.len() {
+            for to in from + 1..bounds.len() {
+                let (lo, hi) = (bounds[from], bounds[to]);
+                let derivative_roots = (0..degree - k)
+                    .filter(|&i| roots[i] < hi && roots[i + k] > lo)
+                    .count();
+                let zeros: u32 = counts[from..to].iter().sum();
+                if zeros as usize > k + derivative_roots {
+                    return false;
+                }
+            }
+        }
+    }
+    true
 }
 
 fn positive_by(g: &Poly, d: &Value, jp: &str, depth: usize) -> Result<(), String> {

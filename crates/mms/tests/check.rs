@@ -1238,3 +1238,49 @@ fn only_undetermined_factors_may_be_left_out() {
     });
     assert_eq!(check(&v).unwrap().undetermined_factors, before + 1);
 }
+
+/// Rolle's bound across resonances (docs/analysis.md): N5-g1-a2.1-s5.1, a
+/// grounded mass beside a free chain of four seen end to end, has the
+/// numerator `Omega p(Omega) + c23 c34 c45 (c1 - m1 Omega)` up to signs,
+/// whose second derivative is that of the quartic with the roots `0 <
+/// l1 < l2 < l3`: one root below `l2`, one above `l1`. So at most three
+/// zeros lie below the first resonance, and at most two above the last,
+/// although the parities allow four. The certificate is the blocks' terms
+/// alone; a type at the bound has a witness, which the certificate must
+/// not exclude.
+#[test]
+fn rolle_bound_spans_resonances() {
+    let id = "N5-g1-a2.1-s5.1";
+    let tf = Model::from_id(id).unwrap().undamped_tf();
+    let cert = json!({
+        "factors": [],
+        "stratum": [],
+        "open": {"kind": "block_pole_signs", "blocks": [
+            {"factors": [], "masses": [1], "numerator": "1", "remainder": false, "unit": "1"},
+            {"factors": [
+                {"exponent": 1, "factor": "c23"},
+                {"exponent": 1, "factor": "c34"},
+                {"exponent": 1, "factor": "c45"}],
+             "masses": [2, 3, 4, 5], "numerator": "c23*c34*c45", "remainder": false, "unit": "1"}]}
+    });
+    let model = |verdict: Value| {
+        json!({"id": id, "generic_id": id, "masses": 5, "gap": 1,
+               "actuator": [2, 1], "sensor": [5, 1],
+               "numerator": tf.num.to_string(), "denominator": tf.den.to_string(),
+               "types": [verdict]})
+    };
+    let impossible = |t: &str| json!({"type": t, "status": "impossible", "certificate": cert});
+    for t in ["AAAARRRR", "A^2AARRRR", "RRRRAAAA", "ARRRRAAA", "RRAARRAA"] {
+        check_analysis(&model(impossible(t))).unwrap_or_else(|e| panic!("{t}: {e}"));
+    }
+    // Three zeros below the first resonance: an exact witness.
+    let witness = json!({"c1": "27/5", "c23": "9/500", "c34": "13/5", "c45": "6/25",
+        "m1": "12/5", "m2": "39/5000", "m3": "73/1000", "m4": "97/10", "m5": "1/10"});
+    let possible = json!({"type": "AAARRRRA", "status": "possible", "witness": witness});
+    check_analysis(&model(possible)).unwrap();
+    let e = check_analysis(&model(impossible("AAARRRRA"))).unwrap_err();
+    assert!(
+        e.to_string().contains("the type fits the configuration"),
+        "{e}"
+    );
+}

@@ -68,6 +68,8 @@ pub(crate) struct BlockEvents {
     pub collocated: i32,
     /// The power of `Omega` dividing `n_B`.
     pub omega_power: u32,
+    /// The degree of `n_B` in `Omega`.
+    pub degree: u32,
 }
 
 impl BlockEvents {
@@ -91,6 +93,11 @@ pub(crate) enum Sample {
     /// there; `1`, and simple: every term is strictly monotone there, all
     /// in one direction).
     AtMost(u32),
+    /// The open interval between the `from`-th and the `to`-th end (the
+    /// ends are `0`, the resonances in order, and infinity) holds at most
+    /// `most` zeros of the numerator, with multiplicity (Rolle, see
+    /// [`rolle_spans`]). Listed after the other samples.
+    Span { from: u32, to: u32, most: u32 },
 }
 
 /// All configurations of a model, as sample lists.
@@ -618,6 +625,8 @@ fn samples(
             .then_some(1)
     };
     let mut out = Vec::with_capacity(seq.len() + 2);
+    // Positions of the poles that stay: the type's resonances.
+    let mut resonances: Vec<usize> = Vec::new();
     // The gap index just past the last sample pushed: only a gap between
     // two samples at consecutive tokens is one open interval of the
     // sequence (a token without a sample may hide a zero).
@@ -656,10 +665,12 @@ fn samples(
                     }
                 }
                 out.push(Sample::Pole(Some(reduce(p, s) as i8)));
+                resonances.push(p);
             }
             Merged::Shared { double, .. } => {
                 if !double {
                     out.push(Sample::Pole(None));
+                    resonances.push(p);
                 }
             }
             Merged::One(b, Tok::Eig { minor }) => {
@@ -705,6 +716,88 @@ fn samples(
             }
         }
         out.push(Sample::Point(at_inf as i8));
+        if blocks.len() == 2 {
+            out.extend(rolle_spans(blocks, seq, &resonances));
+        }
+    }
+    out
+}
+
+/// Bounds on the zeros between two resonances (or `0`, or infinity) by
+/// Rolle's theorem: the numerator's positive zeros are those of `E = n_1
+/// d_2 + n_2 d_1`. Where `A = n_a d_o` has degree below `k`, `E^(k) =
+/// B^(k)` with `B = n_o d_a`, whose roots `x_1 <= ... <= x_D` all lie in
+/// the sequence (the poles of block `a`, `0` for a free one, and the
+/// eigenvalues of the minors of a direct `n_o`, `0` as often as `Omega`
+/// divides it). The `i`-th root of `B^(k)` lies in `[x_i, x_(i+k)]`, and
+/// `E` has at most `k` zeros more than `E^(k)` in an open interval. The
+/// bound spans poles, which the gap rules cannot: for the grounded mass
+/// beside a free chain seen end to end, `k = 2` and no four zeros fit
+/// below the first resonance.
+fn rolle_spans(blocks: &[BlockEvents], seq: &[Merged], resonances: &[usize]) -> Vec<Sample> {
+    // Positions on the sequence, shifted by one: `0` is the root at
+    // `Omega = 0`, `seq.len() + 1` stands for infinity.
+    let mut ends: Vec<usize> = vec![0];
+    ends.extend(resonances.iter().map(|p| p + 1));
+    ends.push(seq.len() + 1);
+    let mut most: Vec<Vec<u32>> = vec![vec![u32::MAX; ends.len()]; ends.len()];
+    for a in 0..2 {
+        let o = 1 - a;
+        let (ba, bo) = (&blocks[a], &blocks[o]);
+        if !bo.direct {
+            continue;
+        }
+        let k = (ba.degree + bo.size as u32 + 1) as usize;
+        let mut roots: Vec<usize> = vec![0; usize::from(ba.free) + bo.omega_power as usize];
+        let exp = |m: usize| bo.minors[m].exponent as usize;
+        for (p, t) in seq.iter().enumerate() {
+            let at = p + 1;
+            match t {
+                Merged::One(x, Tok::Pole { tied, .. }) => {
+                    if *x == a {
+                        roots.push(at);
+                    } else {
+                        tied.iter().for_each(|&m| roots.extend(vec![at; exp(m)]));
+                    }
+                }
+                Merged::One(x, Tok::Eig { minor }) if *x == o => {
+                    roots.extend(vec![at; exp(*minor)]);
+                }
+                Merged::One(..) => {}
+                Merged::Shared { tied, .. } => {
+                    roots.push(at);
+                    tied[o].iter().for_each(|&m| roots.extend(vec![at; exp(m)]));
+                }
+            }
+        }
+        let d = roots.len();
+        if d != bo.degree as usize + ba.size || k >= d {
+            continue;
+        }
+        roots.sort_unstable();
+        for i in 0..ends.len() {
+            for j in i + 1..ends.len() {
+                let inside = (0..d - k)
+                    .filter(|&t| roots[t] < ends[j] && roots[t + k] > ends[i])
+                    .count();
+                let bound = (k + inside) as u32;
+                if bound < d as u32 {
+                    most[i][j] = most[i][j].min(bound);
+                }
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for (i, row) in most.iter().enumerate() {
+        for (j, &m) in row.iter().enumerate() {
+            if m != u32::MAX {
+                out.push(Sample::Span {
+                    from: i as u32,
+                    to: j as u32,
+                    most: m,
+                });
+            }
+        }
     }
     out
 }
@@ -739,8 +832,22 @@ impl Configurations {
         if let Some(nm) = self.exact {
             return t.nonminimum_phase == nm && self.patterns.iter().any(|p| exact_fit(p, &counts));
         }
-        self.patterns.iter().any(|p| parity_fit(p, &counts))
+        self.patterns
+            .iter()
+            .any(|p| spans_fit(p, &counts) && parity_fit(p, &counts))
     }
+}
+
+/// Whether the antiresonances between every two ends the pattern bounds
+/// are within the bound.
+fn spans_fit(samples: &[Sample], counts: &[u32]) -> bool {
+    samples.iter().all(|s| match *s {
+        Sample::Span { from, to, most } => {
+            let (from, to) = (from as usize, (to as usize).min(counts.len()));
+            from >= to || counts[from..to].iter().sum::<u32>() <= most
+        }
+        _ => true,
+    })
 }
 
 fn exact_fit(samples: &[Sample], counts: &[u32]) -> bool {
@@ -749,7 +856,7 @@ fn exact_fit(samples: &[Sample], counts: &[u32]) -> bool {
         match s {
             Sample::Pole(_) => got.push(0),
             Sample::Zeros(k) => *got.last_mut().expect("one") += k,
-            Sample::Point(_) | Sample::AtMost(_) => {}
+            Sample::Point(_) | Sample::AtMost(_) | Sample::Span { .. } => {}
         }
     }
     got == counts
@@ -779,6 +886,9 @@ fn parity_fit(samples: &[Sample], counts: &[u32]) -> bool {
     for s in &samples[1..] {
         if let Sample::AtMost(k) = s {
             cap = Some(*k);
+            continue;
+        }
+        if let Sample::Span { .. } = s {
             continue;
         }
         // Zeros in the gap before `s`.
@@ -872,6 +982,7 @@ mod tests {
             minors: vec![],
             collocated: 0,
             omega_power: 0,
+            degree: 0,
         };
         let m = Minor {
             start: 1,
@@ -936,6 +1047,7 @@ mod tests {
             ],
             collocated: 1,
             omega_power: 0,
+            degree: 0,
         };
         // m3-m4 on pole 3 (cell 6) and m1 on it too: fine; m1 in a gap: not.
         assert!(end_ties_pair(&b, &[(6, 0), (5, 1), (6, 1)]));

@@ -435,6 +435,7 @@ pub(crate) fn block_pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Opt
             minors,
             collocated,
             omega_power,
+            degree: n_b.degree(OMEGA),
         });
     }
     // The numerator's sign at 0 (a zero there only matters in exact mode,
@@ -500,6 +501,10 @@ mod tests {
                 .into_iter()
                 .step_by(9),
         );
+        // Where Rolle's bound across resonances decides types.
+        for id in ["N5-g1-a2.1-s5.1", "N5-g4-a5.1-s5.4"] {
+            models.push(Model::from_id(id).unwrap());
+        }
         let mut rng = XorShift::new(97);
         let mut checked = 0;
         for m in &models {
