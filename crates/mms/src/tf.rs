@@ -505,10 +505,10 @@ pub struct UndampedCoefficients {
 
 /// A polynomial in the parameters: `(coefficient, [(parameter, power)])`.
 #[derive(Clone, Debug)]
-struct Compiled(Vec<(f64, Vec<(usize, i32)>)>);
+pub(crate) struct Compiled(Vec<(f64, Vec<(usize, i32)>)>);
 
 impl Compiled {
-    fn new(p: &Poly, names: &[String]) -> Compiled {
+    pub(crate) fn new(p: &Poly, names: &[String]) -> Compiled {
         let index: Vec<usize> = p
             .vars()
             .iter()
@@ -536,7 +536,7 @@ impl Compiled {
         )
     }
 
-    fn eval(&self, x: &[f64]) -> f64 {
+    pub(crate) fn eval(&self, x: &[f64]) -> f64 {
         self.0
             .iter()
             .map(|(c, powers)| powers.iter().fold(*c, |acc, &(i, e)| acc * x[i].powi(e)))

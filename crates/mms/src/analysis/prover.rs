@@ -667,6 +667,8 @@ pub(crate) struct Prover<'a> {
     block_pole_signs: Option<Option<BlockSignData>>,
     /// Sign conditions recur across sign cases, types and strata.
     conditions: ConditionCache,
+    /// The partial walls the witness search visited, in order.
+    pub partial_walls: Vec<Vec<Substitution>>,
 }
 
 /// What the sign conditions of [`OpenProof::SignConditions`] share: the
@@ -749,6 +751,7 @@ impl<'a> Prover<'a> {
             pole_signs: None,
             block_pole_signs: None,
             conditions: ConditionCache::default(),
+            partial_walls: Vec::new(),
         }
     }
 
