@@ -215,7 +215,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 16;
+pub const ENGINE_VERSION: u32 = 17;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
@@ -341,6 +341,7 @@ pub fn analyze_alone(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
         + prover.elimination_search(&unknown, 0xE11_4A7E)
         + prover.symmetric_search(&unknown, limits)
         + prover.resting_mass_search(&unknown, 0x2E57_1A55)
+        + prover.neighbour_search(&unknown)
         + prover.close_merge_search(&unknown)
         + prover.wall_targeted_search(&unknown);
     if found > 0 {

@@ -635,6 +635,66 @@ impl Prover<'_> {
         self.witnessed(wanted)
     }
 
+    /// Generic types from the witnesses of their neighbours: a type one
+    /// swap of adjacent tokens away (an antiresonance and a resonance
+    /// trading places) shares a boundary with the wanted one, where that
+    /// zero crosses that pole, so a thin region the samples miss may lie
+    /// next to a witness already found. The margin of the wanted order is
+    /// maximised by Nelder-Mead from each neighbour's witness. Runs after
+    /// the other searches (see [`Self::close_merge_search`]). Returns how
+    /// many of `wanted` are witnessed.
+    pub(crate) fn neighbour_search(&mut self, wanted: &[FrfType]) -> usize {
+        // A type found here is a neighbour of others: again, until a pass
+        // finds none.
+        let mut found = self.witnessed(wanted);
+        loop {
+            self.neighbour_pass(wanted);
+            let now = self.witnessed(wanted);
+            if now == found {
+                return now;
+            }
+            found = now;
+        }
+    }
+
+    fn neighbour_pass(&mut self, wanted: &[FrfType]) {
+        let tf = UndampedCoefficients::new(self.model);
+        let params = self.params.clone();
+        for t in wanted {
+            if self.witnesses.contains_key(t) || t.tokens.iter().any(|k| k.multiplicity > 1) {
+                continue;
+            }
+            'neighbours: for i in 1..t.tokens.len() {
+                if t.tokens[i - 1].feature == t.tokens[i].feature {
+                    continue;
+                }
+                let mut neighbour = t.clone();
+                neighbour.tokens.swap(i - 1, i);
+                let Some(w) = self.witnesses.get(&neighbour) else {
+                    continue;
+                };
+                let lx0: Vec<f64> = params.iter().map(|p| w[p].to_f64().ln()).collect();
+                let mut cost = |lx: &[f64]| -> f64 {
+                    let x: Vec<f64> = lx.iter().map(|v| v.clamp(-30.0, 30.0).exp()).collect();
+                    match tf_roots(&tf, &x).and_then(|r| margin(t, &r)) {
+                        Some(m) => -m,
+                        None => 1e3,
+                    }
+                };
+                for step in [0.5, 0.1] {
+                    let best = nelder_mead_for(&mut cost, &lx0, step, -0.05, NEIGHBOUR_EVALUATIONS);
+                    let x: Vec<f64> = best.iter().map(|v| v.clamp(-30.0, 30.0).exp()).collect();
+                    let shows = tf_roots(&tf, &x)
+                        .and_then(|r| margin(t, &r))
+                        .is_some_and(|m| m > 0.0);
+                    if shows && self.accept(t, &params, &x) {
+                        break 'neighbours;
+                    }
+                }
+            }
+        }
+    }
+
     /// [`Self::stratum_targeted_search`] on every partial wall the
     /// search visited, after the other searches (see
     /// [`Self::close_merge_search`]). Returns how many of `wanted` are
@@ -1128,6 +1188,9 @@ const STRATUM_SAMPLES: usize = 1000;
 const STRATUM_STARTS: usize = 2;
 const STRATUM_EVALUATIONS: usize = 1500;
 
+/// Evaluations per start of the search from a neighbour's witness.
+const NEIGHBOUR_EVALUATIONS: usize = 3000;
+
 /// Evaluations of the search that draws a split witness's zeros together.
 const PULL_EVALUATIONS: usize = 3000;
 
@@ -1339,6 +1402,37 @@ mod tests {
         let n = num_at(&tf.num, found);
         let common = poly::gcd(&n, &n.derivative(OMEGA));
         assert_eq!(common.degree(OMEGA), 1, "{common}");
+        let tf_at = crate::analysis::frf_type_at(&tf.num, &tf.den, OMEGA, found).unwrap();
+        assert_eq!(tf_at, t);
+    }
+
+    /// `RARARRAA` of N5-g1-a3.1-s4.1 fills about 1.4e-5 of the box
+    /// `[e^-6, e^6]` (14 of 10^6 numpy samples, scripts/sample_unknown_types.py)
+    /// and none of `[e^-3, e^3]`: the targeted search's samples and starts
+    /// miss it. Its neighbour `ARRARRAA` (the first two tokens swapped)
+    /// has a witness, from which the margin's ascent reaches it.
+    #[test]
+    fn neighbour_search_reaches_a_thin_region() {
+        let m = Model::from_id("N5-g1-a3.1-s4.1").unwrap();
+        let tf = m.undamped_tf();
+        let mut prover = Prover::new(&m, tf.num.clone(), tf.den.clone());
+        let neighbour: FrfType = "ARRARRAA".parse().unwrap();
+        let t: FrfType = "RARARRAA".parse().unwrap();
+        let w = point(&[
+            ("c1", "25"),
+            ("c23", "37/100"),
+            ("c34", "49/1000"),
+            ("c45", "6/625"),
+            ("m1", "36"),
+            ("m2", "81/100"),
+            ("m3", "5/2"),
+            ("m4", "9/50"),
+            ("m5", "51/10"),
+        ]);
+        assert_eq!(prover.type_at(&w).as_ref(), Some(&neighbour));
+        prover.witnesses.insert(neighbour, w);
+        assert_eq!(prover.neighbour_search(std::slice::from_ref(&t)), 1);
+        let found = &prover.witnesses[&t];
         let tf_at = crate::analysis::frf_type_at(&tf.num, &tf.den, OMEGA, found).unwrap();
         assert_eq!(tf_at, t);
     }
