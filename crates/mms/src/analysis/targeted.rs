@@ -660,29 +660,32 @@ impl Prover<'_> {
     fn neighbour_pass(&mut self, wanted: &[FrfType]) {
         let tf = UndampedCoefficients::new(self.model);
         let params = self.params.clone();
+        let zeros = self.num.degree(OMEGA);
         for t in wanted {
             if self.witnesses.contains_key(t) || t.tokens.iter().any(|k| k.multiplicity > 1) {
                 continue;
             }
-            'neighbours: for i in 1..t.tokens.len() {
-                if t.tokens[i - 1].feature == t.tokens[i].feature {
-                    continue;
-                }
-                let mut neighbour = t.clone();
-                neighbour.tokens.swap(i - 1, i);
+            'neighbours: for (neighbour, complex) in neighbours(t, zeros) {
                 let Some(w) = self.witnesses.get(&neighbour) else {
                     continue;
                 };
                 let lx0: Vec<f64> = params.iter().map(|p| w[p].to_f64().ln()).collect();
+                // Across a swap the margin has a slope; across a pair of
+                // zeros leaving the axis only the violation has one.
                 let mut cost = |lx: &[f64]| -> f64 {
                     let x: Vec<f64> = lx.iter().map(|v| v.clamp(-30.0, 30.0).exp()).collect();
+                    if complex {
+                        let (n, d) = tf.eval(&x);
+                        return violation(t, &n, &d).unwrap_or(1e3);
+                    }
                     match tf_roots(&tf, &x).and_then(|r| margin(t, &r)) {
                         Some(m) => -m,
                         None => 1e3,
                     }
                 };
+                let stop = if complex { f64::MIN_POSITIVE } else { -0.05 };
                 for step in [0.5, 0.1] {
-                    let best = nelder_mead_for(&mut cost, &lx0, step, -0.05, NEIGHBOUR_EVALUATIONS);
+                    let best = nelder_mead_for(&mut cost, &lx0, step, stop, NEIGHBOUR_EVALUATIONS);
                     let x: Vec<f64> = best.iter().map(|v| v.clamp(-30.0, 30.0).exp()).collect();
                     let shows = tf_roots(&tf, &x)
                         .and_then(|r| margin(t, &r))
@@ -1188,6 +1191,46 @@ const STRATUM_SAMPLES: usize = 1000;
 const STRATUM_STARTS: usize = 2;
 const STRATUM_EVALUATIONS: usize = 1500;
 
+/// The generic types next to `t` (simple tokens, `zeros` the numerator's
+/// degree), with whether the boundary between them is a pair of zeros
+/// leaving the positive axis: two adjacent tokens swapped (a zero crossing
+/// a pole), two adjacent antiresonances merged into a complex pair, or,
+/// for a type with zeros off the axis, a complex pair reaching it as two
+/// adjacent antiresonances anywhere.
+fn neighbours(t: &FrfType, zeros: u32) -> Vec<(FrfType, bool)> {
+    let zero = super::frf_type::Token {
+        feature: Feature::Antiresonance,
+        multiplicity: 1,
+    };
+    let mut out = Vec::new();
+    for i in 1..t.tokens.len() {
+        if t.tokens[i - 1].feature != t.tokens[i].feature {
+            let mut n = t.clone();
+            n.tokens.swap(i - 1, i);
+            out.push((n, false));
+        }
+    }
+    for i in 1..t.tokens.len() {
+        if t.tokens[i - 1] == zero && t.tokens[i] == zero {
+            let mut n = t.clone();
+            n.tokens.drain(i - 1..=i);
+            n.nonminimum_phase = true;
+            out.push((n, true));
+        }
+    }
+    if t.nonminimum_phase && t.antiresonances() + 2 <= zeros {
+        for i in 0..=t.tokens.len() {
+            let mut n = t.clone();
+            n.tokens.splice(i..i, [zero, zero]);
+            n.nonminimum_phase = t.antiresonances() + 2 < zeros;
+            if !out.contains(&(n.clone(), true)) {
+                out.push((n, true));
+            }
+        }
+    }
+    out
+}
+
 /// Evaluations per start of the search from a neighbour's witness.
 const NEIGHBOUR_EVALUATIONS: usize = 3000;
 
@@ -1356,10 +1399,13 @@ mod tests {
     use super::*;
     use crate::Model;
 
-    fn point(pairs: &[(&str, &str)]) -> BTreeMap<String, Rat> {
-        pairs
-            .iter()
-            .map(|(k, v)| (k.to_string(), v.parse().unwrap()))
+    /// A parameter point written `"c1=25 m1=36 ..."`.
+    fn point(text: &str) -> BTreeMap<String, Rat> {
+        text.split_whitespace()
+            .map(|kv| {
+                let (k, v) = kv.split_once('=').unwrap();
+                (k.to_string(), v.parse().unwrap())
+            })
             .collect()
     }
 
@@ -1383,17 +1429,8 @@ mod tests {
         let mut prover = Prover::new(&m, tf.num.clone(), tf.den.clone());
         let split: FrfType = "AARRAARR".parse().unwrap();
         let t: FrfType = "AARRA^2RR".parse().unwrap();
-        let w = point(&[
-            ("c1", "21/50"),
-            ("c12", "77/10"),
-            ("c34", "25"),
-            ("c45", "1/4"),
-            ("m1", "21/500"),
-            ("m2", "1/100"),
-            ("m3", "34"),
-            ("m4", "9/125"),
-            ("m5", "11/50"),
-        ]);
+        let w =
+            point("c1=21/50 c12=77/10 c34=25 c45=1/4 m1=21/500 m2=1/100 m3=34 m4=9/125 m5=11/50");
         assert_eq!(prover.type_at(&w).as_ref(), Some(&split));
         prover.witnesses.insert(split, w);
         assert_eq!(prover.close_merge_search(std::slice::from_ref(&t)), 1);
@@ -1418,19 +1455,44 @@ mod tests {
         let mut prover = Prover::new(&m, tf.num.clone(), tf.den.clone());
         let neighbour: FrfType = "ARRARRAA".parse().unwrap();
         let t: FrfType = "RARARRAA".parse().unwrap();
-        let w = point(&[
-            ("c1", "25"),
-            ("c23", "37/100"),
-            ("c34", "49/1000"),
-            ("c45", "6/625"),
-            ("m1", "36"),
-            ("m2", "81/100"),
-            ("m3", "5/2"),
-            ("m4", "9/50"),
-            ("m5", "51/10"),
-        ]);
+        let w =
+            point("c1=25 c23=37/100 c34=49/1000 c45=6/625 m1=36 m2=81/100 m3=5/2 m4=9/50 m5=51/10");
         assert_eq!(prover.type_at(&w).as_ref(), Some(&neighbour));
         prover.witnesses.insert(neighbour, w);
+        assert_eq!(prover.neighbour_search(std::slice::from_ref(&t)), 1);
+        let found = &prover.witnesses[&t];
+        let tf_at = crate::analysis::frf_type_at(&tf.num, &tf.den, OMEGA, found).unwrap();
+        assert_eq!(tf_at, t);
+    }
+
+    /// `AARRRRAA` of N5-g1-a2.1-s5.1 (two zeros below the first pole and
+    /// two above the last, each at Rolle's bound there, three and two)
+    /// showed at none of 2 x 10^6 numpy samples, and both of its swap
+    /// neighbours are impossible. Its other neighbours have a pair of
+    /// zeros off the axis instead (`RRRRAA (nm)`, `AARRRR (nm)`); from
+    /// their witnesses the violation, which has a slope toward the axis,
+    /// leads to it.
+    #[test]
+    fn neighbour_search_crosses_a_complex_pair() {
+        let m = Model::from_id("N5-g1-a2.1-s5.1").unwrap();
+        let tf = m.undamped_tf();
+        let mut prover = Prover::new(&m, tf.num.clone(), tf.den.clone());
+        let t: FrfType = "AARRRRAA".parse().unwrap();
+        for (n, w) in [
+            (
+                "RRRRAA (nm)",
+                "c1=140 c23=7/2 c34=9/100 c45=4/25 m1=30 m2=3/2 m3=21/10 m4=3/25 m5=13/200",
+            ),
+            (
+                "AARRRR (nm)",
+                "c1=15/2 c23=7/8 c34=52 c45=7 m1=15/512 m2=14/201 m3=6 m4=56 m5=7/13",
+            ),
+        ] {
+            let n: FrfType = n.parse().unwrap();
+            let w = point(w);
+            assert_eq!(prover.type_at(&w).as_ref(), Some(&n));
+            prover.witnesses.insert(n, w);
+        }
         assert_eq!(prover.neighbour_search(std::slice::from_ref(&t)), 1);
         let found = &prover.witnesses[&t];
         let tf_at = crate::analysis::frf_type_at(&tf.num, &tf.den, OMEGA, found).unwrap();
