@@ -3053,28 +3053,55 @@ fn configuration_fits(
             return Some(b.collocated);
         }
         let s = term_sign(i, k)?;
-        let (mut up, mut down) = (0u32, 0u32);
-        let zero_net = b.omega_power as i64 - i64::from(b.free);
-        if zero_net > 0 {
-            up += 1;
-        } else if zero_net < 0 {
-            down += 1;
-        }
-        for (r, run) in b.runs.iter().enumerate() {
-            let below = eigs_before(i, k, r);
-            up += below as u32;
-            down += (run.len - below) as u32;
-        }
+        // The term's zeros and poles by place (0 for Omega = 0, j + 1 for
+        // order[j]), each as often as its multiplicity.
+        let mut zeros: Vec<usize> = vec![0; b.omega_power as usize];
+        let mut poles: Vec<usize> = vec![0; usize::from(b.free)];
         for (j, (kk, e)) in order.iter().enumerate() {
-            if *kk == k && matches!(e, CheckEvent::Pole { .. }) {
-                if j < i {
-                    down += 1;
-                } else {
-                    up += 1;
+            if *kk != k {
+                continue;
+            }
+            match e {
+                CheckEvent::Pole { on, .. } => {
+                    poles.push(j + 1);
+                    for &r in on {
+                        zeros.extend(std::iter::repeat_n(j + 1, b.runs[r].exponent as usize));
+                    }
+                }
+                CheckEvent::Eig { run } => {
+                    zeros.extend(std::iter::repeat_n(j + 1, b.runs[*run].exponent as usize));
                 }
             }
         }
-        match (up > 0, down > 0) {
+        zeros.sort_unstable();
+        poles.sort_unstable();
+        if zeros == poles {
+            return None; // a constant term
+        }
+        // Above the interval (places past i) the term's log-derivative
+        // gets -1/(z - Omega) per zero and +1/(r - Omega) per pole: every
+        // zero paired with a pole at or below it leaves the sum positive.
+        // Below (places up to i), +1/(Omega - z) per zero and -1/(Omega -
+        // r) per pole: every pole paired with a zero at or above it.
+        let (za, zb): (Vec<usize>, Vec<usize>) = zeros.iter().partition(|&&x| x > i);
+        let (pa, pb): (Vec<usize>, Vec<usize>) = poles.iter().partition(|&&x| x > i);
+        // Each of `needy` (sorted) matched with a distinct one of
+        // `providers` (sorted) at least as near the interval: above it the
+        // nearest are the lowest, below it the highest.
+        let covered = |needy: &[usize], providers: &[usize], above: bool| -> bool {
+            let n = needy.len();
+            providers.len() >= n
+                && (0..n).all(|t| {
+                    if above {
+                        providers[t] <= needy[t]
+                    } else {
+                        providers[providers.len() - 1 - t] >= needy[n - 1 - t]
+                    }
+                })
+        };
+        let rising = covered(&za, &pa, true) && covered(&pb, &zb, false);
+        let falling = covered(&pa, &za, true) && covered(&zb, &pb, false);
+        match (rising, falling) {
             (true, false) => Some(s),
             (false, true) => Some(-s),
             _ => None,

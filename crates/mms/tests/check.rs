@@ -1284,3 +1284,49 @@ fn rolle_bound_spans_resonances() {
         "{e}"
     );
 }
+
+/// A term's direction on a gap from its zeros and poles paired across it
+/// (docs/analysis.md): N5-g4-a5.1-s5.3, the grounded chain m1-m4 driven at
+/// m1 and seen at m3 beside the lone free m5. Below the first pole the
+/// chain's term `c12 c23 (c34 - Omega m4) / d_1` has its zero `c34/m4`
+/// above the chain's first eigenvalue (an end run's eigenvalue lies
+/// strictly inside the block's), so that pole and that zero pair up and
+/// the term rises; so does `-1/(Omega m5)`. One zero at most lies there,
+/// although the parities allow three. A type with one zero there has a
+/// witness, which the certificate must not exclude.
+#[test]
+fn paired_zeros_and_poles_make_a_term_monotone() {
+    let id = "N5-g4-a5.1-s5.3";
+    let tf = Model::from_id(id).unwrap().undamped_tf();
+    let cert = json!({
+        "factors": [],
+        "stratum": [],
+        "open": {"kind": "block_pole_signs", "blocks": [
+            {"factors": [
+                {"exponent": 1, "factor": "c12"},
+                {"exponent": 1, "factor": "c23"},
+                {"exponent": 1, "factor": "Omega*m4 - c34"}],
+             "masses": [1, 2, 3, 4], "numerator": "-Omega*c12*c23*m4 + c12*c23*c34",
+             "remainder": false, "unit": "-1"},
+            {"factors": [], "masses": [5], "numerator": "1", "remainder": false, "unit": "1"}]}
+    });
+    let model = |verdict: Value| {
+        json!({"id": id, "generic_id": id, "masses": 5, "gap": 4,
+               "actuator": [5, 1], "sensor": [5, 3],
+               "numerator": tf.num.to_string(), "denominator": tf.den.to_string(),
+               "types": [verdict]})
+    };
+    let impossible = |t: &str| json!({"type": t, "status": "impossible", "certificate": cert});
+    for t in ["AAARARRR", "AAARRARR", "AAARRRAR", "AA^2RARRR", "A^3RARRR"] {
+        check_analysis(&model(impossible(t))).unwrap_or_else(|e| panic!("{t}: {e}"));
+    }
+    let witness = json!({"c1": "1/4", "c12": "7/128", "c23": "30", "c34": "15/64",
+        "m1": "39/224", "m2": "14398481/4311684", "m3": "55575/3248", "m4": "5/192", "m5": "96"});
+    let possible = json!({"type": "ARRAAARR", "status": "possible", "witness": witness});
+    check_analysis(&model(possible)).unwrap();
+    let e = check_analysis(&model(impossible("ARRAAARR"))).unwrap_err();
+    assert!(
+        e.to_string().contains("the type fits the configuration"),
+        "{e}"
+    );
+}

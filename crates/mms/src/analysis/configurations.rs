@@ -455,12 +455,16 @@ fn merge(
 /// The configurations of `blocks` (one or two with a term in the TF):
 /// `scale` is the sign of `-c`, `at_zero` and `at_inf` the numerator's
 /// signs at `0` and infinity, `nm_exact` whether it vanishes at `0`.
+/// `paired`: a term's direction on a gap from its zeros and poles paired
+/// across the gap ([`monotone`]), else only where all its zeros lie on
+/// one side and all its poles on the other (the rule the witness searches are given their types by).
 pub(crate) fn configurations(
     blocks: &[BlockEvents],
     scale: i32,
     at_zero: i32,
     at_inf: i32,
     nm_exact: bool,
+    paired: bool,
 ) -> Option<Configurations> {
     let mut budget = MAX_CONFIGURATIONS;
     let seqs: Vec<Vec<Vec<Tok>>> = blocks
@@ -477,7 +481,9 @@ pub(crate) fn configurations(
             let exact = blocks[0].direct;
             for s in &seqs[0] {
                 let merged: Vec<Merged> = s.iter().map(|t| Merged::One(0, t.clone())).collect();
-                patterns.insert(samples(blocks, &merged, scale, at_zero, at_inf, exact));
+                patterns.insert(samples(
+                    blocks, &merged, scale, at_zero, at_inf, exact, paired,
+                ));
             }
             Some(Configurations {
                 exact: exact.then_some(nm_exact),
@@ -499,7 +505,7 @@ pub(crate) fn configurations(
                         &mut budget,
                     )?;
                     for m in out {
-                        patterns.insert(samples(blocks, &m, scale, at_zero, at_inf, false));
+                        patterns.insert(samples(blocks, &m, scale, at_zero, at_inf, false, paired));
                     }
                 }
             }
@@ -514,6 +520,7 @@ pub(crate) fn configurations(
 }
 
 /// The samples of one merged sequence.
+#[allow(clippy::too_many_arguments)]
 fn samples(
     blocks: &[BlockEvents],
     seq: &[Merged],
@@ -521,6 +528,7 @@ fn samples(
     at_zero: i32,
     at_inf: i32,
     exact: bool,
+    paired: bool,
 ) -> Vec<Sample> {
     let flip = |k: usize| if k % 2 == 1 { -1 } else { 1 };
     let is_pole = |t: &Merged, b: usize| match t {
@@ -596,24 +604,46 @@ fn samples(
                 return Some(blk.collocated);
             }
             let sign = term_sign(b)?;
-            let poles_below = seq[..g].iter().filter(|t| is_pole(t, b)).count();
-            let poles = blk.size + 1 - blk.first_pole();
-            let eigs: Vec<(usize, usize)> = (0..blk.minors.len())
-                .map(|m| (eigs_before(g, b, m), blk.minors[m].len))
-                .collect();
-            let free = u32::from(blk.free);
-            // n_B's zeros below, d_B's above (0 as often as in n_B at least).
-            let rising = blk.omega_power >= free
-                && eigs.iter().all(|&(below, all)| below == all)
-                && poles_below == 0;
-            // n_B's zeros above, d_B's below (0 as often as in n_B at most).
-            let falling = blk.omega_power <= free
-                && eigs.iter().all(|&(below, _)| below == 0)
-                && poles_below == poles;
-            match (rising, falling) {
-                (true, false) => Some(sign),
-                (false, true) => Some(-sign),
-                _ => None,
+            if !paired {
+                let poles_below = seq[..g].iter().filter(|t| is_pole(t, b)).count();
+                let poles = blk.size + 1 - blk.first_pole();
+                let eigs: Vec<(usize, usize)> = (0..blk.minors.len())
+                    .map(|m| (eigs_before(g, b, m), blk.minors[m].len))
+                    .collect();
+                let free = u32::from(blk.free);
+                // n_B's zeros below, d_B's above (0 as often as in n_B at least).
+                let rising = blk.omega_power >= free
+                    && eigs.iter().all(|&(below, all)| below == all)
+                    && poles_below == 0;
+                // n_B's zeros above, d_B's below (0 as often as in n_B at most).
+                let falling = blk.omega_power <= free
+                    && eigs.iter().all(|&(below, _)| below == 0)
+                    && poles_below == poles;
+                return match (rising, falling) {
+                    (true, false) => Some(sign),
+                    (false, true) => Some(-sign),
+                    _ => None,
+                };
+            }
+            // n_B's zeros less d_B's roots at each place (0 first), a
+            // zero on a pole cancelling it.
+            let mut net: Vec<i64> = vec![i64::from(blk.omega_power) - i64::from(blk.free)];
+            for t in seq {
+                let exp = |m: &usize| i64::from(blk.minors[*m].exponent);
+                net.push(match t {
+                    Merged::One(x, Tok::Pole { tied, .. }) if *x == b => {
+                        tied.iter().map(exp).sum::<i64>() - 1
+                    }
+                    Merged::Shared { tied, .. } => tied[b].iter().map(exp).sum::<i64>() - 1,
+                    Merged::One(x, Tok::Eig { minor }) if *x == b => exp(minor),
+                    Merged::One(..) => 0,
+                });
+            }
+            let (below, above) = net.split_at(g + 1);
+            match monotone(below, above) {
+                Some(true) => Some(sign),
+                Some(false) => Some(-sign),
+                None => None,
             }
         };
         let signs: Option<Vec<i32>> = (0..blocks.len()).map(term_sign).collect();
@@ -800,6 +830,39 @@ fn rolle_spans(blocks: &[BlockEvents], seq: &[Merged], resonances: &[usize]) -> 
         }
     }
     out
+}
+
+/// Whether a term `T = n / d` rises (`Some(true)`) or falls on an open
+/// interval, from its zeros less its poles at each place below the
+/// interval (`below`, in increasing order) and above it: `d/dOmega log|T|
+/// = sum_z 1/(Omega - z) - sum_r 1/(Omega - r)`. Above the interval a pole
+/// `r` and a zero `z >= r` together add `1/(r - Omega) - 1/(z - Omega) >=
+/// 0`, and a pole alone adds more; below it a zero `z` and a pole `r <= z`
+/// add `1/(Omega - z) - 1/(Omega - r) >= 0`, and a zero alone more. So
+/// the term rises if, going up from the interval, the poles never fall
+/// behind the zeros, and going down, the zeros never fall behind the
+/// poles (each is matched to one nearer the interval); it falls in the
+/// mirror case. Strictly, when any root is left: each pair at two places
+/// adds a positive amount.
+fn monotone(below: &[i64], above: &[i64]) -> Option<bool> {
+    // Whether the running sum of `sign * n` over `places` stays >= 0.
+    fn ahead<'a>(places: impl Iterator<Item = &'a i64>, sign: i64) -> bool {
+        let mut lead = 0;
+        places.into_iter().all(|n| {
+            lead += sign * n;
+            lead >= 0
+        })
+    }
+    if below.iter().chain(above).all(|&n| n == 0) {
+        return None;
+    }
+    let rising = ahead(above.iter(), -1) && ahead(below.iter().rev(), 1);
+    let falling = ahead(above.iter(), 1) && ahead(below.iter().rev(), -1);
+    match (rising, falling) {
+        (true, false) => Some(true),
+        (false, true) => Some(false),
+        _ => None,
+    }
 }
 
 impl Configurations {

@@ -215,7 +215,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 18;
+pub const ENGINE_VERSION: u32 = 19;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
@@ -350,6 +350,12 @@ pub fn analyze_alone(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
                 v.status = Status::Possible;
                 v.witness = Some(w.clone());
             }
+        }
+    }
+    for v in verdicts.iter_mut().filter(|v| v.status == Status::Unknown) {
+        if let Some(p) = prover.paired_block_proof(&v.frf_type) {
+            v.status = Status::Impossible;
+            v.certificate = Some(p);
         }
     }
     // A witness of a certified type would be a bug in the prover; the

@@ -326,7 +326,12 @@ pub(crate) fn chain_blocks(stiff: &[Vec<Poly>]) -> Vec<Vec<usize>> {
 /// `-c n_B p_B'`, at a zero of `n_B` that of `-c p_B n_B'`, and the signs
 /// of `p_B'` and `n_B` follow from how the spectra and the minors'
 /// eigenvalues lie (see [`super::configurations`]).
-pub(crate) fn block_pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Option<BlockSignData> {
+pub(crate) fn block_pole_sign_data(
+    model: &Model,
+    num: &Poly,
+    den: &Poly,
+    paired: bool,
+) -> Option<BlockSignData> {
     let mass = model.mass_matrix();
     let stiff = model.stiffness_matrix();
     let (b, c) = (model.input_vector(), model.output_vector());
@@ -446,7 +451,7 @@ pub(crate) fn block_pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Opt
         None if exact && at_zero_poly.is_zero() => (0, true),
         None => return None,
     };
-    let configurations = configurations(&events, -c_sign, at_zero, num_at_inf, nm_exact)?;
+    let configurations = configurations(&events, -c_sign, at_zero, num_at_inf, nm_exact, paired)?;
     Some(BlockSignData {
         certificate: BlockPoleSigns { blocks },
         configurations,
@@ -509,7 +514,7 @@ mod tests {
         let mut checked = 0;
         for m in &models {
             let tf = m.undamped_tf();
-            let Some(d) = super::block_pole_sign_data(m, &tf.num, &tf.den) else {
+            let Some(d) = super::block_pole_sign_data(m, &tf.num, &tf.den, true) else {
                 continue;
             };
             for _ in 0..150 {

@@ -665,6 +665,8 @@ pub(crate) struct Prover<'a> {
     pole_signs: Option<Option<PoleSignData>>,
     /// The same for the block-product premise.
     block_pole_signs: Option<Option<BlockSignData>>,
+    /// The same with the terms' directions from paired zeros and poles.
+    paired_block_pole_signs: Option<Option<BlockSignData>>,
     /// Sign conditions recur across sign cases, types and strata.
     conditions: ConditionCache,
     /// The partial walls the witness search visited, in order.
@@ -750,6 +752,7 @@ impl<'a> Prover<'a> {
             memo: HashMap::new(),
             pole_signs: None,
             block_pole_signs: None,
+            paired_block_pole_signs: None,
             conditions: ConditionCache::default(),
             partial_walls: Vec::new(),
         }
@@ -920,7 +923,7 @@ impl<'a> Prover<'a> {
             None => {
                 let d = self
                     .block_pole_signs
-                    .get_or_insert_with(|| block_pole_sign_data(model, num, den))
+                    .get_or_insert_with(|| block_pole_sign_data(model, num, den, false))
                     .as_ref()
                     .filter(|d| !d.configurations.fits(t, d.zeros))?;
                 OpenProof::BlockPoleSigns(d.certificate.clone())
@@ -929,6 +932,28 @@ impl<'a> Prover<'a> {
         Some(Proof {
             stratum: s.subs.clone(),
             open,
+            factors: Vec::new(),
+            unlisted: None,
+        })
+    }
+
+    /// The block pole-sign certificate with each term's direction on a gap
+    /// read from its zeros and poles paired across the gap (see
+    /// `configurations::monotone`), for a type the witness searches have
+    /// left unknown. It comes after them, not with the other proofs: the
+    /// searches draw their random points per wanted type in turn, so a
+    /// type proved before them would change what they find for others
+    /// (this rule first made one witness of N5-g4-a5.1-s5.3 disappear).
+    pub(crate) fn paired_block_proof(&mut self, t: &FrfType) -> Option<Proof> {
+        let (model, num, den) = (self.model, &self.num, &self.den);
+        let d = self
+            .paired_block_pole_signs
+            .get_or_insert_with(|| block_pole_sign_data(model, num, den, true))
+            .as_ref()
+            .filter(|d| !t.has_multiple_resonance() && !d.configurations.fits(t, d.zeros))?;
+        Some(Proof {
+            stratum: Vec::new(),
+            open: OpenProof::BlockPoleSigns(d.certificate.clone()),
             factors: Vec::new(),
             unlisted: None,
         })
