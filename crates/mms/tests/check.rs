@@ -1239,6 +1239,17 @@ fn only_undetermined_factors_may_be_left_out() {
     assert_eq!(check(&v).unwrap().undetermined_factors, before + 1);
 }
 
+/// Model `id` as a table file holds it, with the one `verdict`.
+fn one_verdict(id: &str, verdict: Value) -> Value {
+    let m = Model::from_id(id).unwrap();
+    let tf = m.undamped_tf();
+    let port = |p: mms::Port| json!([p.plus, p.minus]);
+    json!({"id": id, "generic_id": id, "masses": m.masses().len(), "gap": m.gap(),
+           "actuator": port(m.actuator()), "sensor": port(m.sensor()),
+           "numerator": tf.num.to_string(), "denominator": tf.den.to_string(),
+           "types": [verdict]})
+}
+
 /// Rolle's bound across resonances (docs/analysis.md): N5-g1-a2.1-s5.1, a
 /// grounded mass beside a free chain of four seen end to end, has the
 /// numerator `Omega p(Omega) + c23 c34 c45 (c1 - m1 Omega)` up to signs,
@@ -1251,7 +1262,6 @@ fn only_undetermined_factors_may_be_left_out() {
 #[test]
 fn rolle_bound_spans_resonances() {
     let id = "N5-g1-a2.1-s5.1";
-    let tf = Model::from_id(id).unwrap().undamped_tf();
     let cert = json!({
         "factors": [],
         "stratum": [],
@@ -1263,12 +1273,7 @@ fn rolle_bound_spans_resonances() {
                 {"exponent": 1, "factor": "c45"}],
              "masses": [2, 3, 4, 5], "numerator": "c23*c34*c45", "remainder": false, "unit": "1"}]}
     });
-    let model = |verdict: Value| {
-        json!({"id": id, "generic_id": id, "masses": 5, "gap": 1,
-               "actuator": [2, 1], "sensor": [5, 1],
-               "numerator": tf.num.to_string(), "denominator": tf.den.to_string(),
-               "types": [verdict]})
-    };
+    let model = |verdict: Value| one_verdict(id, verdict);
     let impossible = |t: &str| json!({"type": t, "status": "impossible", "certificate": cert});
     for t in ["AAAARRRR", "A^2AARRRR", "RRRRAAAA", "ARRRRAAA", "RRAARRAA"] {
         check_analysis(&model(impossible(t))).unwrap_or_else(|e| panic!("{t}: {e}"));
@@ -1297,7 +1302,6 @@ fn rolle_bound_spans_resonances() {
 #[test]
 fn paired_zeros_and_poles_make_a_term_monotone() {
     let id = "N5-g4-a5.1-s5.3";
-    let tf = Model::from_id(id).unwrap().undamped_tf();
     let cert = json!({
         "factors": [],
         "stratum": [],
@@ -1310,12 +1314,7 @@ fn paired_zeros_and_poles_make_a_term_monotone() {
              "remainder": false, "unit": "-1"},
             {"factors": [], "masses": [5], "numerator": "1", "remainder": false, "unit": "1"}]}
     });
-    let model = |verdict: Value| {
-        json!({"id": id, "generic_id": id, "masses": 5, "gap": 4,
-               "actuator": [5, 1], "sensor": [5, 3],
-               "numerator": tf.num.to_string(), "denominator": tf.den.to_string(),
-               "types": [verdict]})
-    };
+    let model = |verdict: Value| one_verdict(id, verdict);
     let impossible = |t: &str| json!({"type": t, "status": "impossible", "certificate": cert});
     for t in ["AAARARRR", "AAARRARR", "AAARRRAR", "AA^2RARRR", "A^3RARRR"] {
         check_analysis(&model(impossible(t))).unwrap_or_else(|e| panic!("{t}: {e}"));

@@ -570,6 +570,24 @@ impl Prover<'_> {
         }
     }
 
+    /// For a type still unknown whose only multiple tokens are
+    /// antiresonances and which keeps all `degree` poles: the
+    /// multiplicities of those and the witness of its split type, if any.
+    fn split_witness(&self, t: &FrfType, degree: u32) -> Option<(Vec<u32>, BTreeMap<String, Rat>)> {
+        let mults = multiple_antiresonances(t);
+        if mults.is_empty()
+            || t.resonances() != degree
+            || self.witnesses.contains_key(t)
+            || t.tokens
+                .iter()
+                .any(|k| k.feature == Feature::Resonance && k.multiplicity > 1)
+        {
+            return None;
+        }
+        let w = self.witnesses.get(&split_type(t))?.clone();
+        Some((mults, w))
+    }
+
     /// Multiple antiresonances from a witness of the split type whose
     /// zeros lie too far apart for the merge of
     /// [`Self::root_condition_search`]: the zeros are first drawn
@@ -584,17 +602,7 @@ impl Prover<'_> {
         let params = self.params.clone();
         let mut derivatives = vec![self.num.clone()];
         for t in wanted {
-            let mults = multiple_antiresonances(t);
-            if mults.is_empty()
-                || t.resonances() != degree
-                || self.witnesses.contains_key(t)
-                || t.tokens
-                    .iter()
-                    .any(|k| k.feature == Feature::Resonance && k.multiplicity > 1)
-            {
-                continue;
-            }
-            let Some(w) = self.witnesses.get(&split_type(t)).cloned() else {
+            let Some((mults, w)) = self.split_witness(t, degree) else {
                 continue;
             };
             let x: Vec<f64> = params.iter().map(|p| w[p].to_f64()).collect();
@@ -895,17 +903,7 @@ impl Prover<'_> {
         let tf = UndampedCoefficients::new(self.model);
         let params = self.params.clone();
         for t in wanted {
-            let mults = multiple_antiresonances(t);
-            if mults.is_empty()
-                || t.resonances() != degree
-                || self.witnesses.contains_key(t)
-                || t.tokens
-                    .iter()
-                    .any(|k| k.feature == Feature::Resonance && k.multiplicity > 1)
-            {
-                continue;
-            }
-            let Some(w) = self.witnesses.get(&split_type(t)).cloned() else {
+            let Some((mults, w)) = self.split_witness(t, degree) else {
                 continue;
             };
             let x: Vec<f64> = params.iter().map(|p| w[p].to_f64()).collect();
@@ -1443,6 +1441,26 @@ mod tests {
         assert_eq!(tf_at, t);
     }
 
+    /// The neighbours' ascent in model `id` from the witnesses `starts`
+    /// (type, point; each checked to show its type) finds `wanted`, and
+    /// the crate's exact classifier agrees at the point found.
+    fn neighbours_reach(id: &str, wanted: &str, starts: &[(&str, &str)]) {
+        let m = Model::from_id(id).unwrap();
+        let tf = m.undamped_tf();
+        let mut prover = Prover::new(&m, tf.num.clone(), tf.den.clone());
+        let t: FrfType = wanted.parse().unwrap();
+        for (n, w) in starts {
+            let n: FrfType = n.parse().unwrap();
+            let w = point(w);
+            assert_eq!(prover.type_at(&w).as_ref(), Some(&n));
+            prover.witnesses.insert(n, w);
+        }
+        assert_eq!(prover.neighbour_search(std::slice::from_ref(&t)), 1);
+        let found = &prover.witnesses[&t];
+        let tf_at = crate::analysis::frf_type_at(&tf.num, &tf.den, OMEGA, found).unwrap();
+        assert_eq!(tf_at, t);
+    }
+
     /// `RARARRAA` of N5-g1-a3.1-s4.1 fills about 1.4e-5 of the box
     /// `[e^-6, e^6]` (14 of 10^6 numpy samples, scripts/sample_unknown_types.py)
     /// and none of `[e^-3, e^3]`: the targeted search's samples and starts
@@ -1450,19 +1468,14 @@ mod tests {
     /// has a witness, from which the margin's ascent reaches it.
     #[test]
     fn neighbour_search_reaches_a_thin_region() {
-        let m = Model::from_id("N5-g1-a3.1-s4.1").unwrap();
-        let tf = m.undamped_tf();
-        let mut prover = Prover::new(&m, tf.num.clone(), tf.den.clone());
-        let neighbour: FrfType = "ARRARRAA".parse().unwrap();
-        let t: FrfType = "RARARRAA".parse().unwrap();
-        let w =
-            point("c1=25 c23=37/100 c34=49/1000 c45=6/625 m1=36 m2=81/100 m3=5/2 m4=9/50 m5=51/10");
-        assert_eq!(prover.type_at(&w).as_ref(), Some(&neighbour));
-        prover.witnesses.insert(neighbour, w);
-        assert_eq!(prover.neighbour_search(std::slice::from_ref(&t)), 1);
-        let found = &prover.witnesses[&t];
-        let tf_at = crate::analysis::frf_type_at(&tf.num, &tf.den, OMEGA, found).unwrap();
-        assert_eq!(tf_at, t);
+        neighbours_reach(
+            "N5-g1-a3.1-s4.1",
+            "RARARRAA",
+            &[(
+                "ARRARRAA",
+                "c1=25 c23=37/100 c34=49/1000 c45=6/625 m1=36 m2=81/100 m3=5/2 m4=9/50 m5=51/10",
+            )],
+        );
     }
 
     /// `AARRRRAA` of N5-g1-a2.1-s5.1 (two zeros below the first pole and
@@ -1474,29 +1487,20 @@ mod tests {
     /// leads to it.
     #[test]
     fn neighbour_search_crosses_a_complex_pair() {
-        let m = Model::from_id("N5-g1-a2.1-s5.1").unwrap();
-        let tf = m.undamped_tf();
-        let mut prover = Prover::new(&m, tf.num.clone(), tf.den.clone());
-        let t: FrfType = "AARRRRAA".parse().unwrap();
-        for (n, w) in [
-            (
-                "RRRRAA (nm)",
-                "c1=140 c23=7/2 c34=9/100 c45=4/25 m1=30 m2=3/2 m3=21/10 m4=3/25 m5=13/200",
-            ),
-            (
-                "AARRRR (nm)",
-                "c1=15/2 c23=7/8 c34=52 c45=7 m1=15/512 m2=14/201 m3=6 m4=56 m5=7/13",
-            ),
-        ] {
-            let n: FrfType = n.parse().unwrap();
-            let w = point(w);
-            assert_eq!(prover.type_at(&w).as_ref(), Some(&n));
-            prover.witnesses.insert(n, w);
-        }
-        assert_eq!(prover.neighbour_search(std::slice::from_ref(&t)), 1);
-        let found = &prover.witnesses[&t];
-        let tf_at = crate::analysis::frf_type_at(&tf.num, &tf.den, OMEGA, found).unwrap();
-        assert_eq!(tf_at, t);
+        neighbours_reach(
+            "N5-g1-a2.1-s5.1",
+            "AARRRRAA",
+            &[
+                (
+                    "RRRRAA (nm)",
+                    "c1=140 c23=7/2 c34=9/100 c45=4/25 m1=30 m2=3/2 m3=21/10 m4=3/25 m5=13/200",
+                ),
+                (
+                    "AARRRR (nm)",
+                    "c1=15/2 c23=7/8 c34=52 c45=7 m1=15/512 m2=14/201 m3=6 m4=56 m5=7/13",
+                ),
+            ],
+        );
     }
 
     /// `RRARAA` of N5-g2-a3.2-s4.2 (a pole cancelled, the rest in an
