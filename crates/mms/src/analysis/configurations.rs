@@ -456,8 +456,9 @@ fn merge(
 /// `scale` is the sign of `-c`, `at_zero` and `at_inf` the numerator's
 /// signs at `0` and infinity, `nm_exact` whether it vanishes at `0`.
 /// `paired`: a term's direction on a gap from its zeros and poles paired
-/// across the gap ([`monotone`]), else only where all its zeros lie on
-/// one side and all its poles on the other (the rule the witness searches are given their types by).
+/// across the gap ([`monotone`]); else only where all its zeros lie on
+/// one side and all its poles on the other, the rule that decides which
+/// types the witness searches are given (see `Prover::paired_block_proof`).
 pub(crate) fn configurations(
     blocks: &[BlockEvents],
     scale: i32,
