@@ -452,6 +452,31 @@ fn merge(
     Some(())
 }
 
+/// What the configurations are enumerated from, kept so that they can be
+/// enumerated again with the paired directions without the algebra.
+#[derive(Clone, Debug)]
+pub(crate) struct ConfigurationInputs {
+    pub blocks: Vec<BlockEvents>,
+    pub scale: i32,
+    pub at_zero: i32,
+    pub at_inf: i32,
+    pub nm_exact: bool,
+}
+
+impl ConfigurationInputs {
+    /// [`configurations`] of these inputs.
+    pub(crate) fn configurations(&self, paired: bool) -> Option<Configurations> {
+        configurations(
+            &self.blocks,
+            self.scale,
+            self.at_zero,
+            self.at_inf,
+            self.nm_exact,
+            paired,
+        )
+    }
+}
+
 /// The configurations of `blocks` (one or two with a term in the TF):
 /// `scale` is the sign of `-c`, `at_zero` and `at_inf` the numerator's
 /// signs at `0` and infinity, `nm_exact` whether it vanishes at `0`.
@@ -459,7 +484,7 @@ fn merge(
 /// across the gap ([`monotone`]); else only where all its zeros lie on
 /// one side and all its poles on the other, the rule that decides which
 /// types the witness searches are given (see `Prover::paired_block_proof`).
-pub(crate) fn configurations(
+fn configurations(
     blocks: &[BlockEvents],
     scale: i32,
     at_zero: i32,

@@ -35,7 +35,7 @@
 //! mass, whose eigenvalues take one gap between the block's each: the
 //! run's own eigenvalues then lie in distinct gaps.
 
-use super::configurations::{configurations, BlockEvents, Configurations, Minor};
+use super::configurations::{BlockEvents, ConfigurationInputs, Configurations, Minor};
 use super::frf_type::{Feature, FrfType};
 use crate::model::Model;
 use crate::tf::OMEGA;
@@ -91,7 +91,10 @@ pub struct BlockSign {
 #[derive(Clone, Debug)]
 pub(crate) struct BlockSignData {
     pub certificate: BlockPoleSigns,
+    /// With each term's direction only where all its zeros lie on one
+    /// side of a gap and all its poles on the other.
     pub configurations: Configurations,
+    pub inputs: ConfigurationInputs,
     /// Degree of the numerator in `Omega`.
     pub zeros: u32,
 }
@@ -326,12 +329,7 @@ pub(crate) fn chain_blocks(stiff: &[Vec<Poly>]) -> Vec<Vec<usize>> {
 /// `-c n_B p_B'`, at a zero of `n_B` that of `-c p_B n_B'`, and the signs
 /// of `p_B'` and `n_B` follow from how the spectra and the minors'
 /// eigenvalues lie (see [`super::configurations`]).
-pub(crate) fn block_pole_sign_data(
-    model: &Model,
-    num: &Poly,
-    den: &Poly,
-    paired: bool,
-) -> Option<BlockSignData> {
+pub(crate) fn block_pole_sign_data(model: &Model, num: &Poly, den: &Poly) -> Option<BlockSignData> {
     let mass = model.mass_matrix();
     let stiff = model.stiffness_matrix();
     let (b, c) = (model.input_vector(), model.output_vector());
@@ -451,10 +449,17 @@ pub(crate) fn block_pole_sign_data(
         None if exact && at_zero_poly.is_zero() => (0, true),
         None => return None,
     };
-    let configurations = configurations(&events, -c_sign, at_zero, num_at_inf, nm_exact, paired)?;
+    let inputs = ConfigurationInputs {
+        blocks: events,
+        scale: -c_sign,
+        at_zero,
+        at_inf: num_at_inf,
+        nm_exact,
+    };
     Some(BlockSignData {
         certificate: BlockPoleSigns { blocks },
-        configurations,
+        configurations: inputs.configurations(false)?,
+        inputs,
         zeros,
     })
 }
@@ -514,7 +519,10 @@ mod tests {
         let mut checked = 0;
         for m in &models {
             let tf = m.undamped_tf();
-            let Some(d) = super::block_pole_sign_data(m, &tf.num, &tf.den, true) else {
+            let Some(d) = super::block_pole_sign_data(m, &tf.num, &tf.den) else {
+                continue;
+            };
+            let Some(paired) = d.inputs.configurations(true) else {
                 continue;
             };
             for _ in 0..150 {
@@ -531,7 +539,7 @@ mod tests {
                     .collect();
                 let t = frf_type_at(&tf.num, &tf.den, OMEGA, &point).unwrap();
                 assert!(
-                    d.configurations.fits(&t, d.zeros),
+                    paired.fits(&t, d.zeros),
                     "{m}: {t} at {point:?} fits no configuration"
                 );
                 checked += 1;

@@ -22,6 +22,7 @@
 //! type imposes on the rational roots, refuted by a positive combination
 //! found by exact linear programming.
 
+use super::configurations::Configurations;
 use super::frf_type::{frf_type_at, Feature, FrfType};
 use super::lp::positive_combination;
 use super::pole_signs::{
@@ -665,8 +666,9 @@ pub(crate) struct Prover<'a> {
     pole_signs: Option<Option<PoleSignData>>,
     /// The same for the block-product premise.
     block_pole_signs: Option<Option<BlockSignData>>,
-    /// The same with the terms' directions from paired zeros and poles.
-    paired_block_pole_signs: Option<Option<BlockSignData>>,
+    /// Its configurations with the terms' directions from paired zeros
+    /// and poles.
+    paired_configurations: Option<Option<Configurations>>,
     /// Sign conditions recur across sign cases, types and strata.
     conditions: ConditionCache,
     /// The partial walls the witness search visited, in order.
@@ -752,7 +754,7 @@ impl<'a> Prover<'a> {
             memo: HashMap::new(),
             pole_signs: None,
             block_pole_signs: None,
-            paired_block_pole_signs: None,
+            paired_configurations: None,
             conditions: ConditionCache::default(),
             partial_walls: Vec::new(),
         }
@@ -923,7 +925,7 @@ impl<'a> Prover<'a> {
             None => {
                 let d = self
                     .block_pole_signs
-                    .get_or_insert_with(|| block_pole_sign_data(model, num, den, false))
+                    .get_or_insert_with(|| block_pole_sign_data(model, num, den))
                     .as_ref()
                     .filter(|d| !d.configurations.fits(t, d.zeros))?;
                 OpenProof::BlockPoleSigns(d.certificate.clone())
@@ -947,10 +949,16 @@ impl<'a> Prover<'a> {
     pub(crate) fn paired_block_proof(&mut self, t: &FrfType) -> Option<Proof> {
         let (model, num, den) = (self.model, &self.num, &self.den);
         let d = self
-            .paired_block_pole_signs
-            .get_or_insert_with(|| block_pole_sign_data(model, num, den, true))
-            .as_ref()
-            .filter(|d| !t.has_multiple_resonance() && !d.configurations.fits(t, d.zeros))?;
+            .block_pole_signs
+            .get_or_insert_with(|| block_pole_sign_data(model, num, den))
+            .as_ref()?;
+        let paired = self
+            .paired_configurations
+            .get_or_insert_with(|| d.inputs.configurations(true))
+            .as_ref()?;
+        if t.has_multiple_resonance() || paired.fits(t, d.zeros) {
+            return None;
+        }
         Some(Proof {
             stratum: Vec::new(),
             open: OpenProof::BlockPoleSigns(d.certificate.clone()),

@@ -404,7 +404,7 @@ impl Prover<'_> {
                     continue;
                 }
                 let Some(m) = margin(t, &roots) else { continue };
-                if m > 0.0 && self.accept(t, &params, &x) {
+                if m > 0.0 && self.accept(t, &[], &params, &x) {
                     found[i] = true;
                     continue;
                 }
@@ -433,7 +433,7 @@ impl Prover<'_> {
                 let ok = tf_roots(&tf, &x)
                     .and_then(|r| margin(t, &r))
                     .is_some_and(|m| m > 0.0);
-                if ok && self.accept(t, &params, &x) {
+                if ok && self.accept(t, &[], &params, &x) {
                     found[i] = true;
                     break;
                 }
@@ -491,7 +491,7 @@ impl Prover<'_> {
             let ok = tf_roots(tf, &x)
                 .and_then(|r| margin(t, &r))
                 .is_some_and(|m| m > 0.0);
-            if ok && self.accept(t, params, &x) {
+            if ok && self.accept(t, &[], params, &x) {
                 return true;
             }
         }
@@ -654,9 +654,10 @@ impl Prover<'_> {
     pub(crate) fn neighbour_search(&mut self, wanted: &[FrfType]) -> usize {
         // A type found here is a neighbour of others: again, until a pass
         // finds none.
+        let tf = UndampedCoefficients::new(self.model);
         let mut found = self.witnessed(wanted);
         loop {
-            self.neighbour_pass(wanted);
+            self.neighbour_pass(wanted, &tf);
             let now = self.witnessed(wanted);
             if now == found {
                 return now;
@@ -665,8 +666,7 @@ impl Prover<'_> {
         }
     }
 
-    fn neighbour_pass(&mut self, wanted: &[FrfType]) {
-        let tf = UndampedCoefficients::new(self.model);
+    fn neighbour_pass(&mut self, wanted: &[FrfType], tf: &UndampedCoefficients) {
         let params = self.params.clone();
         let zeros = self.num.degree(OMEGA);
         for t in wanted {
@@ -686,7 +686,7 @@ impl Prover<'_> {
                         let (n, d) = tf.eval(&x);
                         return violation(t, &n, &d).unwrap_or(1e3);
                     }
-                    match tf_roots(&tf, &x).and_then(|r| margin(t, &r)) {
+                    match tf_roots(tf, &x).and_then(|r| margin(t, &r)) {
                         Some(m) => -m,
                         None => 1e3,
                     }
@@ -695,10 +695,10 @@ impl Prover<'_> {
                 for step in [0.5, 0.1] {
                     let best = nelder_mead_for(&mut cost, &lx0, step, stop, NEIGHBOUR_EVALUATIONS);
                     let x: Vec<f64> = best.iter().map(|v| v.clamp(-30.0, 30.0).exp()).collect();
-                    let shows = tf_roots(&tf, &x)
+                    let shows = tf_roots(tf, &x)
                         .and_then(|r| margin(t, &r))
                         .is_some_and(|m| m > 0.0);
-                    if shows && self.accept(t, &params, &x) {
+                    if shows && self.accept(t, &[], &params, &x) {
                         break 'neighbours;
                     }
                 }
@@ -836,21 +836,8 @@ impl Prover<'_> {
                 {
                     continue;
                 }
-                for digits in [2, 3, 4, 6, 9] {
-                    let point: Option<BTreeMap<String, Rat>> = s
-                        .vars
-                        .iter()
-                        .zip(&best)
-                        .map(|(p, v)| Some((p.clone(), short_rational(v.exp(), digits)?)))
-                        .collect();
-                    let Some(point) = point.and_then(|p| positive_full_point(&s.subs, &p)) else {
-                        continue;
-                    };
-                    if self.type_at(&point).as_ref() == Some(*t) {
-                        self.witnesses.insert((*t).clone(), point);
-                        break;
-                    }
-                }
+                let x: Vec<f64> = best.iter().map(|v| v.exp()).collect();
+                self.accept(t, &s.subs, &s.vars, &x);
             }
         }
     }
@@ -1112,7 +1099,9 @@ impl Prover<'_> {
 
     /// Rounds `x` to ever longer rationals until the exact type is `t`;
     /// records the witness if so.
-    fn accept(&mut self, t: &FrfType, params: &[String], x: &[f64]) -> bool {
+    /// `x` is a point of the stratum of `subs` in its variables `params`
+    /// (of the orthant when `subs` is empty), mapped to its full point.
+    fn accept(&mut self, t: &FrfType, subs: &[Substitution], params: &[String], x: &[f64]) -> bool {
         for digits in [2, 3, 4, 6, 9] {
             let point: Option<BTreeMap<String, Rat>> = params
                 .iter()
@@ -1120,6 +1109,9 @@ impl Prover<'_> {
                 .map(|(p, v)| Some((p.clone(), short_rational(*v, digits)?)))
                 .collect();
             let Some(point) = point else { return false };
+            let Some(point) = positive_full_point(subs, &point) else {
+                continue;
+            };
             if self.type_at(&point).as_ref() == Some(t) {
                 self.witnesses.insert(t.clone(), point);
                 return true;
