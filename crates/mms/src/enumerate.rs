@@ -95,6 +95,25 @@ impl Model {
     pub fn canonical(&self, sym: Symmetry) -> Model {
         self.orbit(sym)[0]
     }
+
+    /// The member of this model's renumbering class that the tables
+    /// analyse: the one the paper's rule (3) keeps where it keeps one, else
+    /// the smallest.
+    ///
+    /// ```
+    /// let m = mms::Model::from_id("N5-g2-a4.2-s3.2")?;
+    /// assert_eq!(m.representative().id(), "N5-g2-a4.2-s5.2");
+    /// assert_eq!(m.representative().representative(), m.representative());
+    /// # Ok::<(), mms::ModelError>(())
+    /// ```
+    pub fn representative(&self) -> Model {
+        let orbit = self.orbit(Symmetry::Renumbering);
+        orbit
+            .iter()
+            .copied()
+            .find(Model::satisfies_rule3)
+            .unwrap_or(orbit[0])
+    }
 }
 
 /// The equivalence classes of the degradation-free models with `n` masses
@@ -127,15 +146,7 @@ pub fn equivalence_classes(n: usize, sym: Symmetry) -> Result<Vec<Vec<Model>>, M
 /// ```
 pub fn class_representatives(n: usize) -> Result<Vec<Model>, ModelError> {
     let classes = equivalence_classes(n, Symmetry::Renumbering)?;
-    let mut reps: Vec<Model> = classes
-        .iter()
-        .map(|c| {
-            c.iter()
-                .copied()
-                .find(Model::satisfies_rule3)
-                .unwrap_or(c[0])
-        })
-        .collect();
+    let mut reps: Vec<Model> = classes.iter().map(|c| c[0].representative()).collect();
     reps.sort_by_key(|m| (m.paper_id().is_none(), m.paper_id(), *m));
     Ok(reps)
 }

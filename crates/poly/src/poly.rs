@@ -1107,6 +1107,89 @@ impl Poly {
         Ok(Rat::new(acc, den))
     }
 
+    /// Substitutes every variable that `point` gives a value and keeps the
+    /// others. The terms are summed over the integers at one common
+    /// denominator and reduced once per remaining monomial: substituting
+    /// one variable at a time would reduce a fraction at every term of
+    /// every intermediate polynomial.
+    ///
+    /// ```
+    /// use poly::{Poly, Rat};
+    /// use std::collections::BTreeMap;
+    /// let p: Poly = "a*x^2 + b*x + a*b".parse().unwrap();
+    /// let point = BTreeMap::from([("a".to_string(), Rat::new(1.into(), 2.into())), ("b".to_string(), Rat::from(3))]);
+    /// assert_eq!(p.subs_point(&point).to_string(), "1/2*x^2 + 3*x + 3/2");
+    /// ```
+    pub fn subs_point(&self, point: &BTreeMap<String, Rat>) -> Poly {
+        let given: Vec<Option<&Rat>> = self.vars.iter().map(|v| point.get(v)).collect();
+        if given.iter().all(Option::is_none) {
+            return self.clone();
+        }
+        // Powers of each value's numerator and denominator up to the degree.
+        let mut num_pows: Vec<Vec<Int>> = Vec::with_capacity(given.len());
+        let mut den_pows: Vec<Vec<Int>> = Vec::with_capacity(given.len());
+        for (i, v) in given.iter().enumerate() {
+            let (mut n, mut q) = (vec![Int::ONE], vec![Int::ONE]);
+            if let Some(v) = v {
+                let d = self.terms.iter().map(|t| t.exps[i]).max().unwrap_or(0) as usize;
+                for k in 1..=d {
+                    n.push(&n[k - 1] * v.numer());
+                    q.push(&q[k - 1] * v.denom());
+                }
+            }
+            num_pows.push(n);
+            den_pows.push(q);
+        }
+        let mut coef_den = Int::ONE;
+        for t in &self.terms {
+            if !t.coef.denom().is_one() {
+                coef_den = coef_den.lcm(t.coef.denom());
+            }
+        }
+        let mut sums: HashMap<Vec<u32>, Int> = HashMap::new();
+        for t in &self.terms {
+            let mut m = if t.coef.denom().is_one() {
+                &coef_den * t.coef.numer()
+            } else {
+                &coef_den.div_exact(t.coef.denom()) * t.coef.numer()
+            };
+            let mut rest = t.exps.clone();
+            for (i, v) in given.iter().enumerate() {
+                if v.is_none() {
+                    continue;
+                }
+                let e = t.exps[i] as usize;
+                let top = den_pows[i].len() - 1;
+                if e > 0 {
+                    m = &m * &num_pows[i][e];
+                }
+                if e < top {
+                    m = &m * &den_pows[i][top - e];
+                }
+                rest[i] = 0;
+            }
+            match sums.get_mut(&rest) {
+                Some(acc) => *acc = &*acc + &m,
+                None => {
+                    sums.insert(rest, m);
+                }
+            }
+        }
+        let mut den = coef_den;
+        for q in &den_pows {
+            den = &den * &q[q.len() - 1];
+        }
+        let terms = sums
+            .into_iter()
+            .filter(|(_, c)| !c.is_zero())
+            .map(|(exps, c)| Term {
+                exps,
+                coef: Rat::new(c, den.clone()),
+            })
+            .collect();
+        Poly::normalize(self.vars.clone(), terms)
+    }
+
     /// The value at `point` of every variable but `keep`: a polynomial in
     /// `keep` alone, built in one pass over the terms (substituting one
     /// variable at a time would rebuild a large polynomial once per

@@ -216,4 +216,22 @@ proptest! {
         full.insert("x".to_string(), Rat::from(x));
         prop_assert_eq!(one_pass.subs("x", &full["x"]).as_constant(), Some(a.eval(&full).unwrap()));
     }
+
+    /// Substituting some variables in one pass at a common denominator
+    /// equals substituting them one at a time.
+    #[test]
+    fn subs_point_equals_substitution_one_at_a_time(
+        a in poly(3, 6, 3),
+        y in -4i64..=4,
+        zn in -5i64..=5,
+        zd in 1i64..=7,
+    ) {
+        let point = std::collections::BTreeMap::from([
+            ("y".to_string(), Rat::from(y)),
+            ("z".to_string(), Rat::new(zn.into(), zd.into())),
+            ("w".to_string(), Rat::from(2)),
+        ]);
+        let stepwise = a.subs("y", &point["y"]).subs("z", &point["z"]);
+        prop_assert_eq!(a.subs_point(&point), stepwise);
+    }
 }

@@ -184,15 +184,14 @@ impl Prover<'_> {
                 .map(|p| (p.clone(), rng.value()))
                 .collect();
             let solved = order.into_iter().all(|(rows, names)| {
-                let known: Vec<(&String, &Rat)> =
-                    point.iter().filter(|(p, _)| !names.contains(p)).collect();
+                let known: BTreeMap<String, Rat> = point
+                    .iter()
+                    .filter(|(p, _)| !names.contains(p))
+                    .map(|(p, v)| (p.clone(), v.clone()))
+                    .collect();
                 let system: Vec<Poly> = rows
                     .iter()
-                    .map(|&i| {
-                        known
-                            .iter()
-                            .fold(equations[i].clone(), |e, (p, v)| e.subs(p, v))
-                    })
+                    .map(|&i| equations[i].subs_point(&known))
                     .collect();
                 match solve_linear(&system, &names) {
                     Some(sol) if sol.iter().all(|v| v.signum() > 0) => {

@@ -48,7 +48,7 @@ use crate::tf::OMEGA;
 use poly::{Poly, Rat};
 use prover::Prover;
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// The verdict on one candidate type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -215,16 +215,17 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 19;
+pub const ENGINE_VERSION: u32 = 20;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
 /// The verdicts are the same for every member of the model's renumbering
-/// class: where the search on `model` leaves a type unknown, the other
-/// member ([`Model::mirrored`]) is analysed too, and what it decides is
-/// carried over, renamed (the witness's point, the certificate's
-/// polynomials and masses). So `model` and its mirror give the same
-/// statuses, each with witnesses and certificates of its own parameters.
+/// class: the class's representative ([`Model::representative`]) is
+/// analysed, and its analysis carried over to the other member, renamed
+/// (the witnesses' points, the certificates' polynomials and masses).
+/// Where the proof rules and searches leave types open, the witness
+/// searches run on the other member too, whose random draws go by its own
+/// parameters and so fall elsewhere.
 ///
 /// ```
 /// use mms::analysis::{analyze, SearchLimits};
@@ -241,25 +242,65 @@ pub const ENGINE_VERSION: u32 = 19;
 /// # Ok::<(), mms::ModelError>(())
 /// ```
 pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
+    let representative = model.representative();
+    if representative != *model {
+        return analyze(&representative, limits).mirrored(&representative);
+    }
     let own = analyze_alone(model, limits);
     let mirror = model.mirrored();
     if mirror == *model || own.unknown().is_empty() {
         return own;
     }
-    let other = analyze_alone(&mirror, limits).mirrored(&mirror);
-    debug_assert_eq!(
-        (&other.numerator, &other.denominator),
-        (&own.numerator, &own.denominator),
-        "{model}: the mirror's transfer function renamed is not this one's"
-    );
+    let other = mirror_witnesses(&mirror, &own, limits);
     completed(own, &other)
+}
+
+/// The witness searches of `mirror` (the other member of the class of
+/// `own`'s model) for every type `own` does not certify, as verdicts of
+/// `own`'s model. Its random draws go by its own parameters, so they fall
+/// elsewhere. Its proof rules are not run again: they work on the same
+/// polynomials under other names.
+fn mirror_witnesses(
+    mirror: &Model,
+    own: &ModelAnalysis,
+    limits: &SearchLimits,
+) -> Vec<TypeVerdict> {
+    let tf = mirror.undamped_tf();
+    let mut prover = Prover::new(mirror, tf.num.clone(), tf.den.clone());
+    prover.search(limits);
+    let top = prover.stratum(&[]);
+    let candidates = candidate_types(top.num.degree(OMEGA), top.den.degree(OMEGA));
+    let certified: BTreeSet<&FrfType> = own.with_status(Status::Impossible).into_iter().collect();
+    let wanted: Vec<FrfType> = candidates
+        .iter()
+        .filter(|t| !prover.witnesses.contains_key(t) && !certified.contains(t))
+        .cloned()
+        .collect();
+    search_unknown(&mut prover, &wanted, limits);
+    // Candidates first, then the other types witnessed: the order in which
+    // `completed` adds those `own` does not list.
+    let extra = prover.witnesses.keys().filter(|t| !candidates.contains(t));
+    let back = rename::Renaming::mirror(mirror);
+    candidates
+        .iter()
+        .chain(extra)
+        .filter_map(|t| {
+            let w = prover.witnesses.get(t)?;
+            Some(back.verdict(&TypeVerdict {
+                frf_type: t.clone(),
+                status: Status::Possible,
+                witness: Some(w.clone()),
+                certificate: None,
+            }))
+        })
+        .collect()
 }
 
 /// `own` with every type it leaves unknown decided as `other` (the same
 /// model's analysis by another route) decides it, and the types `other`
 /// witnesses that `own` does not list added.
-fn completed(mut own: ModelAnalysis, other: &ModelAnalysis) -> ModelAnalysis {
-    for v in &other.types {
+fn completed(mut own: ModelAnalysis, other: &[TypeVerdict]) -> ModelAnalysis {
+    for v in other {
         match own.types.iter_mut().find(|o| o.frf_type == v.frf_type) {
             Some(o) if o.status == Status::Unknown => *o = v.clone(),
             // A witness against a certificate would be a bug in the prover.
@@ -277,6 +318,24 @@ fn completed(mut own: ModelAnalysis, other: &ModelAnalysis) -> ModelAnalysis {
     }
     own.types.sort_by_key(|v| status_rank(v.status)); // stable
     own
+}
+
+/// The witness searches for the types the proof rules leave open, in a
+/// fixed order: each draws its random points per wanted type in turn, so
+/// what one finds changes the draws of those after it. Returns how many
+/// types they witnessed.
+fn search_unknown(prover: &mut Prover, unknown: &[FrfType], limits: &SearchLimits) -> usize {
+    prover.targeted_search(unknown, 0x7A26_E7ED)
+        + prover.partial_wall_search(unknown, limits.partial_wall_depth)
+        + prover.root_condition_search(unknown, 0x2007_C0DE)
+        + prover.cancellation_search(unknown, 0xCA2C_E11E)
+        + prover.discriminant_search(unknown, 0xD15C_0001)
+        + prover.elimination_search(unknown, 0xE11_4A7E)
+        + prover.symmetric_search(unknown, limits)
+        + prover.resting_mass_search(unknown, 0x2E57_1A55)
+        + prover.neighbour_search(unknown)
+        + prover.close_merge_search(unknown)
+        + prover.wall_targeted_search(unknown)
 }
 
 /// Possible types first, then unknown ones, then impossible ones.
@@ -333,18 +392,7 @@ pub fn analyze_alone(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
         .filter(|v| v.status == Status::Unknown)
         .map(|v| v.frf_type.clone())
         .collect();
-    let found = prover.targeted_search(&unknown, 0x7A26_E7ED)
-        + prover.partial_wall_search(&unknown, limits.partial_wall_depth)
-        + prover.root_condition_search(&unknown, 0x2007_C0DE)
-        + prover.cancellation_search(&unknown, 0xCA2C_E11E)
-        + prover.discriminant_search(&unknown, 0xD15C_0001)
-        + prover.elimination_search(&unknown, 0xE11_4A7E)
-        + prover.symmetric_search(&unknown, limits)
-        + prover.resting_mass_search(&unknown, 0x2E57_1A55)
-        + prover.neighbour_search(&unknown)
-        + prover.close_merge_search(&unknown)
-        + prover.wall_targeted_search(&unknown);
-    if found > 0 {
+    if search_unknown(&mut prover, &unknown, limits) > 0 {
         for v in verdicts.iter_mut().filter(|v| v.status == Status::Unknown) {
             if let Some(w) = prover.witnesses.get(&v.frf_type) {
                 v.status = Status::Possible;
@@ -446,7 +494,7 @@ mod tests {
                 ..v.clone()
             };
         }
-        let done = completed(blanked, &other);
+        let done = completed(blanked, &other.types);
         let by_type = |a: &ModelAnalysis| -> BTreeMap<String, TypeVerdict> {
             a.types
                 .iter()

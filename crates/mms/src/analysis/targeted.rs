@@ -69,48 +69,119 @@ fn horner(c: &[f64], x: f64) -> f64 {
     c.iter().rev().fold(0.0, |acc, v| acc * x + v)
 }
 
+/// `sum |c[k]| |x|^k`, the scale of Horner's rounding error at `x`.
+fn horner_abs(c: &[f64], x: f64) -> f64 {
+    let x = x.abs();
+    c.iter().rev().fold(0.0, |acc, v| acc * x + v.abs())
+}
+
 fn roots_in(c: &[f64], lo: f64, hi: f64) -> Vec<f64> {
-    if c.len() <= 1 {
+    let deg = c.len().saturating_sub(1);
+    if deg == 0 {
         return Vec::new();
     }
-    let derivative: Vec<f64> = c
-        .iter()
-        .enumerate()
-        .skip(1)
-        .map(|(k, v)| v * k as f64)
-        .collect();
-    let mut cuts = vec![lo];
-    cuts.extend(roots_in(&derivative, lo, hi));
-    cuts.push(hi);
-    let mut out = Vec::new();
-    for w in cuts.windows(2) {
-        let (mut a, mut b) = (w[0], w[1]);
-        let (mut fa, fb) = (horner(c, a), horner(c, b));
-        if fa == 0.0 && a > lo {
-            if out.last() != Some(&a) {
-                out.push(a);
-            }
-            continue;
-        }
-        if fa.signum() == fb.signum() || fb == 0.0 {
-            continue;
-        }
-        for _ in 0..200 {
-            let m = 0.5 * (a + b);
-            if m <= a || m >= b {
-                break;
-            }
-            let fm = horner(c, m);
-            if fm.signum() == fa.signum() {
-                a = m;
-                fa = fm;
-            } else {
-                b = m;
-            }
-        }
-        out.push(0.5 * (a + b));
+    // Every derivative down to the constant one: the roots of each cut
+    // the next lower one's range into monotone pieces.
+    let mut chain: Vec<Vec<f64>> = Vec::with_capacity(deg + 1);
+    chain.push(c.to_vec());
+    for _ in 0..deg {
+        let last = &chain[chain.len() - 1];
+        let d = last
+            .iter()
+            .enumerate()
+            .skip(1)
+            .map(|(k, v)| v * k as f64)
+            .collect();
+        chain.push(d);
     }
-    out
+    let mut roots: Vec<f64> = Vec::new();
+    let mut cuts: Vec<f64> = Vec::with_capacity(deg + 1);
+    for level in (0..deg).rev() {
+        let (p, dp) = (&chain[level], &chain[level + 1]);
+        cuts.clear();
+        cuts.push(lo);
+        cuts.extend_from_slice(&roots);
+        cuts.push(hi);
+        roots.clear();
+        for w in cuts.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let (fa, fb) = (horner(p, a), horner(p, b));
+            if fa == 0.0 && a > lo {
+                if roots.last() != Some(&a) {
+                    roots.push(a);
+                }
+                continue;
+            }
+            if fa.signum() == fb.signum() || fb == 0.0 {
+                continue;
+            }
+            roots.push(monotone_root(p, dp, a, b, fa));
+        }
+    }
+    roots
+}
+
+/// The root of `c` in `(a, b)`, where `c` is monotone and changes sign
+/// (`fa` its value at `a`): Newton's steps while they stay inside the
+/// bracket, otherwise halving it, geometrically when it spans decades (a
+/// root near zero would otherwise take a thousand halvings).
+fn monotone_root(c: &[f64], derivative: &[f64], mut a: f64, mut b: f64, fa: f64) -> f64 {
+    let split = |a: f64, b: f64| {
+        if a > 0.0 && b > 4.0 * a {
+            (a * b).sqrt()
+        } else if a == 0.0 && b > 1e-300 {
+            b * 0.25
+        } else {
+            0.5 * (a + b)
+        }
+    };
+    if a == 0.0 && c[0] != 0.0 {
+        // No positive root lies below |c0| / (|c0| + max |c_k|).
+        let top = c[1..].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let floor = c[0].abs() / (c[0].abs() + top);
+        if floor > 0.0 && floor < b {
+            a = floor;
+        }
+    }
+    let mut x = split(a, b);
+    let mut step = b - a;
+    for _ in 0..200 {
+        let f = horner(c, x);
+        // Within Horner's rounding error of zero, no step can do better.
+        let noise = 2.0 * c.len() as f64 * f64::EPSILON * horner_abs(c, x);
+        if f.abs() <= noise {
+            return x;
+        }
+        if f.signum() == fa.signum() {
+            a = x;
+        } else {
+            b = x;
+        }
+        // Newton's step unless it leaves the bracket or shrinks too
+        // slowly (far from the root it moves by a fraction of x only).
+        // A step onto an end that rounding put on the wrong side lands on
+        // the root all the same.
+        let tol = 8.0 * f64::EPSILON * b.abs();
+        let newton = x - f / horner(derivative, x);
+        let newton = if newton > b && newton <= b + tol {
+            b
+        } else if newton < a && newton >= a - tol {
+            a
+        } else {
+            newton
+        };
+        let next = if newton >= a && newton <= b && (newton - x).abs() <= 0.5 * step {
+            newton
+        } else {
+            split(a, b)
+        };
+        step = (next - x).abs();
+        if next <= a || next >= b || (next - x).abs() <= 2.0 * f64::EPSILON * x.abs() {
+            return next.clamp(a, b);
+        }
+        x = next;
+    }
+    x
 }
 
 /// The logarithms of the zeros and poles in the order `t` lists its
@@ -259,25 +330,34 @@ fn complex_roots(c: &[f64]) -> Option<Vec<(f64, f64)>> {
             (phi.cos(), phi.sin())
         })
         .collect();
+    // A root stops moving once its relative step is below 1e-13.
+    let mut settled = vec![false; n];
     for _ in 0..200 {
-        let mut moved = 0.0f64;
+        let mut moving = false;
         for i in 0..n {
+            if settled[i] {
+                continue;
+            }
+            let zi = z[i];
             // p and p' at z_i by Horner.
             let (mut p, mut dp) = ((1.0, 0.0), (0.0, 0.0));
             for v in a[..n].iter().rev() {
-                dp = (mul(dp, z[i]).0 + p.0, mul(dp, z[i]).1 + p.1);
-                p = mul(p, z[i]);
+                let d = mul(dp, zi);
+                dp = (d.0 + p.0, d.1 + p.1);
+                p = mul(p, zi);
                 p.0 += v;
             }
             if p == (0.0, 0.0) {
+                settled[i] = true;
                 continue;
             }
             let ratio = div(p, dp);
             let mut sum = (0.0, 0.0);
             for (j, zj) in z.iter().enumerate() {
                 if j != i {
-                    let r = div((1.0, 0.0), (z[i].0 - zj.0, z[i].1 - zj.1));
-                    sum = (sum.0 + r.0, sum.1 + r.1);
+                    let (dr, di) = (zi.0 - zj.0, zi.1 - zj.1);
+                    let m = dr * dr + di * di;
+                    sum = (sum.0 + dr / m, sum.1 - di / m);
                 }
             }
             let rs = mul(ratio, sum);
@@ -285,10 +365,15 @@ fn complex_roots(c: &[f64]) -> Option<Vec<(f64, f64)>> {
             if !(w.0.is_finite() && w.1.is_finite()) {
                 return None;
             }
-            z[i] = (z[i].0 - w.0, z[i].1 - w.1);
-            moved = moved.max(w.0.hypot(w.1) / z[i].0.hypot(z[i].1).max(1e-300));
+            z[i] = (zi.0 - w.0, zi.1 - w.1);
+            let step = (w.0 * w.0 + w.1 * w.1) / (z[i].0 * z[i].0 + z[i].1 * z[i].1).max(1e-300);
+            if step < 1e-26 {
+                settled[i] = true;
+            } else {
+                moving = true;
+            }
         }
-        if moved < 1e-13 {
+        if !moving {
             break;
         }
     }
@@ -1009,10 +1094,10 @@ impl Prover<'_> {
                 let y = free2[rng.index(free2.len())];
                 for (d, v) in [(d1, x), (d2, y)] {
                     let name = &names[v];
-                    let e = point
-                        .iter()
-                        .filter(|(p, _)| *p != name)
-                        .fold(d.subs(OMEGA, &r), |e, (p, val)| e.subs(p, val));
+                    let mut known = point.clone();
+                    known.remove(name);
+                    known.insert(OMEGA.to_string(), r.clone());
+                    let e = d.subs_point(&known);
                     match solve_linear(&[e], std::slice::from_ref(name)) {
                         Some(sol) if sol[0].signum() > 0 => {
                             point.insert(name.clone(), sol[0].clone());
@@ -1086,7 +1171,7 @@ impl Prover<'_> {
         }
         let equations: Vec<Poly> = equations
             .into_iter()
-            .map(|e| fixed.iter().fold(e, |e, (p, v)| e.subs(p, v)))
+            .map(|e| e.subs_point(&fixed))
             .collect();
         let Some(solution) = solve_linear(&equations, vars) else {
             return;

@@ -237,7 +237,7 @@ impl Prover<'_> {
                 let sigma = rng.value();
                 let eqs: Vec<Poly> = [&self.num, &dn, &ddn]
                     .iter()
-                    .map(|e| at(&e.subs(OMEGA, &sigma), &fixed))
+                    .map(|e| at_omega(e, &sigma, &fixed))
                     .collect();
                 for point in triple_points(&eqs, vars, &z, &fixed) {
                     self.record(point);
@@ -304,7 +304,7 @@ impl Prover<'_> {
             .collect();
         let dnum = self.num.derivative(OMEGA);
         for (d1, _, d2, _) in mechanisms {
-            let vanishes = |d: &Poly| at(&d.subs(OMEGA, r), &w).is_zero();
+            let vanishes = |d: &Poly| at_omega(d, r, &w).is_zero();
             if !(vanishes(d1) && vanishes(d2)) {
                 continue;
             }
@@ -419,7 +419,7 @@ impl Prover<'_> {
     ) -> bool {
         let equations: Vec<Poly> = n_and_derivative
             .iter()
-            .map(|e| at(&e.subs(OMEGA, sigma), fixed))
+            .map(|e| at_omega(e, sigma, fixed))
             .collect();
         let Some(values) = solve_linear(&equations, vars) else {
             return false;
@@ -453,7 +453,14 @@ fn one_free(open: &[&String], rng: &mut Sampler) -> (String, BTreeMap<String, Ra
 
 /// `e` with the values of `point` substituted.
 fn at(e: &Poly, point: &BTreeMap<String, Rat>) -> Poly {
-    point.iter().fold(e.clone(), |e, (p, v)| e.subs(p, v))
+    e.subs_point(point)
+}
+
+/// [`at`] with `Omega = omega` substituted too.
+fn at_omega(e: &Poly, omega: &Rat, point: &BTreeMap<String, Rat>) -> Poly {
+    let mut point = point.clone();
+    point.insert(OMEGA.to_string(), omega.clone());
+    e.subs_point(&point)
 }
 
 /// `e`, of degree at most one in `var`, with `var = p/q` substituted and
@@ -583,7 +590,7 @@ fn tangent_points(
     // num(sigma) and num'(sigma), in r (as Omega) and w.
     let eqs: Option<Vec<Poly>> = [num, dnum]
         .iter()
-        .map(|f| clear_all(&at(&f.subs(OMEGA, sigma), fixed), &solved))
+        .map(|f| clear_all(&at_omega(f, sigma, fixed), &solved))
         .collect();
     let Some(eqs) = eqs else {
         return Vec::new();
