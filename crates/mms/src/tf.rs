@@ -542,6 +542,23 @@ impl Compiled {
             .map(|(c, powers)| powers.iter().fold(*c, |acc, &(i, e)| acc * x[i].powi(e)))
             .sum()
     }
+
+    /// The value at `x` divided by the sum of its terms' moduli: in
+    /// `[-1, 1]`, and comparable between polynomials of any size (`0` for
+    /// the zero polynomial).
+    pub(crate) fn relative(&self, x: &[f64]) -> f64 {
+        let (mut sum, mut scale) = (0.0, 0.0);
+        for (c, powers) in &self.0 {
+            let t = powers.iter().fold(*c, |acc, &(i, e)| acc * x[i].powi(e));
+            sum += t;
+            scale += t.abs();
+        }
+        if scale > 0.0 {
+            sum / scale
+        } else {
+            0.0
+        }
+    }
 }
 
 impl UndampedCoefficients {

@@ -117,10 +117,20 @@ const MAX_TABLEAU_ENTRIES: usize = 2_000_000;
 /// the positive orthant, that is a contradiction: the left side would be
 /// `> 0`, the right side is `<= 0`. Multiplier monomials up to `max_deg` in
 /// `vars` are tried, lowest degree first.
+#[cfg(test)]
 pub(crate) fn positive_combination(
     conditions: &[(Poly, bool)],
     vars: &[String],
     max_deg: u32,
+) -> Option<Vec<Poly>> {
+    positive_combination_in(conditions, vars, 0..=max_deg)
+}
+
+/// [`positive_combination`] with the multiplier degrees `degrees` only.
+pub(crate) fn positive_combination_in(
+    conditions: &[(Poly, bool)],
+    vars: &[String],
+    degrees: std::ops::RangeInclusive<u32>,
 ) -> Option<Vec<Poly>> {
     // Every variable, the multipliers' first: the rows' exponent vectors.
     let mut names: Vec<String> = vars.to_vec();
@@ -131,7 +141,7 @@ pub(crate) fn positive_combination(
             }
         }
     }
-    for deg in 0..=max_deg {
+    for deg in degrees {
         let basis = monomials(vars, deg);
         // Column (i, mu): the polynomial mu * g_i. One row per monomial of
         // the products: its coefficient <= 0. A monomial times `g_i` has the

@@ -24,7 +24,7 @@
 
 use super::configurations::Configurations;
 use super::frf_type::{frf_type_at, Feature, FrfType};
-use super::lp::positive_combination;
+use super::lp::positive_combination_in;
 use super::pole_signs::{
     block_pole_sign_data, pole_sign_data, type_fits, BlockPoleSigns, BlockSignData, PoleSignData,
     PoleSigns,
@@ -1326,8 +1326,15 @@ fn sign_conditions(
         if holds_at_a_sample(cache, &reduced, &s.vars) {
             return None;
         }
-        let found = positive_combination(&reduced, &s.vars, limits.multiplier_degree);
-        let multipliers = found?;
+        // Constant multipliers settle most cases at little cost; before
+        // the higher degrees, which fail slowly, a descent may show that no
+        // combination exists.
+        let multipliers = match positive_combination_in(&reduced, &s.vars, 0..=0) {
+            Some(m) => m,
+            None if limits.multiplier_degree == 0 => return None,
+            None if holds_where_a_descent_ends(&reduced, &s.vars) => return None,
+            None => positive_combination_in(&reduced, &s.vars, 1..=limits.multiplier_degree)?,
+        };
         cases.push(SignCase {
             assignment: a,
             conditions,
@@ -1390,6 +1397,76 @@ fn holds_at_a_sample(
             }
         }
         if all {
+            return true;
+        }
+    }
+    false
+}
+
+/// Log-uniform starts, Nelder-Mead descents and evaluations per descent of
+/// [`holds_where_a_descent_ends`].
+const DESCENT_SAMPLES: usize = 64;
+const DESCENTS: usize = 2;
+const DESCENT_EVALUATIONS: usize = 300;
+/// Terms of all conditions together above which the descent is not tried:
+/// on larger ones (the gap-0 chains at five masses, tens of thousands of
+/// terms) it failed where it was tried and cost more than the simplices
+/// it was meant to spare.
+const DESCENT_TERMS: usize = 5000;
+
+/// Like [`holds_at_a_sample`], at a point found by a descent instead: in
+/// f64, Nelder-Mead raises the smallest of the conditions' relative values
+/// (each divided by the sum of its terms' moduli) from the best of a few
+/// log-uniform points; where it ends above zero, the point is rounded to
+/// short rationals and every condition checked there exactly. A point
+/// where all hold proves that no positive combination exists, so the
+/// linear program, which fails at a cost of a quarter second at five
+/// masses, is skipped; any other outcome leaves the decision to it.
+fn holds_where_a_descent_ends(conditions: &[(Poly, bool)], vars: &[String]) -> bool {
+    use super::targeted::{nelder_mead_for, short_rational};
+    if conditions.iter().map(|(g, _)| g.num_terms()).sum::<usize>() > DESCENT_TERMS {
+        return false;
+    }
+    use crate::tf::Compiled;
+    let compiled: Vec<Compiled> = conditions
+        .iter()
+        .map(|(g, _)| Compiled::new(g, vars))
+        .collect();
+    let lowest = |lx: &[f64]| -> f64 {
+        let x: Vec<f64> = lx.iter().map(|v| v.clamp(-30.0, 30.0).exp()).collect();
+        compiled
+            .iter()
+            .map(|c| c.relative(&x))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut rng = XorShift::new(0x5165_1A7E);
+    let mut starts: Vec<(f64, Vec<f64>)> = (0..DESCENT_SAMPLES)
+        .map(|_| {
+            let lx: Vec<f64> = vars
+                .iter()
+                .map(|_| 3.0 * (2.0 * rng.uniform() - 1.0))
+                .collect();
+            (lowest(&lx), lx)
+        })
+        .collect();
+    starts.sort_by(|a, b| b.0.total_cmp(&a.0));
+    for (_, lx0) in starts.into_iter().take(DESCENTS) {
+        let mut cost = |lx: &[f64]| -lowest(lx);
+        let best = nelder_mead_for(&mut cost, &lx0, 1.0, -1e-3, DESCENT_EVALUATIONS);
+        if lowest(&best) <= 1e-9 {
+            continue;
+        }
+        let point: Option<BTreeMap<String, Rat>> = vars
+            .iter()
+            .zip(&best)
+            .map(|(v, lx)| Some((v.clone(), short_rational(lx.clamp(-30.0, 30.0).exp(), 8)?)))
+            .collect();
+        let Some(point) = point else { continue };
+        let holds = conditions.iter().all(|(g, strict)| {
+            g.eval(&point)
+                .is_ok_and(|v| v.signum() > 0 || (!strict && v.is_zero()))
+        });
+        if holds {
             return true;
         }
     }
@@ -1656,6 +1733,30 @@ mod tests {
         }
         // Both sides occur, so the assertion above was exercised.
         assert!(shortcut > 20 && refuted > 20, "{shortcut} {refuted}");
+    }
+
+    /// A thin wedge `y < x < 1.001 y` that the fixed samples miss: the
+    /// descent finds a point in it, and the linear program, run all the
+    /// same, confirms that no combination exists. The A2 pair, which
+    /// contradicts itself, gives the descent no point.
+    #[test]
+    fn a_descent_into_a_thin_region_means_no_combination_exists() {
+        let vars: Vec<String> = ["x", "y"].map(String::from).to_vec();
+        let wedge = [(p("x - y"), true), (p("1001*y - 1000*x"), true)];
+        assert!(!holds_at_a_sample(
+            &mut ConditionCache::default(),
+            &wedge,
+            &vars
+        ));
+        assert!(holds_where_a_descent_ends(&wedge, &vars));
+        assert!(positive_combination(&wedge, &vars, 2).is_none());
+        let vars: Vec<String> = ["c12", "c23", "m1", "m2", "m3"].map(String::from).to_vec();
+        let a2 = [
+            (p("c12*m3 - c23*m1"), true),
+            (p("c23*m1*(m2 - m3) - c12*m3*(m1 + m2)"), true),
+        ];
+        assert!(!holds_where_a_descent_ends(&a2, &vars));
+        assert!(positive_combination(&a2, &vars, 1).is_some());
     }
 
     /// The design note's A2 pair contradicts itself: no point satisfies it

@@ -260,11 +260,27 @@ const VIOLATION_GAP: f64 = 1e-3;
 /// complex pair that must become two antiresonances has a slope to follow,
 /// and all violations shrink together rather than the worst alone.
 fn violation(t: &FrfType, num: &[f64], den: &[f64]) -> Option<f64> {
+    violation_near(t, num, den, &mut Vec::new())
+}
+
+/// [`violation`] with the zeros' iteration started from `near` (the zeros
+/// at a nearby point, as a descent evaluates one after another), which it
+/// then holds the zeros found here.
+fn violation_near(
+    t: &FrfType,
+    num: &[f64],
+    den: &[f64],
+    near: &mut Vec<(f64, f64)>,
+) -> Option<f64> {
     let poles = positive_roots(den)?;
     if poles.len() as u32 != t.resonances() {
         return None;
     }
-    let zeros = complex_roots(num)?;
+    let zeros = match complex_roots_near(num, near) {
+        Some(z) => z,
+        None => complex_roots_near(num, &[])?,
+    };
+    near.clone_from(&zeros);
     let k = t.antiresonances() as usize;
     if zeros.len() < k || (zeros.len() > k) != t.nonminimum_phase {
         return None;
@@ -300,7 +316,15 @@ fn violation(t: &FrfType, num: &[f64], den: &[f64]) -> Option<f64> {
 /// All roots of `sum c[k] x^k` as `(re, im)` (Aberth-Ehrlich on the
 /// polynomial scaled to roots of modulus about one), roots at `0`
 /// included; `None` for a zero or non-finite polynomial.
+#[cfg(test)]
 fn complex_roots(c: &[f64]) -> Option<Vec<(f64, f64)>> {
+    complex_roots_near(c, &[])
+}
+
+/// [`complex_roots`] started from `near` when it holds as many roots (each
+/// turned by a small angle, so that real starts can leave the real axis),
+/// else from points spread on a circle.
+fn complex_roots_near(c: &[f64], near: &[(f64, f64)]) -> Option<Vec<(f64, f64)>> {
     let deg = c.iter().rposition(|v| *v != 0.0)?;
     if !c.iter().all(|v| v.is_finite()) {
         return None;
@@ -324,12 +348,23 @@ fn complex_roots(c: &[f64]) -> Option<Vec<(f64, f64)>> {
         let d = y.0 * y.0 + y.1 * y.1;
         ((x.0 * y.0 + x.1 * y.1) / d, (x.1 * y.0 - x.0 * y.1) / d)
     };
-    let mut z: Vec<(f64, f64)> = (0..n)
-        .map(|k| {
-            let phi = 2.0 * std::f64::consts::PI * k as f64 / n as f64 + 0.4;
-            (phi.cos(), phi.sin())
-        })
-        .collect();
+    let (turn_re, turn_im) = (1e-3f64.cos(), 1e-3f64.sin());
+    let mut z: Vec<(f64, f64)> = if near.len() == low + n {
+        near[low..]
+            .iter()
+            .map(|v| {
+                let (re, im) = (v.0 / s, v.1 / s);
+                (re * turn_re - im * turn_im, re * turn_im + im * turn_re)
+            })
+            .collect()
+    } else {
+        (0..n)
+            .map(|k| {
+                let phi = 2.0 * std::f64::consts::PI * k as f64 / n as f64 + 0.4;
+                (phi.cos(), phi.sin())
+            })
+            .collect()
+    };
     // A root stops moving once its relative step is below 1e-13.
     let mut settled = vec![false; n];
     for _ in 0..200 {
@@ -390,7 +425,7 @@ fn nelder_mead(f: &mut dyn FnMut(&[f64]) -> f64, x0: &[f64], step: f64, stop: f6
 }
 
 /// [`nelder_mead`] with `evaluations` evaluations at most.
-fn nelder_mead_for(
+pub(super) fn nelder_mead_for(
     f: &mut dyn FnMut(&[f64]) -> f64,
     x0: &[f64],
     step: f64,
@@ -570,7 +605,12 @@ impl Prover<'_> {
         pool.sort_by(|a, b| a.0.total_cmp(&b.0));
         pool.truncate(VIOLATION_STARTS);
         for (_, lx0) in pool {
-            let mut f = |lx: &[f64]| cost(lx);
+            let mut near = Vec::new();
+            let mut f = |lx: &[f64]| -> f64 {
+                let x: Vec<f64> = lx.iter().map(|v| v.clamp(-30.0, 30.0).exp()).collect();
+                let (n, d) = tf.eval(&x);
+                violation_near(t, &n, &d, &mut near).unwrap_or(f64::INFINITY)
+            };
             let best = nelder_mead_for(&mut f, &lx0, 1.0, f64::MIN_POSITIVE, VIOLATION_EVALUATIONS);
             let x: Vec<f64> = best.iter().map(|v| v.clamp(-30.0, 30.0).exp()).collect();
             let ok = tf_roots(tf, &x)
@@ -765,11 +805,12 @@ impl Prover<'_> {
                 let lx0: Vec<f64> = params.iter().map(|p| w[p].to_f64().ln()).collect();
                 // Across a swap the margin has a slope; across a pair of
                 // zeros leaving the axis only the violation has one.
+                let mut near = Vec::new();
                 let mut cost = |lx: &[f64]| -> f64 {
                     let x: Vec<f64> = lx.iter().map(|v| v.clamp(-30.0, 30.0).exp()).collect();
                     if complex {
                         let (n, d) = tf.eval(&x);
-                        return violation(t, &n, &d).unwrap_or(1e3);
+                        return violation_near(t, &n, &d, &mut near).unwrap_or(1e3);
                     }
                     match tf_roots(tf, &x).and_then(|r| margin(t, &r)) {
                         Some(m) => -m,
