@@ -1058,30 +1058,12 @@ impl Poly {
     /// assert_eq!(p.eval(&point).unwrap(), Rat::new((-11).into(), 2.into()));
     /// ```
     pub fn eval(&self, point: &BTreeMap<String, Rat>) -> Result<Rat, String> {
-        let vals: Vec<&Rat> = self
+        let given: Vec<Option<&Rat>> = self
             .vars
             .iter()
-            .map(|v| point.get(v).ok_or_else(|| v.clone()))
+            .map(|v| point.get(v).map(Some).ok_or_else(|| v.clone()))
             .collect::<Result<_, _>>()?;
-        // Powers of each numerator and denominator up to the degree.
-        let mut num_pows: Vec<Vec<Int>> = Vec::with_capacity(vals.len());
-        let mut den_pows: Vec<Vec<Int>> = Vec::with_capacity(vals.len());
-        for (i, v) in vals.iter().enumerate() {
-            let d = self.terms.iter().map(|t| t.exps[i]).max().unwrap_or(0) as usize;
-            let (mut n, mut q) = (vec![Int::ONE], vec![Int::ONE]);
-            for k in 1..=d {
-                n.push(&n[k - 1] * v.numer());
-                q.push(&q[k - 1] * v.denom());
-            }
-            num_pows.push(n);
-            den_pows.push(q);
-        }
-        let mut coef_den = Int::ONE;
-        for t in &self.terms {
-            if !t.coef.denom().is_one() {
-                coef_den = coef_den.lcm(t.coef.denom());
-            }
-        }
+        let (num_pows, den_pows, coef_den) = self.common_denominator_powers(&given);
         let mut acc = Int::ZERO;
         for t in &self.terms {
             let mut m = if t.coef.denom().is_one() {
@@ -1107,25 +1089,14 @@ impl Poly {
         Ok(Rat::new(acc, den))
     }
 
-    /// Substitutes every variable that `point` gives a value and keeps the
-    /// others. The terms are summed over the integers at one common
-    /// denominator and reduced once per remaining monomial: substituting
-    /// one variable at a time would reduce a fraction at every term of
-    /// every intermediate polynomial.
-    ///
-    /// ```
-    /// use poly::{Poly, Rat};
-    /// use std::collections::BTreeMap;
-    /// let p: Poly = "a*x^2 + b*x + a*b".parse().unwrap();
-    /// let point = BTreeMap::from([("a".to_string(), Rat::new(1.into(), 2.into())), ("b".to_string(), Rat::from(3))]);
-    /// assert_eq!(p.subs_point(&point).to_string(), "1/2*x^2 + 3*x + 3/2");
-    /// ```
-    pub fn subs_point(&self, point: &BTreeMap<String, Rat>) -> Poly {
-        let given: Vec<Option<&Rat>> = self.vars.iter().map(|v| point.get(v)).collect();
-        if given.iter().all(Option::is_none) {
-            return self.clone();
-        }
-        // Powers of each value's numerator and denominator up to the degree.
+    /// For the sums at one common denominator of [`Poly::eval`] and
+    /// [`Poly::subs_point`]: the powers of each given value's numerator and
+    /// denominator up to the variable's degree (only `1` for a variable
+    /// without a value), and the lcm of the coefficients' denominators.
+    fn common_denominator_powers(
+        &self,
+        given: &[Option<&Rat>],
+    ) -> (Vec<Vec<Int>>, Vec<Vec<Int>>, Int) {
         let mut num_pows: Vec<Vec<Int>> = Vec::with_capacity(given.len());
         let mut den_pows: Vec<Vec<Int>> = Vec::with_capacity(given.len());
         for (i, v) in given.iter().enumerate() {
@@ -1146,6 +1117,28 @@ impl Poly {
                 coef_den = coef_den.lcm(t.coef.denom());
             }
         }
+        (num_pows, den_pows, coef_den)
+    }
+
+    /// Substitutes every variable that `point` gives a value and keeps the
+    /// others. The terms are summed over the integers at one common
+    /// denominator and reduced once per remaining monomial: substituting
+    /// one variable at a time would reduce a fraction at every term of
+    /// every intermediate polynomial.
+    ///
+    /// ```
+    /// use poly::{Poly, Rat};
+    /// use std::collections::BTreeMap;
+    /// let p: Poly = "a*x^2 + b*x + a*b".parse().unwrap();
+    /// let point = BTreeMap::from([("a".to_string(), Rat::new(1.into(), 2.into())), ("b".to_string(), Rat::from(3))]);
+    /// assert_eq!(p.subs_point(&point).to_string(), "1/2*x^2 + 3*x + 3/2");
+    /// ```
+    pub fn subs_point(&self, point: &BTreeMap<String, Rat>) -> Poly {
+        let given: Vec<Option<&Rat>> = self.vars.iter().map(|v| point.get(v)).collect();
+        if given.iter().all(Option::is_none) {
+            return self.clone();
+        }
+        let (num_pows, den_pows, coef_den) = self.common_denominator_powers(&given);
         let mut sums: HashMap<Vec<u32>, Int> = HashMap::new();
         for t in &self.terms {
             let mut m = if t.coef.denom().is_one() {
