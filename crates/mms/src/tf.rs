@@ -537,10 +537,14 @@ impl Compiled {
     }
 
     pub(crate) fn eval(&self, x: &[f64]) -> f64 {
+        self.terms(x).sum()
+    }
+
+    /// Each term's value at `x`.
+    fn terms<'a>(&'a self, x: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
         self.0
             .iter()
             .map(|(c, powers)| powers.iter().fold(*c, |acc, &(i, e)| acc * x[i].powi(e)))
-            .sum()
     }
 
     /// The value at `x` divided by the sum of its terms' moduli: in
@@ -548,8 +552,7 @@ impl Compiled {
     /// the zero polynomial).
     pub(crate) fn relative(&self, x: &[f64]) -> f64 {
         let (mut sum, mut scale) = (0.0, 0.0);
-        for (c, powers) in &self.0 {
-            let t = powers.iter().fold(*c, |acc, &(i, e)| acc * x[i].powi(e));
+        for t in self.terms(x) {
             sum += t;
             scale += t.abs();
         }

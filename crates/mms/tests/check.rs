@@ -1273,17 +1273,36 @@ fn rolle_bound_spans_resonances() {
                 {"exponent": 1, "factor": "c45"}],
              "masses": [2, 3, 4, 5], "numerator": "c23*c34*c45", "remainder": false, "unit": "1"}]}
     });
-    let model = |verdict: Value| one_verdict(id, verdict);
-    let impossible = |t: &str| json!({"type": t, "status": "impossible", "certificate": cert});
-    for t in ["AAAARRRR", "A^2AARRRR", "RRRRAAAA", "ARRRRAAA", "RRAARRAA"] {
-        check_analysis(&model(impossible(t))).unwrap_or_else(|e| panic!("{t}: {e}"));
-    }
     // Three zeros below the first resonance: an exact witness.
     let witness = json!({"c1": "27/5", "c23": "9/500", "c34": "13/5", "c45": "6/25",
         "m1": "12/5", "m2": "39/5000", "m3": "73/1000", "m4": "97/10", "m5": "1/10"});
-    let possible = json!({"type": "AAARRRRA", "status": "possible", "witness": witness});
+    block_certificate_holds_up_to_a_witness(
+        id,
+        &cert,
+        &["AAAARRRR", "A^2AARRRR", "RRRRAAAA", "ARRRRAAA", "RRAARRAA"],
+        ("AAARRRRA", witness),
+    );
+}
+
+/// The block pole-sign certificate `cert` of model `id` is accepted for
+/// each type of `impossible`, the `witnessed` type's witness is valid, and
+/// the certificate moved onto that type is rejected because the type fits
+/// one of its configurations.
+fn block_certificate_holds_up_to_a_witness(
+    id: &str,
+    cert: &Value,
+    impossible: &[&str],
+    witnessed: (&str, Value),
+) {
+    let model = |verdict: Value| one_verdict(id, verdict);
+    let certified = |t: &str| json!({"type": t, "status": "impossible", "certificate": cert});
+    for t in impossible {
+        check_analysis(&model(certified(t))).unwrap_or_else(|e| panic!("{t}: {e}"));
+    }
+    let (t, witness) = witnessed;
+    let possible = json!({"type": t, "status": "possible", "witness": witness});
     check_analysis(&model(possible)).unwrap();
-    let e = check_analysis(&model(impossible("AAARRRRA"))).unwrap_err();
+    let e = check_analysis(&model(certified(t))).unwrap_err();
     assert!(
         e.to_string().contains("the type fits the configuration"),
         "{e}"
@@ -1314,18 +1333,12 @@ fn paired_zeros_and_poles_make_a_term_monotone() {
              "remainder": false, "unit": "-1"},
             {"factors": [], "masses": [5], "numerator": "1", "remainder": false, "unit": "1"}]}
     });
-    let model = |verdict: Value| one_verdict(id, verdict);
-    let impossible = |t: &str| json!({"type": t, "status": "impossible", "certificate": cert});
-    for t in ["AAARARRR", "AAARRARR", "AAARRRAR", "AA^2RARRR", "A^3RARRR"] {
-        check_analysis(&model(impossible(t))).unwrap_or_else(|e| panic!("{t}: {e}"));
-    }
     let witness = json!({"c1": "1/4", "c12": "7/128", "c23": "30", "c34": "15/64",
         "m1": "39/224", "m2": "14398481/4311684", "m3": "55575/3248", "m4": "5/192", "m5": "96"});
-    let possible = json!({"type": "ARRAAARR", "status": "possible", "witness": witness});
-    check_analysis(&model(possible)).unwrap();
-    let e = check_analysis(&model(impossible("ARRAAARR"))).unwrap_err();
-    assert!(
-        e.to_string().contains("the type fits the configuration"),
-        "{e}"
+    block_certificate_holds_up_to_a_witness(
+        id,
+        &cert,
+        &["AAARARRR", "AAARRARR", "AAARRRAR", "AA^2RARRR", "A^3RARRR"],
+        ("ARRAAARR", witness),
     );
 }

@@ -1424,10 +1424,10 @@ const DESCENT_TERMS: usize = 5000;
 /// masses, is skipped; any other outcome leaves the decision to it.
 fn holds_where_a_descent_ends(conditions: &[(Poly, bool)], vars: &[String]) -> bool {
     use super::targeted::{nelder_mead_for, short_rational};
+    use crate::tf::Compiled;
     if conditions.iter().map(|(g, _)| g.num_terms()).sum::<usize>() > DESCENT_TERMS {
         return false;
     }
-    use crate::tf::Compiled;
     let compiled: Vec<Compiled> = conditions
         .iter()
         .map(|(g, _)| Compiled::new(g, vars))
