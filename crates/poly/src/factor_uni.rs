@@ -24,6 +24,7 @@
 //! `u128` products, lifting uses big integers.
 
 use crate::int::Int;
+use crate::rat::Rat;
 use crate::upoly::UPoly;
 use num_bigint::BigInt;
 use num_integer::Integer;
@@ -77,6 +78,150 @@ pub fn factor_univariate(p: &UPoly) -> (Int, Vec<(UPoly, u32)>) {
         content,
         out.into_iter().map(|(c, e)| (UPoly::new(c), e)).collect(),
     )
+}
+
+/// The distinct rational roots of a univariate polynomial over Z, in
+/// increasing order.
+///
+/// Only the linear factors are sought, so no recombination is needed: the
+/// roots modulo a prime `p` (where the polynomial stays square-free) come
+/// from `gcd(f, x^p - x)` split by Cantor-Zassenhaus, each is lifted by
+/// Newton's iteration modulo `p^(2^j)` until the modulus exceeds twice the
+/// bound `|lc| + max |a_i|` on `lc * root`, and a candidate is kept only if
+/// the polynomial vanishes there exactly. When `f` has no root modulo `p`
+/// it has no rational root, which is the common case and costs one modular
+/// power. The zero polynomial has no listed roots.
+///
+/// ```
+/// use poly::{rational_roots, Rat, UPoly};
+/// // (2x - 3)(x^2 + 1)(x + 5)^2: the roots 3/2 and -5.
+/// let p = &(&UPoly::from_i64s(&[-3, 2]) * &UPoly::from_i64s(&[1, 0, 1]))
+///     * &UPoly::from_i64s(&[5, 1]).pow(2);
+/// let roots = rational_roots(&p);
+/// assert_eq!(roots, vec![Rat::from(-5), "3/2".parse().unwrap()]);
+/// ```
+pub fn rational_roots(p: &UPoly) -> Vec<Rat> {
+    if p.is_zero() {
+        return Vec::new();
+    }
+    let mut f = z_primitive(p.coeffs());
+    let mut roots = Vec::new();
+    let v = f.iter().take_while(|c| c.is_zero()).count();
+    if v > 0 {
+        roots.push(Rat::ZERO);
+        f.drain(..v);
+    }
+    if f.len() > 1 {
+        let found = match nonzero_roots_modular(&f) {
+            Some(r) => r,
+            // Not square-free modulo any listed prime: its square-free part
+            // has the same roots and is square-free modulo almost all.
+            None => {
+                let part = UPoly::new(f.clone()).square_free_part();
+                nonzero_roots_modular(&z_primitive(part.coeffs()))
+                    .unwrap_or_else(|| roots_from_factors(&part))
+            }
+        };
+        roots.extend(found);
+    }
+    roots.sort();
+    roots.dedup();
+    roots
+}
+
+/// The rational roots of `f` (primitive, `f(0) != 0`, degree >= 1) by
+/// lifting its roots modulo a prime; `None` if `f` is square-free modulo
+/// none of the primes tried.
+fn nonzero_roots_modular(f: &[Int]) -> Option<Vec<Rat>> {
+    let lc = f.last().expect("degree >= 1");
+    // A small prime: x^p mod f takes log2(p) squarings, and the lifting
+    // doubles the digits at each step whatever p is.
+    let p = (1009u64..20_000)
+        .step_by(2)
+        .filter(|&p| is_prime(p) && lc.rem_u64(p) != 0)
+        .take(40)
+        .find(|&p| Fp::new(p).is_squarefree(&Fp::new(p).reduce_z(f)))?;
+    let fp = Fp::new(p);
+    let a = fp.monic(&fp.reduce_z(f));
+    let h = fp.powmod(&[0, 1], p, &a);
+    let linear = fp.gcd(&a, &fp.sub_poly(&h, &[0, 1]));
+    if linear.len() < 2 {
+        return Some(Vec::new());
+    }
+    let mut factors = Vec::new();
+    fp.edf(&linear, 1, &mut SplitMix(0x5EED ^ p), &mut factors);
+    // |lc * root| <= |lc| + max |a_i| (Cauchy's bound times |lc|).
+    let largest = f.iter().map(|c| c.abs()).max().expect("non-empty");
+    let bound = (&lc.abs() + &largest).to_big() * 2u32;
+    let fz: Vec<BigInt> = f.iter().map(|c| c.to_big()).collect();
+    let dz: Vec<BigInt> = fz
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(i, c)| c * BigInt::from(i))
+        .collect();
+    let horner = |c: &[BigInt], x: &BigInt, m: &BigInt| -> BigInt {
+        c.iter()
+            .rev()
+            .fold(BigInt::zero(), |acc, k| bmod(&(acc * x + k), m))
+    };
+    let lcz = lc.to_big();
+    let mut out = Vec::new();
+    for g in factors {
+        // g = x + c: the root -c.
+        let r0 = fp.sub(0, g[0]);
+        let d0 = fp
+            .reduce_z(&f[1..])
+            .iter()
+            .enumerate()
+            .fold(0u64, |acc, (i, c)| {
+                // f'(r0) mod p from the coefficients i * a_i.
+                let term = fp.mul(fp.mul(*c, (i as u64 + 1) % p), pow_mod(r0, i as u64, fp));
+                (acc + term) % p
+            });
+        // Newton's step with the inverse of f'(r) carried along by its own
+        // Newton step (s <- s (2 - f'(r) s)), so no extended Euclid.
+        let mut r = BigInt::from(r0);
+        let mut s = BigInt::from(fp.inv(d0));
+        let mut m = BigInt::from(p);
+        while m <= bound {
+            m = &m * &m;
+            r = bmod(&(&r - horner(&fz, &r, &m) * &s), &m);
+            let ds = horner(&dz, &r, &m) * &s;
+            s = bmod(&(&s * (BigInt::from(2) - ds)), &m);
+        }
+        let half = &m >> 1;
+        let y = symmetric(&(&lcz * &r), &m, &half);
+        let candidate = Rat::new(Int::from(y), lc.clone());
+        if UPoly::new(f.to_vec()).sign_at(&candidate) == 0 {
+            out.push(candidate);
+        }
+    }
+    Some(out)
+}
+
+/// `x^e` modulo `p`.
+fn pow_mod(x: u64, mut e: u64, fp: Fp) -> u64 {
+    let (mut base, mut acc) = (x, 1u64);
+    while e > 0 {
+        if e & 1 == 1 {
+            acc = fp.mul(acc, base);
+        }
+        base = fp.mul(base, base);
+        e >>= 1;
+    }
+    acc
+}
+
+/// The rational roots from a full factorization: the fallback of
+/// [`rational_roots`] for inputs no listed prime keeps square-free.
+fn roots_from_factors(p: &UPoly) -> Vec<Rat> {
+    factor_univariate(p)
+        .1
+        .iter()
+        .filter(|(g, _)| g.degree() == Some(1))
+        .map(|(g, _)| Rat::new(-g.coeff(0).clone(), g.coeff(1).clone()))
+        .collect()
 }
 
 /// Deterministic order of integer polynomials: degree, then coefficients
@@ -1144,5 +1289,52 @@ mod tests {
         assert_eq!(fs.len(), 13);
         assert!(fs.iter().all(|f| f.0.degree() == Some(1) && f.1 == 1));
         assert!(c.abs().is_one());
+    }
+
+    #[test]
+    fn rational_roots_match_the_linear_factors() {
+        // Roots with large numerators and denominators, a repeated one, an
+        // irreducible quadratic and cubic, and a root at zero.
+        let big = Int::from(10).pow(30) + Int::from(7);
+        let r1 = UPoly::new(vec![-&big, Int::from(3)]); // root big/3
+        let r2 = up(&[5, -7]); // 5/7
+        let p = &(&(&r1 * &r2.pow(3)) * &up(&[2, 0, 1])) * &up(&[-2, 0, 0, 1]);
+        let p = &p * &up(&[0, 1]);
+        let want = vec![
+            Rat::ZERO,
+            "5/7".parse().unwrap(),
+            Rat::new(big, Int::from(3)),
+        ];
+        assert_eq!(rational_roots(&p), want);
+        assert_eq!(
+            roots_from_factors(&p),
+            vec![Rat::ZERO, want[2].clone(), want[1].clone()]
+        );
+        // No rational root: x^4 + 1, and 2x^2 - 1.
+        assert!(rational_roots(&up(&[1, 0, 0, 0, 1])).is_empty());
+        assert!(rational_roots(&up(&[-1, 0, 2])).is_empty());
+        assert!(rational_roots(&UPoly::zero()).is_empty());
+        assert!(rational_roots(&up(&[4])).is_empty());
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(200))]
+        /// Against the full factorization, an independent route.
+        #[test]
+        fn rational_roots_agree_with_factorization(
+            linear in proptest::collection::vec((-40i64..40, 1i64..30, 1u32..3), 0..6),
+            other in proptest::collection::vec(-9i64..9, 0..5),
+        ) {
+            let mut p = up(&[1]);
+            for (a, b, e) in &linear {
+                p = &p * &up(&[-*a, *b]).pow(*e);
+            }
+            let mut q = other.clone();
+            q.push(1);
+            p = &p * &up(&q);
+            let mut want = roots_from_factors(&p);
+            want.sort();
+            proptest::prop_assert_eq!(rational_roots(&p), want);
+        }
     }
 }

@@ -48,7 +48,7 @@ pub use crate::roots::{
     positive_roots, real_roots, RealRoot, RootError, SharedRoot, SturmSequence,
 };
 mod factor_uni;
-pub use crate::factor_uni::factor_univariate;
+pub use crate::factor_uni::{factor_univariate, rational_roots};
 mod resultant;
 pub use crate::resultant::{
     bezout_matrix, discriminant, psc, resultant, sturm_habicht, sturm_habicht_principal,

@@ -31,7 +31,7 @@ use super::targeted::{
     Mechanism, MERGE_FRACTIONS,
 };
 use crate::tf::{UndampedCoefficients, OMEGA};
-use poly::{Int, Poly, Rat};
+use poly::{Int, Poly, Rat, UPoly};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Trials of the discriminant search per model; each with a cancellation
@@ -555,20 +555,15 @@ fn double_zero_points(
     Some(points)
 }
 
-/// The positive rational roots of `p`, a polynomial in `var` alone: from
-/// its linear factors.
+/// The positive rational roots of `p`, a polynomial in `var` alone, in
+/// increasing order.
 fn rational_roots(p: &Poly, var: &str) -> Vec<Rat> {
-    if p.is_zero() || p.vars().iter().any(|v| v != var) {
+    let Some((_, u)) = UPoly::from_poly(p, var) else {
         return Vec::new();
-    }
-    poly::factor(p)
-        .factors
-        .iter()
-        .filter(|(g, _)| g.degree(var) == 1)
-        .filter_map(|(g, _)| {
-            let v = -(g.subs(var, &Rat::ZERO).as_constant()? / g.derivative(var).as_constant()?);
-            (v.signum() > 0).then_some(v)
-        })
+    };
+    poly::rational_roots(&u)
+        .into_iter()
+        .filter(|r| r.signum() > 0)
         .collect()
 }
 
