@@ -16,7 +16,17 @@
 //!    rational constants (the file's polynomials are used from then on);
 //! 2. every *possible* type: its witness assigns a positive rational to
 //!    exactly the model's undamped parameters, and the reduced transfer
-//!    function there has that type (exact real-root isolation);
+//!    function there has that type (exact real-root isolation); or its
+//!    path (a double zero shown by continuity, see
+//!    [`crate::analysis::MergePath`]) gives every parameter a rational
+//!    function of `s` without zero or pole on `[0, 1]` and positive there,
+//!    the type at `s = 0` is the wanted one with its `A^2` split, the type
+//!    at `s = 1` the wanted one without it, and, with the transfer function
+//!    along the path reduced by its gcd and its zero roots, the leading and
+//!    lowest coefficients, the resultant, the denominator's discriminant
+//!    have no root in `[0, 1]`, the numerator's discriminant exactly one
+//!    (in `(0, 1)`), and there its first principal subresultant
+//!    coefficient with its derivative is not zero (Sturm sequences);
 //! 3. every *impossible* type: its certificate, a tree of proofs over
 //!    strata (see [`crate::analysis::Proof`] for the format): the stratum's
 //!    substitutions, the coverage of its critical polynomials (leading
@@ -68,7 +78,10 @@
 
 use crate::model::{Model, Port};
 use crate::table::{AnalysisTable, TableError};
-use poly::{adjugate, det, gcd, interleave_roots, square_free, sylvester_matrix, Poly, Rat, UPoly};
+use poly::{
+    adjugate, count_roots_in, det, gcd, interleave_roots, psc, square_free, sylvester_matrix, Poly,
+    Rat, UPoly,
+};
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::fmt;
@@ -1490,8 +1503,13 @@ fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, 
         let t = Ty::parse(name).map_err(type_err)?;
         match str_field(verdict, "status", &vpath).map_err(type_err)? {
             "possible" => {
-                let w = field(verdict, "witness", &vpath).map_err(type_err)?;
-                checker.check_witness(w, &t).map_err(type_err)?;
+                match verdict.get("path") {
+                    Some(p) => checker.check_path(p, &t).map_err(type_err)?,
+                    None => {
+                        let w = field(verdict, "witness", &vpath).map_err(type_err)?;
+                        checker.check_witness(w, &t).map_err(type_err)?;
+                    }
+                }
                 report.witnesses += 1;
             }
             "impossible" => {
@@ -1664,6 +1682,149 @@ impl ModelChecker {
         let got = classify(&self.num, &self.den, &point).map_err(|e| format!("witness: {e}"))?;
         if &got != t {
             return Err(format!("witness: the type there is {got}, not {t}"));
+        }
+        Ok(())
+    }
+
+    /// A double zero shown by continuity: see the module docs, item 2.
+    fn check_path(&self, v: &Value, t: &Ty) -> Result<(), String> {
+        const S: &str = "s";
+        let obj = v
+            .get("parameters")
+            .and_then(Value::as_object)
+            .ok_or("path: expected an object of parameters")?;
+        let names: Vec<&String> = obj.keys().collect();
+        if names.len() != self.params.len() || names.iter().any(|n| !self.params.contains(n)) {
+            return Err(format!(
+                "path: the parameters are {names:?}, not {:?}",
+                self.params
+            ));
+        }
+        let mut path: BTreeMap<String, (Poly, Poly)> = BTreeMap::new();
+        for (name, pq) in obj {
+            let fail = || format!("path: {name}: expected [numerator, denominator] in s");
+            let pair = pq.as_array().filter(|a| a.len() == 2).ok_or_else(fail)?;
+            let p = poly_value(&pair[0], "path")?;
+            let q = poly_value(&pair[1], "path")?;
+            if p.vars().iter().chain(q.vars()).any(|x| x != S) {
+                return Err(fail());
+            }
+            // Positive on [0, 1]: p q has no root there and is positive at 0.
+            let pq = UPoly::from_poly(&(&p * &q), S).ok_or_else(fail)?;
+            if pq.0.signum() * pq.1.sign_at(&Rat::ZERO) <= 0
+                || count_roots_in(&pq.1, &Rat::ZERO, &Rat::ONE) > 0
+            {
+                return Err(format!("path: {name} is not positive on [0, 1]"));
+            }
+            path.insert(name.clone(), (p, q));
+        }
+        // The ends: the type with its A^2 split, and without the pair.
+        let i = match t.toks.iter().position(|k| k.mult > 1) {
+            Some(i)
+                if t.toks[i].zero
+                    && t.toks[i].mult == 2
+                    && t.toks.iter().filter(|k| k.mult > 1).count() == 1
+                    && !t.toks.get(i + 1).is_some_and(|k| k.zero)
+                    && !(i > 0 && t.toks[i - 1].zero) =>
+            {
+                i
+            }
+            _ => return Err(format!("path: {t} is not one double zero alone in its gap")),
+        };
+        let simple = Tok {
+            zero: true,
+            mult: 1,
+        };
+        let mut split = t.clone();
+        split.toks.splice(i..=i, [simple, simple]);
+        let mut gone = t.clone();
+        gone.toks.remove(i);
+        gone.nm = true;
+        for (s, want) in [(Rat::ZERO, &split), (Rat::ONE, &gone)] {
+            let point: BTreeMap<String, Rat> = path
+                .iter()
+                .map(|(k, (p, q))| {
+                    let at = |f: &Poly| f.subs(S, &s).as_constant().unwrap_or(Rat::ZERO);
+                    (k.clone(), &at(p) / &at(q))
+                })
+                .collect();
+            let got = classify(&self.num, &self.den, &point)
+                .map_err(|e| format!("path at s = {s}: {e}"))?;
+            if &got != want {
+                return Err(format!("path: the type at s = {s} is {got}, not {want}"));
+            }
+        }
+        // The transfer function along the path, denominators cleared term
+        // by term.
+        let along = |f: &Poly| -> Poly {
+            let degrees: Vec<u32> = f.vars().iter().map(|x| f.degree(x)).collect();
+            let mut out = Poly::zero();
+            for term in f.terms() {
+                let mut m = Poly::constant(term.coef.clone());
+                for ((x, &e), &d) in f.vars().iter().zip(&term.exps).zip(&degrees) {
+                    match path.get(x) {
+                        Some((p, q)) => m = &(&m * &p.pow(e)) * &q.pow(d - e),
+                        None => m = &m * &Poly::var(x).pow(e),
+                    }
+                }
+                out = &out + &m;
+            }
+            out
+        };
+        let (n, d) = (along(&self.num), along(&self.den));
+        let g = gcd(&n, &d);
+        let reduce = |p: &Poly| -> Result<Poly, String> {
+            let p = p.div_exact(&g).ok_or("path: the gcd does not divide")?;
+            let mut p = p;
+            while !p.is_zero() && p.subs(OMEGA, &Rat::ZERO).is_zero() {
+                p = p
+                    .div_exact(&Poly::var(OMEGA))
+                    .ok_or("path: Omega does not divide")?;
+            }
+            Ok(p)
+        };
+        let (n, d) = (reduce(&n)?, reduce(&d)?);
+        let rootless = |p: &Poly, what: &str| -> Result<(), String> {
+            let ok = UPoly::from_poly(p, S).is_some_and(|(c, u)| {
+                !c.is_zero()
+                    && u.sign_at(&Rat::ZERO) != 0
+                    && count_roots_in(&u, &Rat::ZERO, &Rat::ONE) == 0
+            });
+            if ok {
+                Ok(())
+            } else {
+                Err(format!("path: the {what} has a root on [0, 1]"))
+            }
+        };
+        if n.degree(OMEGA) < 2 {
+            return Err("path: the reduced numerator has fewer than two zeros".into());
+        }
+        rootless(&n.lead_in(OMEGA), "numerator's leading coefficient")?;
+        rootless(&d.lead_in(OMEGA), "denominator's leading coefficient")?;
+        rootless(&n.subs(OMEGA, &Rat::ZERO), "numerator's value at 0")?;
+        rootless(&d.subs(OMEGA, &Rat::ZERO), "denominator's value at 0")?;
+        rootless(&sylvester_resultant(&n, &d), "resultant")?;
+        if d.degree(OMEGA) >= 2 {
+            rootless(&discriminant_of(&d)?, "denominator's discriminant")?;
+        }
+        let disc = UPoly::from_poly(&discriminant_of(&n)?, S)
+            .map(|(_, u)| u)
+            .ok_or("path: the discriminant depends on more than s")?;
+        if disc.sign_at(&Rat::ZERO) == 0
+            || disc.sign_at(&Rat::ONE) == 0
+            || count_roots_in(&disc, &Rat::ZERO, &Rat::ONE) != 1
+        {
+            return Err("path: the zeros do not meet exactly once on (0, 1)".into());
+        }
+        if n.degree(OMEGA) >= 3 {
+            let p1 = psc(&n, &n.derivative(OMEGA), OMEGA)
+                .get(1)
+                .and_then(|p| UPoly::from_poly(p, S))
+                .map(|(_, u)| u)
+                .ok_or("path: no first principal subresultant coefficient")?;
+            if p1.is_zero() || count_roots_in(&disc.gcd(&p1), &Rat::ZERO, &Rat::ONE) > 0 {
+                return Err("path: more than two zeros meet".into());
+            }
         }
         Ok(())
     }

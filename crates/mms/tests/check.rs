@@ -1342,3 +1342,140 @@ fn paired_zeros_and_poles_make_a_term_monotone() {
         ("ARRAAARR", witness),
     );
 }
+
+/// A double zero shown by continuity (docs/analysis.md): N5-g2-a3.1-s4.1,
+/// with two cancelled poles, along a path on which only `c1` and `m1`
+/// move (the others fixed, `m3` and `m1` keeping the cancellations). At
+/// `s = 0` the two zeros below the first remaining pole are apart
+/// (`AARR`); at `s = 1` they have left the real axis (`RR (nm)`).
+fn continuity_path() -> Value {
+    json!({"parameters": {
+        "c1": ["139/320*s + 7297/320", "1"], "c12": ["287/100", "1"],
+        "c34": ["29/40", "1"], "c45": ["207/100", "1"],
+        "m1": ["-6812490395947/16000000000*s - 1155982370821973/80000000000",
+               "-3073532673061/2000000000"],
+        "m2": ["27/20", "1"], "m3": ["2059/2000", "207/100"], "m4": ["127/5", "1"],
+        "m5": ["71/50", "1"]}})
+}
+
+/// The exact point of a path of [`continuity_path`]'s form at `s`.
+fn path_point(path: &Value, s: &poly::Rat) -> std::collections::BTreeMap<String, poly::Rat> {
+    let at = |v: &Value| {
+        let p: poly::Poly = v.as_str().unwrap().parse().unwrap();
+        p.subs("s", s).as_constant().unwrap()
+    };
+    path["parameters"]
+        .as_object()
+        .unwrap()
+        .iter()
+        .map(|(k, v)| (k.clone(), &at(&v[0]) / &at(&v[1])))
+        .collect()
+}
+
+#[test]
+fn a_double_zero_by_continuity_is_checked_and_its_forgeries_rejected() {
+    use poly::{positive_roots, Poly, Rat, UPoly};
+    let id = "N5-g2-a3.1-s4.1";
+    let model = |t: &str, path: &Value| {
+        one_verdict(id, json!({"type": t, "status": "possible", "path": path}))
+    };
+    let path = continuity_path();
+    check_analysis(&model("A^2RR", &path)).unwrap_or_else(|e| panic!("{e}"));
+
+    // A second route to the merge: the zeros of the reduced numerator
+    // below its first pole, counted by exact root isolation at points of
+    // the path. Two at s = 0, none at s = 1; halving the interval where
+    // the count drops brings the two together.
+    let tf = Model::from_id(id).unwrap().undamped_tf();
+    let below_first_pole = |s: &Rat| -> Vec<f64> {
+        let point = path_point(&path, s);
+        let at = |p: &Poly| UPoly::from_poly(&p.subs_point(&point), "Omega").unwrap().1;
+        let (n, d) = (at(&tf.num), at(&tf.den));
+        let g = n.gcd(&d);
+        let (n, d) = (n.div_exact(&g).unwrap(), d.div_exact(&g).unwrap());
+        let pole = refined(&d, &positive_roots(&d)[0]);
+        positive_roots(&n)
+            .iter()
+            .map(|r| refined(&n, r))
+            .filter(|z| *z < pole)
+            .collect()
+    };
+    let (mut lo, mut hi) = (Rat::ZERO, Rat::ONE);
+    assert_eq!(below_first_pole(&lo).len(), 2);
+    assert!(below_first_pole(&hi).is_empty());
+    let gap0 = {
+        let z = below_first_pole(&lo);
+        z[1] / z[0]
+    };
+    for _ in 0..40 {
+        let mid = &(&lo + &hi) * &Rat::new(1.into(), 2.into());
+        if below_first_pole(&mid).len() == 2 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let z = below_first_pole(&lo);
+    assert!(
+        z.len() == 2 && z[1] / z[0] < 1.0 + 1e-5 && gap0 > 1.001,
+        "{z:?} {gap0}"
+    );
+
+    // Forgeries: the path run backwards; the claim moved to another type;
+    // a parameter that turns negative; the path folded so that the pair
+    // meets three times (s -> u(s) = s + 20 s (s - 1/2)(s - 1), whose
+    // values run 0, above 1, below 0, 1).
+    let reversed = map_path(&path, "1 - s");
+    let e = check_analysis(&model("A^2RR", &reversed)).unwrap_err();
+    assert!(e.to_string().contains("the type at s = 0"), "{e}");
+    let e = check_analysis(&model("RA^2R", &path)).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("the type at s = 0 is AARR, not RAAR"),
+        "{e}"
+    );
+    let mut negative = path.clone();
+    negative["parameters"]["c12"] = json!(["1 - 2*s", "1"]);
+    let e = check_analysis(&model("A^2RR", &negative)).unwrap_err();
+    assert!(e.to_string().contains("c12 is not positive"), "{e}");
+    let folded = map_path(&path, "s + 20*s*(s - 1/2)*(s - 1)");
+    let e = check_analysis(&model("A^2RR", &folded)).unwrap_err();
+    assert!(e.to_string().contains("do not meet exactly once"), "{e}");
+}
+
+/// A simple real root of `u` to about 50 bits, by halving its isolating
+/// interval on exact signs.
+fn refined(u: &poly::UPoly, r: &poly::RealRoot) -> f64 {
+    let (mut lo, mut hi) = (r.lo.clone(), r.hi.clone());
+    let half = poly::Rat::new(1.into(), 2.into());
+    let low_sign = u.sign_at(&lo);
+    for _ in 0..60 {
+        if lo == hi {
+            break;
+        }
+        let mid = &(&lo + &hi) * &half;
+        if u.sign_at(&mid) == low_sign {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo.to_f64() + hi.to_f64())
+}
+
+/// A path whose polynomials are of degree at most one in `s`, with `s`
+/// replaced by the polynomial `u`.
+fn map_path(path: &Value, u: &str) -> Value {
+    use poly::{Poly, Rat};
+    let u: Poly = u.parse().unwrap();
+    let mut out = path.clone();
+    for (_, v) in out["parameters"].as_object_mut().unwrap() {
+        for k in 0..2 {
+            let p: Poly = v[k].as_str().unwrap().parse().unwrap();
+            let (p0, p1) = (p.subs("s", &Rat::ZERO), p.subs("s", &Rat::ONE));
+            let mapped = &p0 + &(&(&p1 - &p0) * &u);
+            v[k] = json!(mapped.to_string());
+        }
+    }
+    out
+}

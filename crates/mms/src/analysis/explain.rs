@@ -152,6 +152,19 @@ pub fn explain(analysis: &ModelAnalysis, t: &FrfType, format: ExplainFormat) -> 
         analysis.sensor[1],
     ));
     match v.status {
+        Status::Possible if v.witness.is_none() => {
+            let path = v.path.as_ref()?;
+            let (split, gone) = super::continuity::merge_ends(t)?;
+            w.para(&format!(
+                "Verdict: **possible**, shown by continuity. Along the path below (each parameter a rational function of s, positive for 0 <= s <= 1) the type at s = 0 is {split} and at s = 1 {gone}; in between the two zeros meet exactly once, as a double zero, while no other zero or pole meets another, reaches 0 or leaves to infinity. So the type is {t} at that s."
+            ));
+            let rows: Vec<String> = path
+                .parameters
+                .iter()
+                .map(|(k, [p, q])| format!("{k} = ({}) / ({})", w.poly(p), w.poly(q)))
+                .collect();
+            w.para(&format!("Path: {}.", rows.join("; ")));
+        }
         Status::Possible => {
             let p = v.witness.as_ref()?;
             w.para(&format!(

@@ -24,6 +24,7 @@
 
 mod cancellations;
 mod configurations;
+mod continuity;
 mod explain;
 mod frf_type;
 mod lp;
@@ -33,6 +34,7 @@ mod rename;
 mod targeted;
 mod walls;
 
+pub use continuity::PATH_VARIABLE;
 pub use explain::{explain, ExplainFormat};
 pub use frf_type::{
     candidate_types, frf_type_at, frf_type_of, Feature, FrfType, ParseFrfTypeError, Token,
@@ -76,6 +78,34 @@ pub struct TypeVerdict {
     /// The proof that it cannot occur (impossible types).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub certificate: Option<Proof>,
+    /// A path along which the type shows by continuity (possible types
+    /// without a witness point).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path: Option<MergePath>,
+}
+
+/// A double zero shown by continuity instead of at a rational point.
+///
+/// Each parameter is a rational function of [`PATH_VARIABLE`] `s`, positive
+/// on `[0, 1]`. At `s = 0` the model shows the type with the double zero
+/// split into two simple ones; at `s = 1` the same type with that pair off
+/// the real axis; and in between exactly one thing happens: the pair
+/// meets, as a double zero and nothing else multiple, while no pole or
+/// zero meets a pole, reaches `0` or leaves to infinity. So the type is
+/// shown at that `s` (an algebraic number), which `mms check` confirms by
+/// re-deriving every one of these conditions exactly.
+///
+/// ```
+/// use mms::analysis::MergePath;
+/// let path: MergePath = serde_json::from_str(
+///     r#"{"parameters": {"m1": ["1 + s", "1"], "c1": ["2", "1 + s"]}}"#,
+/// ).unwrap();
+/// assert_eq!(path.parameters["c1"][1].to_string(), "s + 1");
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MergePath {
+    /// Each parameter as `[numerator, denominator]`, polynomials in `s`.
+    pub parameters: BTreeMap<String, [Poly; 2]>,
 }
 
 /// A pole-zero cancellation: a factor of `Res(num, den)` that vanishes for
@@ -215,7 +245,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 21;
+pub const ENGINE_VERSION: u32 = 22;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
@@ -285,12 +315,17 @@ fn mirror_witnesses(
         .iter()
         .chain(extra)
         .filter_map(|t| {
-            let w = prover.witnesses.get(t)?;
+            let witness = prover.witnesses.get(t).cloned();
+            let path = match witness {
+                Some(_) => None,
+                None => Some(prover.paths.get(t)?.clone()),
+            };
             Some(back.verdict(&TypeVerdict {
                 frf_type: t.clone(),
                 status: Status::Possible,
-                witness: Some(w.clone()),
+                witness,
                 certificate: None,
+                path,
             }))
         })
         .collect()
@@ -336,6 +371,7 @@ fn search_unknown(prover: &mut Prover, unknown: &[FrfType], limits: &SearchLimit
         + prover.neighbour_search(unknown)
         + prover.close_merge_search(unknown)
         + prover.wall_targeted_search(unknown)
+        + prover.merge_search(unknown)
 }
 
 /// Possible types first, then unknown ones, then impossible ones.
@@ -384,6 +420,7 @@ pub fn analyze_alone(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
             } else {
                 None
             },
+            path: None,
         });
     }
     // Rare generic types: a targeted search, then the verdicts it changes.
@@ -397,6 +434,9 @@ pub fn analyze_alone(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
             if let Some(w) = prover.witnesses.get(&v.frf_type) {
                 v.status = Status::Possible;
                 v.witness = Some(w.clone());
+            } else if let Some(p) = prover.paths.get(&v.frf_type) {
+                v.status = Status::Possible;
+                v.path = Some(p.clone());
             }
         }
     }

@@ -660,6 +660,8 @@ pub(crate) struct Prover<'a> {
     /// (stratum, type) proof attempt looks its stratum up.
     strata: HashMap<String, Rc<Stratum>>,
     pub witnesses: BTreeMap<FrfType, BTreeMap<String, Rat>>,
+    /// Types shown by continuity, with their paths.
+    pub paths: BTreeMap<FrfType, super::MergePath>,
     memo: HashMap<(String, String), Option<Proof>>,
     /// The pole-sign premise, worked out when a stratum proof first fails
     /// (outer `None`: not yet; most models never need it).
@@ -751,6 +753,7 @@ impl<'a> Prover<'a> {
             params,
             strata: HashMap::new(),
             witnesses: BTreeMap::new(),
+            paths: BTreeMap::new(),
             memo: HashMap::new(),
             pole_signs: None,
             block_pole_signs: None,

@@ -6,8 +6,8 @@
 
 use super::{
     BlockPoleSigns, BlockSign, Cancellation, ConditionRule, CriticalFactor, Definiteness,
-    FactorProof, ModelAnalysis, OpenProof, PoleSigns, Proof, RegionSample, RemainderFactor,
-    SignCase, SignCondition, Substitution, TypeVerdict,
+    FactorProof, MergePath, ModelAnalysis, OpenProof, PoleSigns, Proof, RegionSample,
+    RemainderFactor, SignCase, SignCondition, Substitution, TypeVerdict,
 };
 use crate::model::Model;
 use poly::{Poly, Rat};
@@ -71,6 +71,13 @@ impl Renaming {
             status: v.status,
             witness: v.witness.as_ref().map(|w| self.point(w)),
             certificate: v.certificate.as_ref().map(|p| self.proof(p)),
+            path: v.path.as_ref().map(|p| MergePath {
+                parameters: p
+                    .parameters
+                    .iter()
+                    .map(|(k, v)| (self.name(k), v.clone()))
+                    .collect(),
+            }),
         }
     }
 

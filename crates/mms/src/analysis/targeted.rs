@@ -266,7 +266,7 @@ fn violation(t: &FrfType, num: &[f64], den: &[f64]) -> Option<f64> {
 /// [`violation`] with the zeros' iteration started from `near` (the zeros
 /// at a nearby point, as a descent evaluates one after another), which it
 /// then holds the zeros found here.
-fn violation_near(
+pub(super) fn violation_near(
     t: &FrfType,
     num: &[f64],
     den: &[f64],
@@ -492,6 +492,80 @@ pub(super) fn nelder_mead_for(
     simplex.swap_remove(0).0
 }
 
+/// A stratum's reduced transfer function compiled to f64 over the model's
+/// parameters: a point of the stratum is given by the logarithms of its
+/// free variables, and the eliminated parameters follow from the
+/// substitutions (a point where one is not positive is off the orthant).
+pub(super) struct StratumCoefficients {
+    num: Vec<Compiled>,
+    den: Vec<Compiled>,
+    free: Vec<usize>,
+    subs: Vec<(usize, Compiled, Compiled)>,
+    params: usize,
+}
+
+impl StratumCoefficients {
+    /// `None` if a variable of the stratum is not among `names`.
+    pub(super) fn new(s: &Stratum, names: &[String]) -> Option<StratumCoefficients> {
+        let index = |v: &str| names.iter().position(|n| n == v);
+        let compile = |p: &Poly| -> Vec<Compiled> {
+            p.coeffs_in(OMEGA)
+                .iter()
+                .map(|c| Compiled::new(c, names))
+                .collect()
+        };
+        let free = s
+            .vars
+            .iter()
+            .map(|v| index(v))
+            .collect::<Option<Vec<usize>>>()?;
+        let subs = s
+            .subs
+            .iter()
+            .map(|w| {
+                Some((
+                    index(&w.var)?,
+                    Compiled::new(&w.alpha, names),
+                    Compiled::new(&w.beta, names),
+                ))
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(StratumCoefficients {
+            num: compile(&s.num),
+            den: compile(&s.den),
+            free,
+            subs,
+            params: names.len(),
+        })
+    }
+
+    /// The full point of a log-point of the stratum, if on the orthant.
+    pub(super) fn full(&self, lx: &[f64]) -> Option<Vec<f64>> {
+        let mut x = vec![0.0; self.params];
+        for (&i, v) in self.free.iter().zip(lx) {
+            x[i] = v.clamp(-30.0, 30.0).exp();
+        }
+        for (i, alpha, beta) in self.subs.iter().rev() {
+            let v = beta.eval(&x) / alpha.eval(&x);
+            if !(v.is_finite() && v > 0.0) {
+                return None;
+            }
+            x[*i] = v;
+        }
+        Some(x)
+    }
+
+    /// The reduced numerator's and denominator's coefficients in `Omega`
+    /// at a log-point of the stratum.
+    pub(super) fn at(&self, lx: &[f64]) -> Option<(Vec<f64>, Vec<f64>)> {
+        let x = self.full(lx)?;
+        Some((
+            self.num.iter().map(|c| c.eval(&x)).collect(),
+            self.den.iter().map(|c| c.eval(&x)).collect(),
+        ))
+    }
+}
+
 impl Prover<'_> {
     /// Looks for witnesses of the generic types in `wanted`; records every
     /// one it finds (exactly checked) and returns how many.
@@ -667,13 +741,7 @@ impl Prover<'_> {
             // The stratum's cost is factoring its critical polynomials;
             // skip substitutions that make the TF itself large.
             let size = |p: &Poly| next.iter().fold(p.clone(), |q, w| substitute(&q, w));
-            // Factoring cost grows steeply with the number of variables:
-            // five masses (nine) get a smaller limit than four (seven).
-            let limit = if self.params.len() <= 7 {
-                PARTIAL_WALL_TF_TERMS
-            } else {
-                PARTIAL_WALL_TF_TERMS * 5 / 8
-            };
+            let limit = partial_wall_tf_terms(self.params.len());
             if size(&self.num).num_terms() + size(&self.den).num_terms() > limit {
                 continue;
             }
@@ -869,61 +937,17 @@ impl Prover<'_> {
         if goals.is_empty() || s.vars.is_empty() {
             return;
         }
-        let names = self.params.clone();
-        let index = |v: &str| names.iter().position(|n| n == v);
-        let compile = |p: &Poly| -> Vec<Compiled> {
-            p.coeffs_in(OMEGA)
-                .iter()
-                .map(|c| Compiled::new(c, &names))
-                .collect()
-        };
-        let (num, den) = (compile(&s.num), compile(&s.den));
-        let Some(free) = s
-            .vars
-            .iter()
-            .map(|v| index(v))
-            .collect::<Option<Vec<usize>>>()
-        else {
+        let Some(coefficients) = StratumCoefficients::new(s, &self.params) else {
             return;
-        };
-        let Some(subs) = s
-            .subs
-            .iter()
-            .map(|w| {
-                Some((
-                    index(&w.var)?,
-                    Compiled::new(&w.alpha, &names),
-                    Compiled::new(&w.beta, &names),
-                ))
-            })
-            .collect::<Option<Vec<_>>>()
-        else {
-            return;
-        };
-        // The full point of a log-point of the stratum, if on the orthant.
-        let full = |lx: &[f64]| -> Option<Vec<f64>> {
-            let mut x = vec![0.0; names.len()];
-            for (&i, v) in free.iter().zip(lx) {
-                x[i] = v.clamp(-30.0, 30.0).exp();
-            }
-            for (i, alpha, beta) in subs.iter().rev() {
-                let v = beta.eval(&x) / alpha.eval(&x);
-                if !(v.is_finite() && v > 0.0) {
-                    return None;
-                }
-                x[*i] = v;
-            }
-            Some(x)
         };
         let roots = |lx: &[f64]| -> Option<(Vec<f64>, Vec<f64>, bool)> {
-            let x = full(lx)?;
-            let n: Vec<f64> = num.iter().map(|c| c.eval(&x)).collect();
-            let d: Vec<f64> = den.iter().map(|c| c.eval(&x)).collect();
+            let (n, d) = coefficients.at(lx)?;
             let zn = positive_roots(&n)?;
             let zd = positive_roots(&d)?;
             let nm = zn.len() < n.len() - 1;
             Some((zn, zd, nm))
         };
+        let free = &s.vars;
         let mut rng = XorShift::new(seed.wrapping_mul(0x9E37_79B9) | 1);
         let mut starts: Vec<Vec<(f64, Vec<f64>)>> = vec![Vec::new(); goals.len()];
         for _ in 0..STRATUM_SAMPLES {
@@ -1489,14 +1513,25 @@ const PARTIAL_WALL_SAMPLES: usize = 40;
 /// Partial-wall strata built per model at most.
 const PARTIAL_WALL_BUDGET: usize = 40;
 /// Terms of `alpha` and `beta` together, at most, for a partial wall.
-const PARTIAL_WALL_TERMS: usize = 24;
+pub(super) const PARTIAL_WALL_TERMS: usize = 24;
 /// Terms of the substituted numerator and denominator together, at most
 /// (up to seven parameters; five eighths of it beyond).
 const PARTIAL_WALL_TF_TERMS: usize = 400;
 
+/// The limit on the terms of a partial wall's substituted numerator and
+/// denominator together: factoring cost grows steeply with the number of
+/// variables, so five masses (nine) get a smaller limit than four (seven).
+pub(super) fn partial_wall_tf_terms(params: usize) -> usize {
+    if params <= 7 {
+        PARTIAL_WALL_TF_TERMS
+    } else {
+        PARTIAL_WALL_TF_TERMS * 5 / 8
+    }
+}
+
 /// `f = alpha*x - beta` for the parameter `x` of degree one with the
 /// smallest `alpha` and `beta` (any signs).
-fn linear_solution(f: &Poly, vars: &[String]) -> Option<Substitution> {
+pub(super) fn linear_solution(f: &Poly, vars: &[String]) -> Option<Substitution> {
     vars.iter()
         .filter(|x| f.degree(x) == 1)
         .map(|x| {

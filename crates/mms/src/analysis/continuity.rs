@@ -1,0 +1,491 @@
+//! Double zeros shown by continuity.
+//!
+//! A double antiresonance `A^2` lives where two zeros meet, a variety of
+//! codimension one on which rational points are rare when the root
+//! conditions are not linear in any two parameters. It need not be hit:
+//! on a path from a point showing the split type (`AA` in that gap) to one
+//! where the pair has left the real axis (the same type without it), the
+//! pair must meet somewhere, and if nothing else happens on the way the
+//! type there is the wanted one. The path is a segment in the stratum's
+//! free parameters (the cancellation walls through the split witness
+//! keep their cancelled poles), each eliminated parameter a rational
+//! function of the path's variable `s`; "nothing else happens" is a list
+//! of univariate polynomials in `s` without a root in `[0, 1]`, decided
+//! exactly by Sturm sequences ([`merges_once`], re-derived by the checker
+//! on its own).
+
+use super::frf_type::{Feature, FrfType, Token};
+use super::prover::{positive_full_point, substitute, Prover, Substitution};
+use super::targeted::{
+    linear_solution, nelder_mead_for, partial_wall_tf_terms, short_rational, violation_near,
+    StratumCoefficients, PARTIAL_WALL_TERMS,
+};
+use super::MergePath;
+use crate::tf::OMEGA;
+use poly::{count_roots_in, Poly, Rat, UPoly};
+use std::collections::BTreeMap;
+
+/// The path's variable.
+pub const PATH_VARIABLE: &str = "s";
+
+/// Halvings of the segment towards one event.
+const MERGE_HALVINGS: usize = 12;
+
+/// Exact samples of a segment, to find where the pair leaves the axis.
+const SEGMENT_SAMPLES: usize = 32;
+
+/// Witnesses of other non-minimum-phase types tried as far ends, at most.
+const MERGE_TARGETS: usize = 24;
+
+/// Evaluations of the descent from the split witness to the pair's
+/// departure from the real axis.
+const DEPARTURE_EVALUATIONS: usize = 3000;
+
+/// `t`'s two ends, if `t` has exactly one multiple token, an `A^2` with
+/// no other zero in its gap: the split type (`A A` in its place) and the
+/// type without the pair (non-minimum phase, the pair off the axis).
+pub(super) fn merge_ends(t: &FrfType) -> Option<(FrfType, FrfType)> {
+    let multiple: Vec<usize> = (0..t.tokens.len())
+        .filter(|&i| t.tokens[i].multiplicity > 1)
+        .collect();
+    let [i] = multiple.as_slice() else {
+        return None;
+    };
+    let i = *i;
+    let zero = |k: Option<&Token>| k.is_some_and(|k| k.feature == Feature::Antiresonance);
+    if t.tokens[i].feature != Feature::Antiresonance
+        || t.tokens[i].multiplicity != 2
+        || zero(t.tokens.get(i + 1))
+        || (i > 0 && zero(t.tokens.get(i - 1)))
+    {
+        return None;
+    }
+    let simple = Token {
+        feature: Feature::Antiresonance,
+        multiplicity: 1,
+    };
+    let mut split = t.clone();
+    split.tokens.splice(i..=i, [simple, simple]);
+    let mut gone = t.clone();
+    gone.tokens.remove(i);
+    gone.nonminimum_phase = true;
+    Some((split, gone))
+}
+
+/// `f` along the path: each variable replaced by its rational function of
+/// `s`, `(numerator, denominator)`.
+fn along(f: &Poly, path: &BTreeMap<String, [Poly; 2]>) -> (Poly, Poly) {
+    let (mut num, mut den) = (f.clone(), Poly::one());
+    for (v, [p, q]) in path {
+        let d = num.degree(v);
+        if d == 0 {
+            continue;
+        }
+        let mut acc = Poly::zero();
+        for (k, c) in num.coeffs_in(v).iter().enumerate() {
+            if !c.is_zero() {
+                acc = &acc + &(&(c * &p.pow(k as u32)) * &q.pow(d - k as u32));
+            }
+        }
+        num = acc;
+        den = &den * &q.pow(d);
+    }
+    (num, den)
+}
+
+/// True when `p`, a polynomial in `s`, has no root in `[0, 1]`.
+fn no_root_on_path(p: &Poly) -> bool {
+    let Some((c, u)) = UPoly::from_poly(p, PATH_VARIABLE) else {
+        return false;
+    };
+    !c.is_zero() && u.sign_at(&Rat::ZERO) != 0 && count_roots_in(&u, &Rat::ZERO, &Rat::ONE) == 0
+}
+
+/// `p` divided by the largest power of `Omega` dividing it.
+fn without_zero_roots(p: &Poly) -> Poly {
+    let cs = p.coeffs_in(OMEGA);
+    let low = cs.iter().position(|c| !c.is_zero()).unwrap_or(0);
+    let om = Poly::var(OMEGA);
+    cs[low..]
+        .iter()
+        .enumerate()
+        .fold(Poly::zero(), |acc, (k, c)| &acc + &(c * &om.pow(k as u32)))
+}
+
+/// True when along `path` (every parameter positive on `[0, 1]`) the
+/// reduced transfer function keeps its poles simple, apart from each
+/// other and from the zeros, none of them reaching `0` or infinity, and
+/// its zeros meet exactly once, at an `s` in `(0, 1)` where one pair
+/// forms a double zero and no other zero is multiple. Then the type at
+/// that `s` is the type at `s = 0` with the pair that leaves the axis by
+/// `s = 1` merged.
+pub(super) fn merges_once(num: &Poly, den: &Poly, path: &MergePath) -> bool {
+    let path = &path.parameters;
+    if path
+        .values()
+        .any(|[p, q]| !(no_root_on_path(p) && no_root_on_path(q)))
+    {
+        return false;
+    }
+    if path.values().any(|[p, q]| {
+        p.subs(PATH_VARIABLE, &Rat::ZERO)
+            .as_constant()
+            .map(|v| v.signum())
+            != q.subs(PATH_VARIABLE, &Rat::ZERO)
+                .as_constant()
+                .map(|v| v.signum())
+    }) {
+        return false;
+    }
+    let (n, _) = along(num, path);
+    let (d, _) = along(den, path);
+    let g = poly::gcd(&n, &d);
+    let (Some(n), Some(d)) = (n.div_exact(&g), d.div_exact(&g)) else {
+        return false;
+    };
+    let (n, d) = (without_zero_roots(&n), without_zero_roots(&d));
+    let ends = |p: &Poly| {
+        let cs = p.coeffs_in(OMEGA);
+        [cs[0].clone(), cs[cs.len() - 1].clone()]
+    };
+    if n.degree(OMEGA) < 2 || !ends(&n).iter().chain(&ends(&d)).all(no_root_on_path) {
+        return false;
+    }
+    if !no_root_on_path(&poly::resultant(&n, &d, OMEGA))
+        || (d.degree(OMEGA) >= 2 && !no_root_on_path(&poly::discriminant(&d, OMEGA)))
+    {
+        return false;
+    }
+    let Some((_, disc)) = UPoly::from_poly(&poly::discriminant(&n, OMEGA), PATH_VARIABLE) else {
+        return false;
+    };
+    if disc.sign_at(&Rat::ZERO) == 0
+        || disc.sign_at(&Rat::ONE) == 0
+        || count_roots_in(&disc, &Rat::ZERO, &Rat::ONE) != 1
+    {
+        return false;
+    }
+    // The meeting is of two zeros only: the first principal subresultant
+    // coefficient of n and n' is not zero there (their gcd has degree 1).
+    if n.degree(OMEGA) >= 3 {
+        let psc = poly::psc(&n, &n.derivative(OMEGA), OMEGA);
+        let Some((_, p1)) = psc.get(1).and_then(|p| UPoly::from_poly(p, PATH_VARIABLE)) else {
+            return false;
+        };
+        if p1.is_zero() || count_roots_in(&disc.gcd(&p1), &Rat::ZERO, &Rat::ONE) != 0 {
+            return false;
+        }
+    }
+    true
+}
+
+/// The segment from `a` to `b` in the free parameters of the stratum of
+/// `subs`, the eliminated ones following as rational functions.
+fn segment(
+    subs: &[Substitution],
+    a: &BTreeMap<String, Rat>,
+    b: &BTreeMap<String, Rat>,
+) -> MergePath {
+    let s = Poly::var(PATH_VARIABLE);
+    let mut parameters: BTreeMap<String, [Poly; 2]> = a
+        .iter()
+        .map(|(v, x)| {
+            let dx = &b[v] - x;
+            (
+                v.clone(),
+                [&Poly::constant(x.clone()) + &s.scale(&dx), Poly::one()],
+            )
+        })
+        .collect();
+    for w in subs.iter().rev() {
+        let (an, ad) = along(&w.alpha, &parameters);
+        let (bn, bd) = along(&w.beta, &parameters);
+        let (p, q) = (&bn * &ad, &bd * &an);
+        let g = poly::gcd(&p, &q);
+        let (p, q) = match (p.div_exact(&g), q.div_exact(&g)) {
+            (Some(p), Some(q)) => (p, q),
+            _ => (p, q),
+        };
+        parameters.insert(w.var.clone(), [p, q]);
+    }
+    MergePath { parameters }
+}
+
+/// A wanted type with its two ends ([`merge_ends`]).
+struct Merge {
+    wanted: FrfType,
+    split: FrfType,
+    gone: FrfType,
+}
+
+impl Prover<'_> {
+    /// Double zeros by continuity (see the module docs) for the types of
+    /// `wanted` with one `A^2` alone in its gap whose split type has a
+    /// witness. From each such witness, segments run to a point reached by
+    /// a descent towards the far type, to its witness and to the witnesses
+    /// of the other non-minimum-phase types on the same walls; wherever two
+    /// neighbouring samples of a segment show the two ends of a wanted
+    /// type, the segment is halved until [`merges_once`] holds, and the
+    /// path is recorded. Returns how many of `wanted` have a witness or a
+    /// path afterwards.
+    pub(crate) fn merge_search(&mut self, wanted: &[FrfType]) -> usize {
+        let done = |p: &Prover, t: &FrfType| p.witnesses.contains_key(t) || p.paths.contains_key(t);
+        let merges: Vec<Merge> = wanted
+            .iter()
+            .filter(|t| !done(self, t))
+            .filter_map(|t| {
+                let (split, gone) = merge_ends(t)?;
+                Some(Merge {
+                    wanted: t.clone(),
+                    split,
+                    gone,
+                })
+            })
+            .collect();
+        for m in &merges {
+            if done(self, &m.wanted) {
+                continue;
+            }
+            let Some(start) = self.witnesses.get(&m.split).cloned() else {
+                continue;
+            };
+            let subs = self.walls_through(&start);
+            let s = self.stratum(&subs);
+            let on_walls = |w: &BTreeMap<String, Rat>| -> Option<BTreeMap<String, Rat>> {
+                let b: BTreeMap<String, Rat> =
+                    s.vars.iter().map(|v| (v.clone(), w[v].clone())).collect();
+                (positive_full_point(&subs, &b).as_ref() == Some(w)).then_some(b)
+            };
+            let a = on_walls(&start).expect("a point on the walls through it");
+            let mut ends: Vec<BTreeMap<String, Rat>> = Vec::new();
+            ends.extend(self.departure(&subs, &a, &m.gone));
+            ends.extend(self.witnesses.get(&m.gone).and_then(&on_walls));
+            ends.extend(
+                self.witnesses
+                    .iter()
+                    .filter(|(t, _)| t.nonminimum_phase && *t != &m.gone)
+                    .filter_map(|(_, w)| on_walls(w))
+                    .take(MERGE_TARGETS),
+            );
+            for b in ends {
+                if done(self, &m.wanted) {
+                    break;
+                }
+                self.scan_segment(&subs, &a, &b, &merges);
+            }
+        }
+        wanted.iter().filter(|t| done(self, t)).count()
+    }
+
+    /// The cancellation walls through `point`, nested as the strata are.
+    fn walls_through(&mut self, point: &BTreeMap<String, Rat>) -> Vec<Substitution> {
+        let mut subs: Vec<Substitution> = Vec::new();
+        while subs.len() < self.params.len() {
+            let s = self.stratum(&subs);
+            // A wall, or a partial one (the path's positivity is checked)
+            // of a size the strata's factorizations can afford.
+            let next = s.factors.iter().filter(|f| f.cancels).find_map(|f| {
+                if !f.poly.subs_point(point).is_zero() {
+                    return None;
+                }
+                f.wall.clone().or_else(|| {
+                    linear_solution(&f.poly, &s.vars)
+                        .filter(|w| w.alpha.num_terms() + w.beta.num_terms() <= PARTIAL_WALL_TERMS)
+                })
+            });
+            let Some(w) = next else { break };
+            subs.push(w);
+            let size = |p: &Poly| {
+                subs.iter()
+                    .fold(p.clone(), |q, w| substitute(&q, w))
+                    .num_terms()
+            };
+            if size(&self.num) + size(&self.den) > partial_wall_tf_terms(self.params.len()) {
+                subs.pop();
+                break;
+            }
+        }
+        subs
+    }
+
+    /// A point of type `gone` on the stratum of `subs` (free parameters)
+    /// reached by a descent from `a`, if the exact type confirms it.
+    fn departure(
+        &mut self,
+        subs: &[Substitution],
+        a: &BTreeMap<String, Rat>,
+        gone: &FrfType,
+    ) -> Option<BTreeMap<String, Rat>> {
+        let s = self.stratum(subs);
+        let coefficients = StratumCoefficients::new(&s, &self.params)?;
+        let lx0: Vec<f64> = s.vars.iter().map(|v| a[v].to_f64().ln()).collect();
+        let mut near = Vec::new();
+        let mut cost = |lx: &[f64]| -> f64 {
+            coefficients
+                .at(lx)
+                .and_then(|(n, d)| violation_near(gone, &n, &d, &mut near))
+                .unwrap_or(1e3)
+        };
+        let best = nelder_mead_for(
+            &mut cost,
+            &lx0,
+            0.5,
+            f64::MIN_POSITIVE,
+            DEPARTURE_EVALUATIONS,
+        );
+        [3, 4, 6, 9].into_iter().find_map(|digits| {
+            let b: BTreeMap<String, Rat> = s
+                .vars
+                .iter()
+                .zip(&best)
+                .map(|(v, x)| {
+                    Some((
+                        v.clone(),
+                        short_rational(x.clamp(-30.0, 30.0).exp(), digits)?,
+                    ))
+                })
+                .collect::<Option<_>>()?;
+            let full = positive_full_point(subs, &b)?;
+            (self.type_at(&full).as_ref() == Some(gone)).then_some(b)
+        })
+    }
+
+    /// Samples the segment from `a` to `b` (free parameters of the
+    /// stratum of `subs`) exactly; where two neighbouring samples show the
+    /// two ends of a type of `merges` not yet shown, halves towards the
+    /// meeting and records the path once [`merges_once`] holds.
+    fn scan_segment(
+        &mut self,
+        subs: &[Substitution],
+        a: &BTreeMap<String, Rat>,
+        b: &BTreeMap<String, Rat>,
+        merges: &[Merge],
+    ) {
+        let samples: Vec<BTreeMap<String, Rat>> = (0..=SEGMENT_SAMPLES)
+            .map(|k| {
+                between(
+                    a,
+                    b,
+                    &Rat::new((k as i64).into(), (SEGMENT_SAMPLES as i64).into()),
+                )
+            })
+            .collect();
+        let types: Vec<Option<FrfType>> = samples
+            .iter()
+            .map(|p| positive_full_point(subs, p).and_then(|p| self.type_at(&p)))
+            .collect();
+        for k in 0..SEGMENT_SAMPLES {
+            let (Some(x), Some(y)) = (&types[k], &types[k + 1]) else {
+                continue;
+            };
+            let Some(m) = merges.iter().find(|m| {
+                ((x, y) == (&m.split, &m.gone) || (y, x) == (&m.split, &m.gone))
+                    && !self.witnesses.contains_key(&m.wanted)
+                    && !self.paths.contains_key(&m.wanted)
+            }) else {
+                continue;
+            };
+            let (from, to) = if x == &m.split {
+                (&samples[k], &samples[k + 1])
+            } else {
+                (&samples[k + 1], &samples[k])
+            };
+            if let Some(path) = self.halved_path(subs, from.clone(), to.clone(), &m.split, &m.gone)
+            {
+                self.paths.insert(m.wanted.clone(), path);
+            }
+        }
+    }
+
+    /// The segment from `a` (of type `split`) to `b` (of type `gone`),
+    /// halved towards the pair's meeting until [`merges_once`] holds.
+    fn halved_path(
+        &mut self,
+        subs: &[Substitution],
+        mut a: BTreeMap<String, Rat>,
+        mut b: BTreeMap<String, Rat>,
+        split: &FrfType,
+        gone: &FrfType,
+    ) -> Option<MergePath> {
+        let half = Rat::new(1.into(), 2.into());
+        for _ in 0..MERGE_HALVINGS {
+            let path = segment(subs, &a, &b);
+            if merges_once(&self.num, &self.den, &path) {
+                return Some(path);
+            }
+            let mid = between(&a, &b, &half);
+            match positive_full_point(subs, &mid).and_then(|p| self.type_at(&p)) {
+                Some(t) if &t == split => a = mid,
+                Some(t) if &t == gone => b = mid,
+                _ => return None,
+            }
+        }
+        None
+    }
+}
+
+/// The point `a + f (b - a)`.
+fn between(a: &BTreeMap<String, Rat>, b: &BTreeMap<String, Rat>, f: &Rat) -> BTreeMap<String, Rat> {
+    a.iter()
+        .map(|(v, x)| (v.clone(), x + &(&(&b[v] - x) * f)))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_ends_of_a_double_zero() {
+        let t: FrfType = "RA^2R".parse().unwrap();
+        let (split, gone) = merge_ends(&t).unwrap();
+        assert_eq!(split.to_string(), "RAAR");
+        assert_eq!(gone, "RR (nm)".parse().unwrap());
+        // A zero beside the pair, two multiple tokens, a triple zero: none.
+        for t in ["RAA^2R", "A^2RA^2R", "RA^3R", "R^2A"] {
+            assert!(merge_ends(&t.parse().unwrap()).is_none(), "{t}");
+        }
+    }
+
+    #[test]
+    fn a_quadratic_family_merges_once() {
+        // num = Omega^2 - 2 b Omega + c along b = 2 - s, c = 3: the
+        // discriminant 4 (b^2 - c) vanishes once in (0, 1), at b = sqrt 3;
+        // den = Omega - 10 stays apart (its pole above both zeros).
+        let p = |s: &str| s.parse::<Poly>().unwrap();
+        let path = MergePath {
+            parameters: [
+                ("b".to_string(), [p("2 - s"), p("1")]),
+                ("c".to_string(), [p("3"), p("1")]),
+            ]
+            .into_iter()
+            .collect(),
+        };
+        let num = p("Omega^2 - 2*b*Omega + c");
+        assert!(merges_once(&num, &p("Omega - 10"), &path));
+        // Along b = 3 - 2 s the pair meets at b = sqrt 3 but the zero
+        // 2b - ... passes the pole: b^2 + ... no; a pole at 4 is crossed.
+        assert!(!merges_once(
+            &num,
+            &p("Omega - 4"),
+            &MergePath {
+                parameters: [
+                    ("b".to_string(), [p("3 - 2*s"), p("1")]),
+                    ("c".to_string(), [p("3"), p("1")]),
+                ]
+                .into_iter()
+                .collect(),
+            }
+        ));
+        // A parameter that turns negative on the path.
+        let negative = MergePath {
+            parameters: [
+                ("b".to_string(), [p("2 - s"), p("1")]),
+                ("c".to_string(), [p("3 - 4*s"), p("1")]),
+            ]
+            .into_iter()
+            .collect(),
+        };
+        assert!(!merges_once(&num, &p("Omega - 10"), &negative));
+    }
+}
