@@ -1374,7 +1374,6 @@ fn path_point(path: &Value, s: &poly::Rat) -> std::collections::BTreeMap<String,
 
 #[test]
 fn a_double_zero_by_continuity_is_checked_and_its_forgeries_rejected() {
-    use poly::{positive_roots, Poly, Rat, UPoly};
     let id = "N5-g2-a3.1-s4.1";
     let model = |t: &str, path: &Value| {
         one_verdict(id, json!({"type": t, "status": "possible", "path": path}))
@@ -1382,13 +1381,40 @@ fn a_double_zero_by_continuity_is_checked_and_its_forgeries_rejected() {
     let path = continuity_path();
     check_analysis(&model("A^2RR", &path)).unwrap_or_else(|e| panic!("{e}"));
 
-    // A second route to the merge: the zeros of the reduced numerator
-    // below its first pole, counted by exact root isolation at points of
-    // the path. Two at s = 0, none at s = 1; halving the interval where
-    // the count drops brings the two together.
+    meets_below_the_first_pole(id, &path);
+
+    // Forgeries: the path run backwards; the claim moved to another type;
+    // a parameter that turns negative; the path folded so that the pair
+    // meets three times (s -> u(s) = s + 20 s (s - 1/2)(s - 1), whose
+    // values run 0, above 1, below 0, 1).
+    let reversed = map_path(&path, "1 - s");
+    let e = check_analysis(&model("A^2RR", &reversed)).unwrap_err();
+    assert!(e.to_string().contains("the type at s = 0"), "{e}");
+    let e = check_analysis(&model("RA^2R", &path)).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("the type at s = 0 is AARR, not RAAR"),
+        "{e}"
+    );
+    let mut negative = path.clone();
+    negative["parameters"]["c12"] = json!(["1 - 2*s", "1"]);
+    let e = check_analysis(&model("A^2RR", &negative)).unwrap_err();
+    assert!(e.to_string().contains("c12 is not positive"), "{e}");
+    let folded = map_path(&path, "s + 20*s*(s - 1/2)*(s - 1)");
+    let e = check_analysis(&model("A^2RR", &folded)).unwrap_err();
+    assert!(e.to_string().contains("do not meet exactly once"), "{e}");
+}
+
+/// A second route to the merge of a path whose pair lies below the first
+/// pole: the zeros of the reduced numerator below its first pole, counted
+/// by exact root isolation at points of the path. Two at s = 0, none at
+/// s = 1; halving the interval where the count drops brings the two
+/// together.
+fn meets_below_the_first_pole(id: &str, path: &Value) {
+    use poly::{positive_roots, Poly, Rat, UPoly};
     let tf = Model::from_id(id).unwrap().undamped_tf();
     let below_first_pole = |s: &Rat| -> Vec<f64> {
-        let point = path_point(&path, s);
+        let point = path_point(path, s);
         let at = |p: &Poly| UPoly::from_poly(&p.subs_point(&point), "Omega").unwrap().1;
         let (n, d) = (at(&tf.num), at(&tf.den));
         let g = n.gcd(&d);
@@ -1420,27 +1446,6 @@ fn a_double_zero_by_continuity_is_checked_and_its_forgeries_rejected() {
         z.len() == 2 && z[1] / z[0] < 1.0 + 1e-5 && gap0 > 1.001,
         "{z:?} {gap0}"
     );
-
-    // Forgeries: the path run backwards; the claim moved to another type;
-    // a parameter that turns negative; the path folded so that the pair
-    // meets three times (s -> u(s) = s + 20 s (s - 1/2)(s - 1), whose
-    // values run 0, above 1, below 0, 1).
-    let reversed = map_path(&path, "1 - s");
-    let e = check_analysis(&model("A^2RR", &reversed)).unwrap_err();
-    assert!(e.to_string().contains("the type at s = 0"), "{e}");
-    let e = check_analysis(&model("RA^2R", &path)).unwrap_err();
-    assert!(
-        e.to_string()
-            .contains("the type at s = 0 is AARR, not RAAR"),
-        "{e}"
-    );
-    let mut negative = path.clone();
-    negative["parameters"]["c12"] = json!(["1 - 2*s", "1"]);
-    let e = check_analysis(&model("A^2RR", &negative)).unwrap_err();
-    assert!(e.to_string().contains("c12 is not positive"), "{e}");
-    let folded = map_path(&path, "s + 20*s*(s - 1/2)*(s - 1)");
-    let e = check_analysis(&model("A^2RR", &folded)).unwrap_err();
-    assert!(e.to_string().contains("do not meet exactly once"), "{e}");
 }
 
 /// A simple real root of `u` to about 50 bits, by halving its isolating
@@ -1478,4 +1483,25 @@ fn map_path(path: &Value, u: &str) -> Value {
         }
     }
     out
+}
+
+/// A double zero by continuity in the chart of a block mechanism, where
+/// the one cancelled pole's wall is linear in no parameter (a factor of
+/// 74 terms): N5-g2-a3.2-s5.2, `A^2RRAR`. Along the path `c1` and `c34`
+/// are the mechanism's two determinants solved at the moving cancelled
+/// root, rational functions of `s`.
+#[test]
+fn a_double_zero_on_a_cancelled_root_chart() {
+    let id = "N5-g2-a3.2-s5.2";
+    let path = json!({"parameters": {
+        "c1": ["4443/21760000*s^2 + 91349931/10880000*s + 606944331/1280000",
+               "5199/32000*s + 292383/32000"],
+        "c12": ["13/80*s + 861/80", "1"],
+        "c34": ["3360/19*s + 15417120/19", "154/19*s + 1922618/19"],
+        "c45": ["80", "1"], "m1": ["1/1632*s + 13595/544", "1"],
+        "m2": ["1/64000*s + 52017/64000", "1"], "m3": ["120", "1"], "m4": ["52", "1"],
+        "m5": ["7/456*s + 37053/152", "1"]}});
+    let verdict = json!({"type": "A^2RRAR", "status": "possible", "path": path});
+    check_analysis(&one_verdict(id, verdict)).unwrap_or_else(|e| panic!("{e}"));
+    meets_below_the_first_pole(id, &path);
 }

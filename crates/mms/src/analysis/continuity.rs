@@ -20,13 +20,22 @@ use super::targeted::{
     linear_solution, nelder_mead_for, partial_wall_tf_terms, short_rational, violation_near,
     StratumCoefficients, PARTIAL_WALL_TERMS,
 };
+use super::walls::{solve_in_turn, wall_parameters};
 use super::MergePath;
+use crate::tf::Compiled;
 use crate::tf::OMEGA;
 use poly::{count_roots_in, Poly, Rat, UPoly};
 use std::collections::BTreeMap;
 
 /// The path's variable.
 pub const PATH_VARIABLE: &str = "s";
+
+/// The coordinate of a cancelled-root chart that stands for the
+/// cancelled pole (the model's parameters never take this name).
+const CHART_ROOT: &str = "cancelled_root";
+
+/// Charts of block mechanisms tried per split witness, at most.
+const MERGE_CHARTS: usize = 8;
 
 /// Halvings of the segment towards one event.
 const MERGE_HALVINGS: usize = 12;
@@ -120,23 +129,9 @@ fn without_zero_roots(p: &Poly) -> Poly {
 /// that `s` is the type at `s = 0` with the pair that leaves the axis by
 /// `s = 1` merged.
 pub(super) fn merges_once(num: &Poly, den: &Poly, path: &MergePath) -> bool {
+    // The condition that fails most often on a long segment first: other
+    // zeros meeting too.
     let path = &path.parameters;
-    if path
-        .values()
-        .any(|[p, q]| !(no_root_on_path(p) && no_root_on_path(q)))
-    {
-        return false;
-    }
-    if path.values().any(|[p, q]| {
-        p.subs(PATH_VARIABLE, &Rat::ZERO)
-            .as_constant()
-            .map(|v| v.signum())
-            != q.subs(PATH_VARIABLE, &Rat::ZERO)
-                .as_constant()
-                .map(|v| v.signum())
-    }) {
-        return false;
-    }
     let (n, _) = along(num, path);
     let (d, _) = along(den, path);
     let g = poly::gcd(&n, &d);
@@ -144,16 +139,7 @@ pub(super) fn merges_once(num: &Poly, den: &Poly, path: &MergePath) -> bool {
         return false;
     };
     let (n, d) = (without_zero_roots(&n), without_zero_roots(&d));
-    let ends = |p: &Poly| {
-        let cs = p.coeffs_in(OMEGA);
-        [cs[0].clone(), cs[cs.len() - 1].clone()]
-    };
-    if n.degree(OMEGA) < 2 || !ends(&n).iter().chain(&ends(&d)).all(no_root_on_path) {
-        return false;
-    }
-    if !no_root_on_path(&poly::resultant(&n, &d, OMEGA))
-        || (d.degree(OMEGA) >= 2 && !no_root_on_path(&poly::discriminant(&d, OMEGA)))
-    {
+    if n.degree(OMEGA) < 2 {
         return false;
     }
     let Some((_, disc)) = UPoly::from_poly(&poly::discriminant(&n, OMEGA), PATH_VARIABLE) else {
@@ -162,6 +148,30 @@ pub(super) fn merges_once(num: &Poly, den: &Poly, path: &MergePath) -> bool {
     if disc.sign_at(&Rat::ZERO) == 0
         || disc.sign_at(&Rat::ONE) == 0
         || count_roots_in(&disc, &Rat::ZERO, &Rat::ONE) != 1
+    {
+        return false;
+    }
+    if !no_root_on_path(&poly::resultant(&n, &d, OMEGA)) {
+        return false;
+    }
+    let ends = |p: &Poly| {
+        let cs = p.coeffs_in(OMEGA);
+        [cs[0].clone(), cs[cs.len() - 1].clone()]
+    };
+    if !ends(&n).iter().chain(&ends(&d)).all(no_root_on_path)
+        || (d.degree(OMEGA) >= 2 && !no_root_on_path(&poly::discriminant(&d, OMEGA)))
+    {
+        return false;
+    }
+    // Every parameter positive on the path.
+    let sign_at_0 = |p: &Poly| {
+        p.subs(PATH_VARIABLE, &Rat::ZERO)
+            .as_constant()
+            .map(|v| v.signum())
+    };
+    if path
+        .values()
+        .any(|[p, q]| !(no_root_on_path(p) && no_root_on_path(q)) || sign_at_0(p) != sign_at_0(q))
     {
         return false;
     }
@@ -208,6 +218,7 @@ fn segment(
         };
         parameters.insert(w.var.clone(), [p, q]);
     }
+    parameters.remove(CHART_ROOT);
     MergePath { parameters }
 }
 
@@ -273,8 +284,161 @@ impl Prover<'_> {
                 }
                 self.scan_segment(&subs, &a, &b, &merges);
             }
+            // A cancellation the walls do not hold (a factor linear in no
+            // parameter): the chart of a block mechanism, the cancelled
+            // root one of its coordinates.
+            let kept = s.den.degree(OMEGA) as usize - zero_roots(&s.den);
+            if done(self, &m.wanted) || kept == m.split.resonances() as usize || !subs.is_empty() {
+                continue;
+            }
+            for (chart, a) in self.cancelled_root_charts(&start) {
+                if done(self, &m.wanted) {
+                    break;
+                }
+                if let Some(b) = self.chart_departure(&chart, &a, &m.gone) {
+                    self.scan_segment(&chart, &a, &b, &merges);
+                }
+            }
         }
         wanted.iter().filter(|t| done(self, t)).count()
+    }
+
+    /// The charts in which `point`'s one cancelled pole stays cancelled:
+    /// for each block mechanism whose two determinants vanish there at the
+    /// cancelled root `r`, and each pair of parameters they are solved for
+    /// ([`solve_in_turn`]), the two solutions as substitutions in the other
+    /// parameters and [`CHART_ROOT`] (standing for `r`), with `point`'s
+    /// coordinates in the chart.
+    fn cancelled_root_charts(
+        &mut self,
+        point: &BTreeMap<String, Rat>,
+    ) -> Vec<(Vec<Substitution>, BTreeMap<String, Rat>)> {
+        let common = poly::gcd(&self.num.subs_point(point), &self.den.subs_point(point));
+        let roots: Vec<Rat> = UPoly::from_poly(&common, OMEGA)
+            .map(|(_, u)| poly::rational_roots(&u))
+            .unwrap_or_default()
+            .into_iter()
+            .filter(|r| r.signum() > 0)
+            .collect();
+        let [r] = roots.as_slice() else {
+            return Vec::new();
+        };
+        let mut at_r = point.clone();
+        at_r.insert(OMEGA.to_string(), r.clone());
+        let to_chart = |d: &Poly| {
+            d.rename(|v| {
+                if v == OMEGA {
+                    CHART_ROOT.to_string()
+                } else {
+                    v.to_string()
+                }
+            })
+        };
+        let mut out = Vec::new();
+        for (d1, _, d2, _) in self.cancellation_mechanisms() {
+            if !(d1.subs_point(&at_r).is_zero() && d2.subs_point(&at_r).is_zero()) {
+                continue;
+            }
+            let (in1, in2) = wall_parameters(&d1, &d2, &[]);
+            for x in &in1 {
+                for y in &in2 {
+                    let conditions = [(x.clone(), to_chart(&d1)), (y.clone(), to_chart(&d2))];
+                    let Some(solved) = solve_in_turn(&BTreeMap::new(), &conditions) else {
+                        continue;
+                    };
+                    let chart: Vec<Substitution> = solved
+                        .into_iter()
+                        .map(|(var, p, q)| Substitution {
+                            var,
+                            alpha: q,
+                            beta: p,
+                        })
+                        .collect();
+                    let mut a: BTreeMap<String, Rat> = point
+                        .iter()
+                        .filter(|(k, _)| *k != x && *k != y)
+                        .map(|(k, v)| (k.clone(), v.clone()))
+                        .collect();
+                    a.insert(CHART_ROOT.to_string(), r.clone());
+                    if full_point(&chart, &a).as_ref() == Some(point) {
+                        out.push((chart, a));
+                    }
+                    if out.len() >= MERGE_CHARTS {
+                        return out;
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// [`Self::departure`] in a chart of [`Self::cancelled_root_charts`]:
+    /// the transfer function with the solved parameters substituted, its
+    /// cancelled factor `Omega - r` divided out, compiled to f64.
+    fn chart_departure(
+        &mut self,
+        chart: &[Substitution],
+        a: &BTreeMap<String, Rat>,
+        gone: &FrfType,
+    ) -> Option<BTreeMap<String, Rat>> {
+        let names: Vec<String> = a.keys().cloned().collect();
+        let factor = &Poly::var(OMEGA) - &Poly::var(CHART_ROOT);
+        let reduced = |p: &Poly| -> Option<Vec<Compiled>> {
+            let cleared = chart.iter().fold(p.clone(), |q, w| substitute(&q, w));
+            let r = cleared.div_exact(&factor)?;
+            Some(
+                r.coeffs_in(OMEGA)
+                    .iter()
+                    .map(|c| Compiled::new(c, &names))
+                    .collect(),
+            )
+        };
+        let (num, den) = (reduced(&self.num)?, reduced(&self.den)?);
+        let solved: Vec<(Compiled, Compiled)> = chart
+            .iter()
+            .map(|w| {
+                (
+                    Compiled::new(&w.beta, &names),
+                    Compiled::new(&w.alpha, &names),
+                )
+            })
+            .collect();
+        let lx0: Vec<f64> = a.values().map(|v| v.to_f64().ln()).collect();
+        let mut near = Vec::new();
+        let mut cost = |lx: &[f64]| -> f64 {
+            let x: Vec<f64> = lx.iter().map(|v| v.clamp(-30.0, 30.0).exp()).collect();
+            let off = |(p, q): &(Compiled, Compiled)| {
+                let v = p.eval(&x) / q.eval(&x);
+                v.is_nan() || v <= 0.0
+            };
+            if solved.iter().any(off) {
+                return 1e3;
+            }
+            let n: Vec<f64> = num.iter().map(|c| c.eval(&x)).collect();
+            let d: Vec<f64> = den.iter().map(|c| c.eval(&x)).collect();
+            violation_near(gone, &n, &d, &mut near).unwrap_or(1e3)
+        };
+        let best = nelder_mead_for(
+            &mut cost,
+            &lx0,
+            0.5,
+            f64::MIN_POSITIVE,
+            DEPARTURE_EVALUATIONS,
+        );
+        [3, 4, 6, 9].into_iter().find_map(|digits| {
+            let b: BTreeMap<String, Rat> = names
+                .iter()
+                .zip(&best)
+                .map(|(v, x)| {
+                    Some((
+                        v.clone(),
+                        short_rational(x.clamp(-30.0, 30.0).exp(), digits)?,
+                    ))
+                })
+                .collect::<Option<_>>()?;
+            let full = full_point(chart, &b)?;
+            (self.type_at(&full).as_ref() == Some(gone)).then_some(b)
+        })
     }
 
     /// The cancellation walls through `point`, nested as the strata are.
@@ -372,7 +536,7 @@ impl Prover<'_> {
             .collect();
         let types: Vec<Option<FrfType>> = samples
             .iter()
-            .map(|p| positive_full_point(subs, p).and_then(|p| self.type_at(&p)))
+            .map(|p| full_point(subs, p).and_then(|p| self.type_at(&p)))
             .collect();
         for k in 0..SEGMENT_SAMPLES {
             let (Some(x), Some(y)) = (&types[k], &types[k + 1]) else {
@@ -414,7 +578,7 @@ impl Prover<'_> {
                 return Some(path);
             }
             let mid = between(&a, &b, &half);
-            match positive_full_point(subs, &mid).and_then(|p| self.type_at(&p)) {
+            match full_point(subs, &mid).and_then(|p| self.type_at(&p)) {
                 Some(t) if &t == split => a = mid,
                 Some(t) if &t == gone => b = mid,
                 _ => return None,
@@ -422,6 +586,23 @@ impl Prover<'_> {
         }
         None
     }
+}
+
+/// The model's parameters at a point of a stratum or a chart: the
+/// eliminated ones from the substitutions (positive, or `None`), the
+/// chart's cancelled root left out.
+fn full_point(subs: &[Substitution], p: &BTreeMap<String, Rat>) -> Option<BTreeMap<String, Rat>> {
+    let mut full = positive_full_point(subs, p)?;
+    full.remove(CHART_ROOT);
+    Some(full)
+}
+
+/// The number of roots at `Omega = 0` of `p`.
+fn zero_roots(p: &Poly) -> usize {
+    p.coeffs_in(OMEGA)
+        .iter()
+        .take_while(|c| c.is_zero())
+        .count()
 }
 
 /// The point `a + f (b - a)`.

@@ -48,7 +48,7 @@ type Solved = (String, Poly, Poly);
 /// The parameters a wall may be solved for: any of the first
 /// determinant's, then one of the second's the first does not contain (so
 /// the first is solved independently of it); none in `used`.
-fn wall_parameters(d1: &Poly, d2: &Poly, used: &[String]) -> (Vec<String>, Vec<String>) {
+pub(super) fn wall_parameters(d1: &Poly, d2: &Poly, used: &[String]) -> (Vec<String>, Vec<String>) {
     let in1 = d1.vars();
     let first = in1
         .iter()
@@ -482,7 +482,7 @@ fn clear_all(e: &Poly, solved: &[Solved]) -> Option<Poly> {
 
 /// Each condition (of degree one in its parameter, after the earlier ones
 /// are substituted) solved in turn, with `fixed` substituted first.
-fn solve_in_turn(
+pub(super) fn solve_in_turn(
     fixed: &BTreeMap<String, Rat>,
     conditions: &[(String, Poly)],
 ) -> Option<Vec<Solved>> {
