@@ -418,13 +418,21 @@ impl Prover<'_> {
             let d: Vec<f64> = den.iter().map(|c| c.eval(&x)).collect();
             violation_near(gone, &n, &d, &mut near).unwrap_or(1e3)
         };
-        let best = nelder_mead_for(
-            &mut cost,
-            &lx0,
-            0.5,
-            f64::MIN_POSITIVE,
-            DEPARTURE_EVALUATIONS,
-        );
+        self.descended(chart, &names, &lx0, &mut cost, gone)
+    }
+
+    /// The end of a Nelder-Mead descent of `cost` from `lx0` (logarithms of
+    /// the coordinates `names` of the stratum or chart of `subs`), rounded
+    /// to a short rational point, if the exact type there is `gone`.
+    fn descended(
+        &self,
+        subs: &[Substitution],
+        names: &[String],
+        lx0: &[f64],
+        cost: &mut impl FnMut(&[f64]) -> f64,
+        gone: &FrfType,
+    ) -> Option<BTreeMap<String, Rat>> {
+        let best = nelder_mead_for(cost, lx0, 0.5, f64::MIN_POSITIVE, DEPARTURE_EVALUATIONS);
         [3, 4, 6, 9].into_iter().find_map(|digits| {
             let b: BTreeMap<String, Rat> = names
                 .iter()
@@ -436,7 +444,7 @@ impl Prover<'_> {
                     ))
                 })
                 .collect::<Option<_>>()?;
-            let full = full_point(chart, &b)?;
+            let full = full_point(subs, &b)?;
             (self.type_at(&full).as_ref() == Some(gone)).then_some(b)
         })
     }
@@ -490,28 +498,7 @@ impl Prover<'_> {
                 .and_then(|(n, d)| violation_near(gone, &n, &d, &mut near))
                 .unwrap_or(1e3)
         };
-        let best = nelder_mead_for(
-            &mut cost,
-            &lx0,
-            0.5,
-            f64::MIN_POSITIVE,
-            DEPARTURE_EVALUATIONS,
-        );
-        [3, 4, 6, 9].into_iter().find_map(|digits| {
-            let b: BTreeMap<String, Rat> = s
-                .vars
-                .iter()
-                .zip(&best)
-                .map(|(v, x)| {
-                    Some((
-                        v.clone(),
-                        short_rational(x.clamp(-30.0, 30.0).exp(), digits)?,
-                    ))
-                })
-                .collect::<Option<_>>()?;
-            let full = positive_full_point(subs, &b)?;
-            (self.type_at(&full).as_ref() == Some(gone)).then_some(b)
-        })
+        self.descended(subs, &s.vars, &lx0, &mut cost, gone)
     }
 
     /// Samples the segment from `a` to `b` (free parameters of the
