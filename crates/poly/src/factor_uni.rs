@@ -166,6 +166,7 @@ fn nonzero_roots_modular(f: &[Int]) -> Option<Vec<Rat>> {
             .fold(BigInt::zero(), |acc, k| bmod(&(acc * x + k), m))
     };
     let lcz = lc.to_big();
+    let exact = UPoly::new(f.to_vec());
     let mut out = Vec::new();
     for g in factors {
         // g = x + c: the root -c.
@@ -193,7 +194,7 @@ fn nonzero_roots_modular(f: &[Int]) -> Option<Vec<Rat>> {
         let half = &m >> 1;
         let y = symmetric(&(&lcz * &r), &m, &half);
         let candidate = Rat::new(Int::from(y), lc.clone());
-        if UPoly::new(f.to_vec()).sign_at(&candidate) == 0 {
+        if exact.sign_at(&candidate) == 0 {
             out.push(candidate);
         }
     }

@@ -17,12 +17,11 @@
 use super::frf_type::{Feature, FrfType, Token};
 use super::prover::{positive_full_point, substitute, Prover, Substitution};
 use super::targeted::{
-    linear_solution, nelder_mead_for, partial_wall_tf_terms, short_rational, violation_near,
-    StratumCoefficients, PARTIAL_WALL_TERMS,
+    linear_solution, nelder_mead_for, short_rational, violation_near, StratumCoefficients,
+    PARTIAL_WALL_TERMS,
 };
 use super::walls::{solve_in_turn, wall_parameters};
 use super::MergePath;
-use crate::tf::Compiled;
 use crate::tf::OMEGA;
 use poly::{count_roots_in, Poly, Rat, UPoly};
 use std::collections::BTreeMap;
@@ -269,7 +268,10 @@ impl Prover<'_> {
             };
             let a = on_walls(&start).expect("a point on the walls through it");
             let mut ends: Vec<BTreeMap<String, Rat>> = Vec::new();
-            ends.extend(self.departure(&subs, &a, &m.gone));
+            ends.extend(
+                StratumCoefficients::new(&s, &self.params)
+                    .and_then(|c| self.departure(&subs, &c, &s.vars, &a, &m.gone)),
+            );
             ends.extend(self.witnesses.get(&m.gone).and_then(&on_walls));
             ends.extend(
                 self.witnesses
@@ -373,52 +375,30 @@ impl Prover<'_> {
     }
 
     /// [`Self::departure`] in a chart of [`Self::cancelled_root_charts`]:
-    /// the transfer function with the solved parameters substituted, its
-    /// cancelled factor `Omega - r` divided out, compiled to f64.
+    /// the transfer function with the solved parameters substituted and
+    /// its cancelled factor `Omega - r` divided out.
     fn chart_departure(
         &mut self,
         chart: &[Substitution],
         a: &BTreeMap<String, Rat>,
         gone: &FrfType,
     ) -> Option<BTreeMap<String, Rat>> {
-        let names: Vec<String> = a.keys().cloned().collect();
+        let vars: Vec<String> = a.keys().cloned().collect();
+        let names: Vec<String> = vars
+            .iter()
+            .chain(chart.iter().map(|w| &w.var))
+            .cloned()
+            .collect();
         let factor = &Poly::var(OMEGA) - &Poly::var(CHART_ROOT);
-        let reduced = |p: &Poly| -> Option<Vec<Compiled>> {
-            let cleared = chart.iter().fold(p.clone(), |q, w| substitute(&q, w));
-            let r = cleared.div_exact(&factor)?;
-            Some(
-                r.coeffs_in(OMEGA)
-                    .iter()
-                    .map(|c| Compiled::new(c, &names))
-                    .collect(),
-            )
+        let reduced = |p: &Poly| {
+            chart
+                .iter()
+                .fold(p.clone(), |q, w| substitute(&q, w))
+                .div_exact(&factor)
         };
         let (num, den) = (reduced(&self.num)?, reduced(&self.den)?);
-        let solved: Vec<(Compiled, Compiled)> = chart
-            .iter()
-            .map(|w| {
-                (
-                    Compiled::new(&w.beta, &names),
-                    Compiled::new(&w.alpha, &names),
-                )
-            })
-            .collect();
-        let lx0: Vec<f64> = a.values().map(|v| v.to_f64().ln()).collect();
-        let mut near = Vec::new();
-        let mut cost = |lx: &[f64]| -> f64 {
-            let x: Vec<f64> = lx.iter().map(|v| v.clamp(-30.0, 30.0).exp()).collect();
-            let off = |(p, q): &(Compiled, Compiled)| {
-                let v = p.eval(&x) / q.eval(&x);
-                v.is_nan() || v <= 0.0
-            };
-            if solved.iter().any(off) {
-                return 1e3;
-            }
-            let n: Vec<f64> = num.iter().map(|c| c.eval(&x)).collect();
-            let d: Vec<f64> = den.iter().map(|c| c.eval(&x)).collect();
-            violation_near(gone, &n, &d, &mut near).unwrap_or(1e3)
-        };
-        self.descended(chart, &names, &lx0, &mut cost, gone)
+        let coefficients = StratumCoefficients::of(&num, &den, &vars, chart, &names)?;
+        self.departure(chart, &coefficients, &vars, a, gone)
     }
 
     /// The end of a Nelder-Mead descent of `cost` from `lx0` (logarithms of
@@ -467,12 +447,7 @@ impl Prover<'_> {
             });
             let Some(w) = next else { break };
             subs.push(w);
-            let size = |p: &Poly| {
-                subs.iter()
-                    .fold(p.clone(), |q, w| substitute(&q, w))
-                    .num_terms()
-            };
-            if size(&self.num) + size(&self.den) > partial_wall_tf_terms(self.params.len()) {
+            if self.partial_wall_too_large(&subs) {
                 subs.pop();
                 break;
             }
@@ -480,17 +455,18 @@ impl Prover<'_> {
         subs
     }
 
-    /// A point of type `gone` on the stratum of `subs` (free parameters)
+    /// A point of type `gone` on the stratum or chart of `subs` (its free
+    /// variables `vars`, whose transfer function `coefficients` computes)
     /// reached by a descent from `a`, if the exact type confirms it.
     fn departure(
-        &mut self,
+        &self,
         subs: &[Substitution],
+        coefficients: &StratumCoefficients,
+        vars: &[String],
         a: &BTreeMap<String, Rat>,
         gone: &FrfType,
     ) -> Option<BTreeMap<String, Rat>> {
-        let s = self.stratum(subs);
-        let coefficients = StratumCoefficients::new(&s, &self.params)?;
-        let lx0: Vec<f64> = s.vars.iter().map(|v| a[v].to_f64().ln()).collect();
+        let lx0: Vec<f64> = vars.iter().map(|v| a[v].to_f64().ln()).collect();
         let mut near = Vec::new();
         let mut cost = |lx: &[f64]| -> f64 {
             coefficients
@@ -498,7 +474,7 @@ impl Prover<'_> {
                 .and_then(|(n, d)| violation_near(gone, &n, &d, &mut near))
                 .unwrap_or(1e3)
         };
-        self.descended(subs, &s.vars, &lx0, &mut cost, gone)
+        self.descended(subs, vars, &lx0, &mut cost, gone)
     }
 
     /// Samples the segment from `a` to `b` (free parameters of the
@@ -617,43 +593,29 @@ mod tests {
 
     #[test]
     fn a_quadratic_family_merges_once() {
-        // num = Omega^2 - 2 b Omega + c along b = 2 - s, c = 3: the
-        // discriminant 4 (b^2 - c) vanishes once in (0, 1), at b = sqrt 3;
-        // den = Omega - 10 stays apart (its pole above both zeros).
         let p = |s: &str| s.parse::<Poly>().unwrap();
-        let path = MergePath {
+        // The path b(s), c(s) with denominators 1.
+        let path = |b: &str, c: &str| MergePath {
             parameters: [
-                ("b".to_string(), [p("2 - s"), p("1")]),
-                ("c".to_string(), [p("3"), p("1")]),
+                ("b".to_string(), [p(b), p("1")]),
+                ("c".to_string(), [p(c), p("1")]),
             ]
             .into_iter()
             .collect(),
         };
         let num = p("Omega^2 - 2*b*Omega + c");
-        assert!(merges_once(&num, &p("Omega - 10"), &path));
-        // Along b = 3 - 2 s the pair meets at b = sqrt 3 but the zero
-        // 2b - ... passes the pole: b^2 + ... no; a pole at 4 is crossed.
+        // Along b = 2 - s, c = 3 the discriminant 4 (b^2 - c) vanishes once
+        // in (0, 1), at b = sqrt 3; the pole at 10 stays above both zeros.
+        assert!(merges_once(&num, &p("Omega - 10"), &path("2 - s", "3")));
+        // Along b = 3 - 2 s the pair still meets at b = sqrt 3, but first
+        // the larger zero b + sqrt(b^2 - 3) (5.45 at s = 0) crosses the
+        // pole at 4.
+        assert!(!merges_once(&num, &p("Omega - 4"), &path("3 - 2*s", "3")));
+        // A parameter that turns negative on the path.
         assert!(!merges_once(
             &num,
-            &p("Omega - 4"),
-            &MergePath {
-                parameters: [
-                    ("b".to_string(), [p("3 - 2*s"), p("1")]),
-                    ("c".to_string(), [p("3"), p("1")]),
-                ]
-                .into_iter()
-                .collect(),
-            }
+            &p("Omega - 10"),
+            &path("2 - s", "3 - 4*s")
         ));
-        // A parameter that turns negative on the path.
-        let negative = MergePath {
-            parameters: [
-                ("b".to_string(), [p("2 - s"), p("1")]),
-                ("c".to_string(), [p("3 - 4*s"), p("1")]),
-            ]
-            .into_iter()
-            .collect(),
-        };
-        assert!(!merges_once(&num, &p("Omega - 10"), &negative));
     }
 }

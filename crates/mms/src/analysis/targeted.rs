@@ -507,6 +507,19 @@ pub(super) struct StratumCoefficients {
 impl StratumCoefficients {
     /// `None` if a variable of the stratum is not among `names`.
     pub(super) fn new(s: &Stratum, names: &[String]) -> Option<StratumCoefficients> {
+        StratumCoefficients::of(&s.num, &s.den, &s.vars, &s.subs, names)
+    }
+
+    /// The same for `num` and `den` (in `Omega` and the free variables
+    /// `vars`) on the chart where `subs` give the other variables of
+    /// `names`.
+    pub(super) fn of(
+        num: &Poly,
+        den: &Poly,
+        vars: &[String],
+        subs: &[Substitution],
+        names: &[String],
+    ) -> Option<StratumCoefficients> {
         let index = |v: &str| names.iter().position(|n| n == v);
         let compile = |p: &Poly| -> Vec<Compiled> {
             p.coeffs_in(OMEGA)
@@ -514,13 +527,11 @@ impl StratumCoefficients {
                 .map(|c| Compiled::new(c, names))
                 .collect()
         };
-        let free = s
-            .vars
+        let free = vars
             .iter()
             .map(|v| index(v))
             .collect::<Option<Vec<usize>>>()?;
-        let subs = s
-            .subs
+        let subs = subs
             .iter()
             .map(|w| {
                 Some((
@@ -531,8 +542,8 @@ impl StratumCoefficients {
             })
             .collect::<Option<Vec<_>>>()?;
         Some(StratumCoefficients {
-            num: compile(&s.num),
-            den: compile(&s.den),
+            num: compile(num),
+            den: compile(den),
             free,
             subs,
             params: names.len(),
@@ -737,17 +748,11 @@ impl Prover<'_> {
                 return;
             }
             let mut next = subs.to_vec();
-            next.push(w.clone());
-            // The stratum's cost is factoring its critical polynomials;
-            // skip substitutions that make the TF itself large.
-            let size = |p: &Poly| next.iter().fold(p.clone(), |q, w| substitute(&q, w));
-            let limit = partial_wall_tf_terms(self.params.len());
-            if size(&self.num).num_terms() + size(&self.den).num_terms() > limit {
+            next.push(w);
+            if self.partial_wall_too_large(&next) {
                 continue;
             }
-            next.pop();
             *budget -= 1;
-            next.push(w);
             let s = self.stratum(&next);
             if !visited.insert(s.key()) {
                 continue;
@@ -761,6 +766,25 @@ impl Prover<'_> {
             self.partial_walls.push(next.clone());
             self.partial_walls(&next, wanted, depth - 1, visited, rng, budget);
         }
+    }
+
+    /// Whether the numerator and denominator with the substitutions
+    /// `subs` made hold too many terms for a stratum: its cost is factoring
+    /// its critical polynomials, which grows steeply with the number of
+    /// variables, so five masses (nine) get a smaller limit than four
+    /// (seven).
+    pub(super) fn partial_wall_too_large(&self, subs: &[Substitution]) -> bool {
+        let limit = if self.params.len() <= 7 {
+            PARTIAL_WALL_TF_TERMS
+        } else {
+            PARTIAL_WALL_TF_TERMS * 5 / 8
+        };
+        let size = |p: &Poly| {
+            subs.iter()
+                .fold(p.clone(), |q, w| substitute(&q, w))
+                .num_terms()
+        };
+        size(&self.num) + size(&self.den) > limit
     }
 
     /// For a type still unknown whose only multiple tokens are
@@ -1517,17 +1541,6 @@ pub(super) const PARTIAL_WALL_TERMS: usize = 24;
 /// Terms of the substituted numerator and denominator together, at most
 /// (up to seven parameters; five eighths of it beyond).
 const PARTIAL_WALL_TF_TERMS: usize = 400;
-
-/// The limit on the terms of a partial wall's substituted numerator and
-/// denominator together: factoring cost grows steeply with the number of
-/// variables, so five masses (nine) get a smaller limit than four (seven).
-pub(super) fn partial_wall_tf_terms(params: usize) -> usize {
-    if params <= 7 {
-        PARTIAL_WALL_TF_TERMS
-    } else {
-        PARTIAL_WALL_TF_TERMS * 5 / 8
-    }
-}
 
 /// `f = alpha*x - beta` for the parameter `x` of degree one with the
 /// smallest `alpha` and `beta` (any signs).
