@@ -17,16 +17,23 @@
 //! 2. every *possible* type: its witness assigns a positive rational to
 //!    exactly the model's undamped parameters, and the reduced transfer
 //!    function there has that type (exact real-root isolation); or its
-//!    path (a double zero shown by continuity, see
+//!    path (a double or triple zero shown by continuity, see
 //!    [`crate::analysis::MergePath`]) gives every parameter a rational
-//!    function of `s` without zero or pole on `[0, 1]` and positive there,
-//!    the type at `s = 0` is the wanted one with its `A^2` split, the type
-//!    at `s = 1` the wanted one without it, and, with the transfer function
-//!    along the path reduced by its gcd and its zero roots, the leading and
-//!    lowest coefficients, the resultant, the denominator's discriminant
-//!    have no root in `[0, 1]`, the numerator's discriminant exactly one
-//!    (in `(0, 1)`), and there its first principal subresultant
-//!    coefficient with its derivative is not zero (Sturm sequences);
+//!    function of `s` without zero or pole on `[0, 1]` and positive there;
+//!    along the path the transfer function, reduced by its gcd and its
+//!    zero roots, has the numerator `h^2 m` (`h = gcd(n, n')` of degree
+//!    zero or one in `Omega`: a double zero kept all along); the leading
+//!    and lowest coefficients of `m`, `h` and the denominator, the
+//!    resultants of the denominator with `m` and `h`, and the
+//!    denominator's discriminant have no root in `[0, 1]`; of the
+//!    discriminant of `m` and the resultant of `h` and `m` one has exactly
+//!    one root in `(0, 1)` and the other none (Sturm sequences; resultants
+//!    as Sylvester determinants, interpolated in `s`); and the wanted type
+//!    is the type at `s = 0` with the two neighbouring zeros merged that
+//!    the type at `s = 1` shows met there (a simple pair gone off the
+//!    axis, or a simple zero and the double zero swapped), the same for
+//!    every such pair; for a pair, the first principal subresultant
+//!    coefficient of `m` and `m'` is not zero at the meeting;
 //! 3. every *impossible* type: its certificate, a tree of proofs over
 //!    strata (see [`crate::analysis::Proof`] for the format): the stratum's
 //!    substitutions, the coverage of its critical polynomials (leading
@@ -79,8 +86,8 @@
 use crate::model::{Model, Port};
 use crate::table::{AnalysisTable, TableError};
 use poly::{
-    adjugate, count_roots_in, det, gcd, interleave_roots, psc, square_free, sylvester_matrix, Poly,
-    Rat, UPoly,
+    adjugate, count_roots_in, det, gcd, interleave_roots, psc, square_free, sylvester_matrix, Int,
+    Poly, Rat, UPoly,
 };
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
@@ -523,8 +530,144 @@ fn nonnegative_coefs(p: &Poly) -> bool {
 }
 
 /// The resultant in `Omega`, as the determinant of the Sylvester matrix.
+/// When its entries are polynomials in one variable (a path's `s`), the
+/// determinant is taken at enough integers and interpolated
+/// ([`interpolated_det`]): the expansion over polynomial entries costs
+/// far more on long paths.
 fn sylvester_resultant(a: &Poly, b: &Poly) -> Poly {
-    det(&sylvester_matrix(a, b, OMEGA))
+    let m = sylvester_matrix(a, b, OMEGA);
+    let mut vars: BTreeSet<&String> = BTreeSet::new();
+    for e in m.iter().flatten() {
+        vars.extend(e.vars());
+    }
+    match vars.into_iter().collect::<Vec<_>>().as_slice() {
+        [v] => interpolated_det(&m, v),
+        _ => det(&m),
+    }
+}
+
+/// The determinant of `m`, whose entries are polynomials in `v` alone:
+/// each row scaled to integer coefficients, the determinant's degree is at
+/// most the sum over the rows of their entries' largest degree, `D`; it is
+/// evaluated exactly at `v = 0, 1, ..., D` (fraction-free elimination) and
+/// interpolated from its forward differences, `sum_j Delta^j f(0) C(v, j)`.
+fn interpolated_det(m: &[Vec<Poly>], v: &str) -> Poly {
+    let mut scale = Int::from(1);
+    let rows: Vec<Vec<Vec<Int>>> = m
+        .iter()
+        .map(|row| {
+            let den = row
+                .iter()
+                .flat_map(|e| e.terms())
+                .fold(Int::from(1), |l, t| l.lcm(t.coef.denom()));
+            scale = &scale * &den;
+            row.iter()
+                .map(|e| {
+                    let mut c = vec![Int::from(0); e.degree(v) as usize + 1];
+                    for t in e.terms() {
+                        let k = e
+                            .vars()
+                            .iter()
+                            .position(|x| x == v)
+                            .map_or(0, |i| t.exps[i]);
+                        c[k as usize] = (t.coef.numer() * &den).div_exact(t.coef.denom());
+                    }
+                    c
+                })
+                .collect()
+        })
+        .collect();
+    let bound: usize = rows
+        .iter()
+        .map(|row| row.iter().map(|c| c.len() - 1).max().unwrap_or(0))
+        .sum();
+    let mut diff: Vec<Int> = (0..=bound)
+        .map(|i| {
+            let x = Int::from(i as i64);
+            let at: Vec<Vec<Int>> = rows
+                .iter()
+                .map(|row| {
+                    row.iter()
+                        .map(|c| c.iter().rev().fold(Int::from(0), |acc, k| &(&acc * &x) + k))
+                        .collect()
+                })
+                .collect();
+            integer_det(at)
+        })
+        .collect();
+    // Forward differences in place: diff[j] = Delta^j f(0).
+    for j in 1..diff.len() {
+        for i in (j..diff.len()).rev() {
+            diff[i] = &diff[i] - &diff[i - 1];
+        }
+    }
+    // sum_j diff[j] v (v - 1) ... (v - j + 1) / j!, over the integers
+    // times D!, then divided by D! and the rows' scale.
+    let mut factorial = Int::from(1);
+    for k in 2..=bound as i64 {
+        factorial = &factorial * &Int::from(k);
+    }
+    let mut total = vec![Int::from(0); bound + 1];
+    let mut falling = vec![Int::from(1)]; // v (v - 1) ... (v - j + 1)
+    let mut weight = factorial.clone(); // D! / j!
+    for (j, d) in diff.iter().enumerate() {
+        if j > 0 {
+            weight = weight.div_exact(&Int::from(j as i64));
+            let k = Int::from(j as i64 - 1);
+            let mut next = vec![Int::from(0); falling.len() + 1];
+            for (e, c) in falling.iter().enumerate() {
+                next[e + 1] = &next[e + 1] + c;
+                next[e] = &next[e] - &(c * &k);
+            }
+            falling = next;
+        }
+        let w = d * &weight;
+        for (e, c) in falling.iter().enumerate() {
+            total[e] = &total[e] + &(c * &w);
+        }
+    }
+    let x = Poly::var(v);
+    let den = &factorial * &scale;
+    total
+        .into_iter()
+        .enumerate()
+        .filter(|(_, c)| !c.is_zero())
+        .fold(Poly::zero(), |acc, (e, c)| {
+            &acc + &x.pow(e as u32).scale(&Rat::new(c, den.clone()))
+        })
+}
+
+/// The determinant of a square integer matrix by fraction-free (Bareiss)
+/// elimination: every division is exact.
+fn integer_det(mut a: Vec<Vec<Int>>) -> Int {
+    let n = a.len();
+    if n == 0 {
+        return Int::from(1);
+    }
+    let mut sign = 1;
+    let mut prev = Int::from(1);
+    for k in 0..n - 1 {
+        let Some(p) = (k..n).find(|&r| !a[r][k].is_zero()) else {
+            return Int::from(0);
+        };
+        if p != k {
+            a.swap(p, k);
+            sign = -sign;
+        }
+        for i in k + 1..n {
+            for j in k + 1..n {
+                let t = &(&a[i][j] * &a[k][k]) - &(&a[i][k] * &a[k][j]);
+                a[i][j] = t.div_exact(&prev);
+            }
+        }
+        prev = a[k][k].clone();
+    }
+    let d = a[n - 1][n - 1].clone();
+    if sign < 0 {
+        -d
+    } else {
+        d
+    }
 }
 
 /// The discriminant in `Omega` of `p` (degree `d >= 2`):
@@ -1686,7 +1829,8 @@ impl ModelChecker {
         Ok(())
     }
 
-    /// A double zero shown by continuity: see the module docs, item 2.
+    /// A double or triple zero shown by continuity: see the module docs,
+    /// item 2.
     fn check_path(&self, v: &Value, t: &Ty) -> Result<(), String> {
         const S: &str = "s";
         let obj = v
@@ -1718,29 +1862,9 @@ impl ModelChecker {
             }
             path.insert(name.clone(), (p, q));
         }
-        // The ends: the type with its A^2 split, and without the pair.
-        let i = match t.toks.iter().position(|k| k.mult > 1) {
-            Some(i)
-                if t.toks[i].zero
-                    && t.toks[i].mult == 2
-                    && t.toks.iter().filter(|k| k.mult > 1).count() == 1
-                    && !t.toks.get(i + 1).is_some_and(|k| k.zero)
-                    && !(i > 0 && t.toks[i - 1].zero) =>
-            {
-                i
-            }
-            _ => return Err(format!("path: {t} is not one double zero alone in its gap")),
-        };
-        let simple = Tok {
-            zero: true,
-            mult: 1,
-        };
-        let mut split = t.clone();
-        split.toks.splice(i..=i, [simple, simple]);
-        let mut gone = t.clone();
-        gone.toks.remove(i);
-        gone.nm = true;
-        for (s, want) in [(Rat::ZERO, &split), (Rat::ONE, &gone)] {
+        // The types at the ends.
+        let mut ends: Vec<Ty> = Vec::new();
+        for s in [Rat::ZERO, Rat::ONE] {
             let point: BTreeMap<String, Rat> = path
                 .iter()
                 .map(|(k, (p, q))| {
@@ -1748,11 +1872,10 @@ impl ModelChecker {
                     (k.clone(), &at(p) / &at(q))
                 })
                 .collect();
-            let got = classify(&self.num, &self.den, &point)
-                .map_err(|e| format!("path at s = {s}: {e}"))?;
-            if &got != want {
-                return Err(format!("path: the type at s = {s} is {got}, not {want}"));
-            }
+            ends.push(
+                classify(&self.num, &self.den, &point)
+                    .map_err(|e| format!("path at s = {s}: {e}"))?,
+            );
         }
         // The transfer function along the path, denominators cleared term
         // by term.
@@ -1796,28 +1919,103 @@ impl ModelChecker {
                 Err(format!("path: the {what} has a root on [0, 1]"))
             }
         };
-        if n.degree(OMEGA) < 2 {
-            return Err("path: the reduced numerator has fewer than two zeros".into());
-        }
-        rootless(&n.lead_in(OMEGA), "numerator's leading coefficient")?;
+        // A double zero kept along the path: n = h^2 m, h of degree one.
+        let common = gcd(&n, &n.derivative(OMEGA));
+        let (h, m) = match common.degree(OMEGA) {
+            0 => (None, n),
+            1 => {
+                let h0 = common.subs(OMEGA, &Rat::ZERO);
+                let h1 = common.lead_in(OMEGA);
+                let h = common
+                    .div_exact(&gcd(&h0, &h1))
+                    .ok_or("path: the double zero's content does not divide")?;
+                let m = n
+                    .div_exact(&(&h * &h))
+                    .ok_or("path: the double zero's square does not divide")?;
+                (Some(h), m)
+            }
+            k => return Err(format!("path: {k} zeros stay multiple along the path")),
+        };
+        rootless(&m.lead_in(OMEGA), "numerator's leading coefficient")?;
         rootless(&d.lead_in(OMEGA), "denominator's leading coefficient")?;
-        rootless(&n.subs(OMEGA, &Rat::ZERO), "numerator's value at 0")?;
+        rootless(&m.subs(OMEGA, &Rat::ZERO), "numerator's value at 0")?;
         rootless(&d.subs(OMEGA, &Rat::ZERO), "denominator's value at 0")?;
-        rootless(&sylvester_resultant(&n, &d), "resultant")?;
+        rootless(&sylvester_resultant(&m, &d), "resultant")?;
         if d.degree(OMEGA) >= 2 {
             rootless(&discriminant_of(&d)?, "denominator's discriminant")?;
         }
-        let disc = UPoly::from_poly(&discriminant_of(&n)?, S)
-            .map(|(_, u)| u)
-            .ok_or("path: the discriminant depends on more than s")?;
-        if disc.sign_at(&Rat::ZERO) == 0
-            || disc.sign_at(&Rat::ONE) == 0
-            || count_roots_in(&disc, &Rat::ZERO, &Rat::ONE) != 1
-        {
-            return Err("path: the zeros do not meet exactly once on (0, 1)".into());
+        if let Some(h) = &h {
+            rootless(&h.lead_in(OMEGA), "double zero's leading coefficient")?;
+            rootless(&h.subs(OMEGA, &Rat::ZERO), "double zero's value at 0")?;
+            rootless(
+                &sylvester_resultant(h, &d),
+                "resultant of the double zero and the poles",
+            )?;
         }
-        if n.degree(OMEGA) >= 3 {
-            let p1 = psc(&n, &n.derivative(OMEGA), OMEGA)
+        // Roots in (0, 1), none at the ends.
+        let inner = |p: &Poly, what: &str| -> Result<(usize, UPoly), String> {
+            let u = UPoly::from_poly(p, S)
+                .map(|(_, u)| u)
+                .ok_or_else(|| format!("path: the {what} depends on more than s"))?;
+            if u.is_zero() || u.sign_at(&Rat::ZERO) == 0 || u.sign_at(&Rat::ONE) == 0 {
+                return Err(format!("path: the {what} vanishes at an end"));
+            }
+            Ok((count_roots_in(&u, &Rat::ZERO, &Rat::ONE), u))
+        };
+        let (pairs, disc) = if m.degree(OMEGA) >= 2 {
+            let (k, u) = inner(&discriminant_of(&m)?, "numerator's discriminant")?;
+            (k, Some(u))
+        } else {
+            (0, None)
+        };
+        let crossings = match &h {
+            Some(h) => inner(&sylvester_resultant(h, &m), "resultant of the double zero")?.0,
+            None => 0,
+        };
+        // Which two neighbouring zeros of the type at s = 0 meet, and the
+        // type at the meeting.
+        let [before, after] = [&ends[0], &ends[1]];
+        let zero = |k: &Tok, mult: u32| k.zero && k.mult == mult;
+        let mut merged: BTreeSet<String> = BTreeSet::new();
+        for i in 0..before.toks.len().saturating_sub(1) {
+            let (x, y) = (before.toks[i], before.toks[i + 1]);
+            let mut moved = before.clone();
+            let mult = if (pairs, crossings) == (1, 0) && zero(&x, 1) && zero(&y, 1) {
+                moved.toks.drain(i..=i + 1);
+                moved.nm = true;
+                2
+            } else if (pairs, crossings) == (0, 1)
+                && ((zero(&x, 1) && zero(&y, 2)) || (zero(&x, 2) && zero(&y, 1)))
+            {
+                moved.toks.swap(i, i + 1);
+                3
+            } else {
+                continue;
+            };
+            if &moved != after {
+                continue;
+            }
+            let mut at = before.clone();
+            at.toks.splice(i..=i + 1, [Tok { zero: true, mult }]);
+            merged.insert(at.to_string());
+        }
+        match merged.len() {
+            0 => {
+                return Err(format!(
+                    "path: from {before} at s = 0 to {after} at s = 1 with {pairs} meeting(s) of two zeros and {crossings} crossing(s) of the double zero, no one event gives a type"
+                ))
+            }
+            1 if merged.contains(&t.to_string()) => {}
+            _ => {
+                return Err(format!(
+                    "path: from {before} to {after} the event gives {}, not {t}",
+                    merged.into_iter().collect::<Vec<_>>().join(" or ")
+                ))
+            }
+        }
+        if pairs == 1 && m.degree(OMEGA) >= 3 {
+            let disc = disc.as_ref().ok_or("path: no discriminant")?;
+            let p1 = psc(&m, &m.derivative(OMEGA), OMEGA)
                 .get(1)
                 .and_then(|p| UPoly::from_poly(p, S))
                 .map(|(_, u)| u)
@@ -4047,5 +4245,31 @@ mod tests {
                 assert_eq!(ours, theirs, "a = {a}, r = {r}");
             }
         }
+    }
+
+    /// The interpolated Sylvester determinant of polynomials in `Omega`
+    /// and `s` against the expansion of the same matrix over polynomial
+    /// entries (poly's `det`), and against the resultant of two products
+    /// of linear factors, `prod (a_i - b_j)` up to the leading terms.
+    #[test]
+    fn interpolated_resultants_match_the_expansion() {
+        let p = |s: &str| s.parse::<Poly>().unwrap();
+        let pairs = [
+            (
+                "(1/3*s^2 + 2)*Omega^3 - s*Omega + 7/2",
+                "(s - 5)*Omega^2 + 3*s^3*Omega - 1/7",
+            ),
+            ("Omega^2 - 2*(2 - s)*Omega + 3", "2*Omega - 2*(2 - s)"),
+            ("s^4*Omega^2 + Omega + s", "Omega^3 - s^2"),
+        ];
+        for (a, b) in pairs {
+            let (a, b) = (p(a), p(b));
+            let m = sylvester_matrix(&a, &b, OMEGA);
+            assert_eq!(interpolated_det(&m, "s"), det(&m), "{a}, {b}");
+        }
+        // (Omega - s)(Omega - 2) and (Omega - 3 s): (s - 3 s)(2 - 3 s).
+        let r = sylvester_resultant(&p("(Omega - s)*(Omega - 2)"), &p("Omega - 3*s"));
+        assert_eq!(r, p("(s - 3*s)*(2 - 3*s)"));
+        assert_eq!(integer_det(vec![]), Int::from(1));
     }
 }

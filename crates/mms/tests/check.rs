@@ -1389,11 +1389,14 @@ fn a_double_zero_by_continuity_is_checked_and_its_forgeries_rejected() {
     // values run 0, above 1, below 0, 1).
     let reversed = map_path(&path, "1 - s");
     let e = check_analysis(&model("A^2RR", &reversed)).unwrap_err();
-    assert!(e.to_string().contains("the type at s = 0"), "{e}");
-    let e = check_analysis(&model("RA^2R", &path)).unwrap_err();
     assert!(
         e.to_string()
-            .contains("the type at s = 0 is AARR, not RAAR"),
+            .contains("from RR (nm) at s = 0 to AARR at s = 1 with 1 meeting(s)"),
+        "{e}"
+    );
+    let e = check_analysis(&model("RA^2R", &path)).unwrap_err();
+    assert!(
+        e.to_string().contains("the event gives A^2RR, not RA^2R"),
         "{e}"
     );
     let mut negative = path.clone();
@@ -1402,7 +1405,10 @@ fn a_double_zero_by_continuity_is_checked_and_its_forgeries_rejected() {
     assert!(e.to_string().contains("c12 is not positive"), "{e}");
     let folded = map_path(&path, "s + 20*s*(s - 1/2)*(s - 1)");
     let e = check_analysis(&model("A^2RR", &folded)).unwrap_err();
-    assert!(e.to_string().contains("do not meet exactly once"), "{e}");
+    assert!(
+        e.to_string().contains("with 3 meeting(s) of two zeros"),
+        "{e}"
+    );
 }
 
 /// A second route to the merge of a path whose pair lies below the first
@@ -1504,4 +1510,123 @@ fn a_double_zero_on_a_cancelled_root_chart() {
     let verdict = json!({"type": "A^2RRAR", "status": "possible", "path": path});
     check_analysis(&one_verdict(id, verdict)).unwrap_or_else(|e| panic!("{e}"));
     meets_below_the_first_pole(id, &path);
+}
+
+/// A triple zero by continuity beside a kept double zero: in the chart of
+/// N5-g2-a3.2-s5.2 where `m2` and `m3` are solved for a double zero at a
+/// point that moves with `c1`, a simple zero crosses the double one
+/// (`ARA^2ARRR` at s = 0, `ARAA^2RRR` at s = 1), so `ARA^3RRR` shows at
+/// the crossing.
+#[test]
+fn a_triple_zero_by_a_crossing_beside_a_kept_double_zero() {
+    let id = "N5-g2-a3.2-s5.2";
+    let path = json!({"parameters": {
+        "c1": ["-7/64*s + 399/64", "1"], "c12": ["9", "1"], "c34": ["9", "1"],
+        "c45": ["7/2", "1"], "m1": ["13", "1"],
+        "m2": ["29014814871/26214400*s^2 + 3241519263297/13107200*s + 226400093911719/26214400",
+               "178339077/1310720*s^2 + 17553660579/655360*s + 1727781734133/1310720"],
+        "m3": ["72152451/81920*s^2 + 6741794997/40960*s + 456957840339/81920",
+               "2830779/20480*s^2 + 278629533/10240*s + 27425106891/20480"],
+        "m4": ["52", "1"], "m5": ["7/5", "1"]}});
+    let model = |t: &str, path: &Value| {
+        one_verdict(id, json!({"type": t, "status": "possible", "path": path}))
+    };
+    check_analysis(&model("ARA^3RRR", &path)).unwrap_or_else(|e| panic!("{e}"));
+    zeros_meet_beside_a_double_zero(id, &path, [2, 1]);
+
+    // Forgeries: the claim moved to another place; the double zero not
+    // kept (m2 nudged along the path, so that it is double at s = 0 only).
+    let e = check_analysis(&model("ARRA^3RR", &path)).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("the event gives ARA^3RRR, not ARRA^3RR"),
+        "{e}"
+    );
+    let mut nudged = path.clone();
+    nudged["parameters"]["m2"][1] = json!(
+        "(178339077/1310720*s^2 + 17553660579/655360*s + 1727781734133/1310720)*(1 + s/1000)"
+    );
+    assert!(check_analysis(&model("ARA^3RRR", &nudged)).is_err());
+}
+
+/// Two double zeros by continuity: in a chart of N5-g2-a3.1-s4.1 that
+/// keeps one double zero (`m1`, `m3` solved for it), a second pair of
+/// zeros meets (`RRAAA^2RR` or `RRA^2AARR` at s = 0, the pair gone at
+/// s = 1).
+#[test]
+fn two_double_zeros_by_continuity_beside_a_kept_one() {
+    let id = "N5-g2-a3.1-s4.1";
+    let path = json!({"parameters": {
+        "c1": ["1300", "1"], "c12": ["1/20*s + 3", "1"], "c34": ["11", "1"], "c45": ["26", "1"],
+        "m1": ["-110172612297/3125*s^2 + 41685429396402/15625*s - 152894699771616/3125",
+               "-46247652/125*s^2 + 17204126544/625*s - 1599983768592/3125"],
+        "m2": ["81/100", "1"],
+        "m3": ["-33172997/50*s^2 + 6141597726/125*s - 582400416906/625",
+               "-350361/25*s^2 + 130334292/125*s - 12121089156/625"],
+        "m4": ["21/5", "1"], "m5": ["11", "1"]}});
+    let verdict = json!({"type": "RRA^2A^2RR", "status": "possible", "path": path});
+    check_analysis(&one_verdict(id, verdict)).unwrap_or_else(|e| panic!("{e}"));
+    zeros_meet_beside_a_double_zero(id, &path, [1, 1]);
+    // The same path does not show the double zeros in another gap.
+    let moved = json!({"type": "RA^2A^2RRR", "status": "possible", "path": path});
+    assert!(check_analysis(&one_verdict(id, moved)).is_err());
+}
+
+/// A second route to a path's event beside a kept double zero: exact root
+/// isolation of the reduced numerator at points of the path. The
+/// multiplicities of the positive zeros in order are one list at s = 0
+/// and another at s = 1; halving where the list changes brings two
+/// neighbouring zeros of multiplicities `meeting` together (to 1e-5),
+/// while one zero stays double at every point visited.
+fn zeros_meet_beside_a_double_zero(id: &str, path: &Value, meeting: [u32; 2]) {
+    use poly::{positive_roots, Poly, Rat, UPoly};
+    let tf = Model::from_id(id).unwrap().undamped_tf();
+    let zeros = |s: &Rat| -> Vec<(f64, u32)> {
+        let point = path_point(path, s);
+        let at = |p: &Poly| UPoly::from_poly(&p.subs_point(&point), "Omega").unwrap().1;
+        let (n, d) = (at(&tf.num), at(&tf.den));
+        let n = n.div_exact(&n.gcd(&d)).unwrap();
+        let square_free = n.div_exact(&n.gcd(&n.derivative())).unwrap();
+        positive_roots(&n)
+            .iter()
+            .map(|r| {
+                let x = if r.lo == r.hi {
+                    r.lo.to_f64()
+                } else {
+                    refined(&square_free, r)
+                };
+                (x, r.multiplicity)
+            })
+            .collect()
+    };
+    let multiplicities = |z: &[(f64, u32)]| z.iter().map(|(_, k)| *k).collect::<Vec<_>>();
+    let (mut lo, mut hi) = (Rat::ZERO, Rat::ONE);
+    let start = multiplicities(&zeros(&lo));
+    assert_ne!(start, multiplicities(&zeros(&hi)));
+    for _ in 0..40 {
+        let mid = &(&lo + &hi) * &Rat::new(1.into(), 2.into());
+        let z = zeros(&mid);
+        assert_eq!(z.iter().filter(|(_, k)| *k == 2).count(), 1, "{z:?}");
+        if multiplicities(&z) == start {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    // The nearest neighbours of the meeting multiplicities, as a ratio.
+    let closest = |z: &[(f64, u32)]| {
+        let mut want = meeting;
+        want.sort();
+        z.windows(2)
+            .filter(|w| {
+                let mut k = [w[0].1, w[1].1];
+                k.sort();
+                k == want
+            })
+            .map(|w| w[1].0 / w[0].0)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (first, last) = (zeros(&Rat::ZERO), zeros(&lo));
+    assert!(closest(&first) > 1.001, "{first:?}");
+    assert!(closest(&last) < 1.0 + 1e-5, "{last:?}");
 }

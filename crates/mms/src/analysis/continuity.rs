@@ -11,19 +11,24 @@
 //! keep their cancelled poles), each eliminated parameter a rational
 //! function of the path's variable `s`; "nothing else happens" is a list
 //! of univariate polynomials in `s` without a root in `[0, 1]`, decided
-//! exactly by Sturm sequences ([`merges_once`], re-derived by the checker
-//! on its own).
+//! exactly by root isolation ([`path_event`], re-derived by the checker on
+//! its own).
+//!
+//! The same holds beside a double zero that stays one along the path: in
+//! a chart where two parameters are solved for a double zero at a chosen
+//! `Omega` (a coordinate of the chart), a second pair meeting gives two
+//! double zeros, and a simple zero crossing the double one a triple zero.
 
-use super::frf_type::{Feature, FrfType, Token};
+use super::frf_type::{frf_type_at, Feature, FrfType, Token};
 use super::prover::{positive_full_point, substitute, Prover, Substitution};
 use super::targeted::{
-    linear_solution, nelder_mead_for, short_rational, violation_near, StratumCoefficients,
-    PARTIAL_WALL_TERMS,
+    linear_sets, linear_solution, nelder_mead_for, short_rational, violation_near,
+    StratumCoefficients, PARTIAL_WALL_TERMS,
 };
 use super::walls::{solve_in_turn, wall_parameters};
 use super::MergePath;
 use crate::tf::OMEGA;
-use poly::{count_roots_in, Poly, Rat, UPoly};
+use poly::{Poly, Rat, UPoly};
 use std::collections::BTreeMap;
 
 /// The path's variable.
@@ -33,14 +38,37 @@ pub const PATH_VARIABLE: &str = "s";
 /// cancelled pole (the model's parameters never take this name).
 const CHART_ROOT: &str = "cancelled_root";
 
+/// The coordinate of a double-zero chart that stands for the double zero.
+const CHART_ZERO: &str = "double_zero";
+
 /// Charts of block mechanisms tried per split witness, at most.
 const MERGE_CHARTS: usize = 8;
+
+/// Double-zero charts tried per split witness, at most.
+const DOUBLE_ZERO_CHARTS: usize = 4;
 
 /// Halvings of the segment towards one event.
 const MERGE_HALVINGS: usize = 12;
 
 /// Exact samples of a segment, to find where the pair leaves the axis.
 const SEGMENT_SAMPLES: usize = 32;
+
+/// The factors by which one coordinate of a double-zero chart is moved
+/// in search of a far end, nearest first.
+const CHART_MOVES: [(i64, i64); 8] = [
+    (2, 1),
+    (1, 2),
+    (4, 1),
+    (1, 4),
+    (16, 1),
+    (1, 16),
+    (256, 1),
+    (1, 256),
+];
+
+/// Witnesses of other types with one double zero tried as far ends of a
+/// double-zero chart's path, at most.
+const CHART_TARGETS: usize = 4;
 
 /// Witnesses of other non-minimum-phase types tried as far ends, at most.
 const MERGE_TARGETS: usize = 24;
@@ -106,7 +134,39 @@ fn no_root_on_path(p: &Poly) -> bool {
     let Some((c, u)) = UPoly::from_poly(p, PATH_VARIABLE) else {
         return false;
     };
-    !c.is_zero() && u.sign_at(&Rat::ZERO) != 0 && count_roots_in(&u, &Rat::ZERO, &Rat::ONE) == 0
+    !c.is_zero()
+        && u.sign_at(&Rat::ZERO) != 0
+        && u.sign_at(&Rat::ONE) != 0
+        && roots_in_path(&u) == 0
+}
+
+/// The number of distinct roots in `(0, 1)` of `u`, which has none at
+/// `0` or `1`: by Descartes' rule with bisection ([`poly::real_roots`]),
+/// each isolating interval refined until it lies on one side of `0` and
+/// of `1`. (The checker counts by Sturm sequences, another route; these
+/// are much faster on the long polynomials of a path.)
+fn roots_in_path(u: &UPoly) -> usize {
+    let (zero, one) = (Rat::ZERO, Rat::ONE);
+    let mut count = 0;
+    for mut r in poly::real_roots(u) {
+        loop {
+            if r.hi <= zero || r.lo >= one {
+                break;
+            }
+            if r.lo >= zero && r.hi <= one {
+                count += 1;
+                break;
+            }
+            let half = &r.width() / &Rat::from(2);
+            if r.refine(u, &half).is_err() {
+                // Not reached for a polynomial without roots at 0 and 1;
+                // counted as a root so that the path is refused.
+                count += 1;
+                break;
+            }
+        }
+    }
+    count
 }
 
 /// `p` divided by the largest power of `Omega` dividing it.
@@ -120,47 +180,100 @@ fn without_zero_roots(p: &Poly) -> Poly {
         .fold(Poly::zero(), |acc, (k, c)| &acc + &(c * &om.pow(k as u32)))
 }
 
-/// True when along `path` (every parameter positive on `[0, 1]`) the
-/// reduced transfer function keeps its poles simple, apart from each
-/// other and from the zeros, none of them reaching `0` or infinity, and
-/// its zeros meet exactly once, at an `s` in `(0, 1)` where one pair
-/// forms a double zero and no other zero is multiple. Then the type at
-/// that `s` is the type at `s = 0` with the pair that leaves the axis by
-/// `s = 1` merged.
-pub(super) fn merges_once(num: &Poly, den: &Poly, path: &MergePath) -> bool {
-    // The condition that fails most often on a long segment first: other
-    // zeros meeting too.
+/// What happens at the one event of a path ([`path_event`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum PathEvent {
+    /// Two simple zeros meet as a double zero (and leave the axis after).
+    PairMeets,
+    /// A simple zero crosses a double zero that persists along the path:
+    /// a triple zero at the crossing.
+    CrossesDoubleZero,
+}
+
+/// The one event along `path` (every parameter positive on `[0, 1]`),
+/// if exactly one happens. The reduced transfer function's numerator is
+/// `h^2 m` with `h` the double zero kept along the path (a chart's; `1`
+/// when there is none), and `m` square-free: its poles stay simple, apart
+/// from each other and from the zeros, none of them reaches `0` or
+/// infinity, `h`'s zero stays apart from the poles, and in `(0, 1)`
+/// either two zeros of `m` meet once (and no more than two: the first
+/// principal subresultant coefficient of `m` and `m'` is not zero there)
+/// or a zero of `m` meets `h`'s once. The type at that `s` is then the
+/// type at `s = 0` with the two meeting zeros merged.
+///
+/// `kept` says whether a double zero is kept along the path; without one,
+/// the costly gcd of `n` and `n'` is skipped (a multiple factor then makes
+/// the discriminant vanish and the path is refused).
+pub(super) fn path_event(
+    num: &Poly,
+    den: &Poly,
+    path: &MergePath,
+    kept: bool,
+) -> Option<PathEvent> {
     let path = &path.parameters;
     let (n, _) = along(num, path);
     let (d, _) = along(den, path);
     let g = poly::gcd(&n, &d);
-    let (Some(n), Some(d)) = (n.div_exact(&g), d.div_exact(&g)) else {
-        return false;
-    };
+    let (n, d) = (n.div_exact(&g)?, d.div_exact(&g)?);
     let (n, d) = (without_zero_roots(&n), without_zero_roots(&d));
-    if n.degree(OMEGA) < 2 {
-        return false;
-    }
-    let Some((_, disc)) = UPoly::from_poly(&poly::discriminant(&n, OMEGA), PATH_VARIABLE) else {
-        return false;
+    let h = if kept {
+        poly::gcd(&n, &n.derivative(OMEGA))
+    } else {
+        Poly::one()
     };
-    if disc.sign_at(&Rat::ZERO) == 0
-        || disc.sign_at(&Rat::ONE) == 0
-        || count_roots_in(&disc, &Rat::ZERO, &Rat::ONE) != 1
-    {
-        return false;
-    }
-    if !no_root_on_path(&poly::resultant(&n, &d, OMEGA)) {
-        return false;
+    let (h, m) = match h.degree(OMEGA) {
+        0 if !kept => (None, n),
+        1 if kept => {
+            let cs = h.coeffs_in(OMEGA);
+            let h = h.div_exact(&poly::gcd(&cs[0], &cs[1]))?;
+            let m = n.div_exact(&(&h * &h))?;
+            (Some(h), m)
+        }
+        _ => return None,
+    };
+    // Roots in (0, 1) of a polynomial in s, none at the ends.
+    let inner_roots = |p: &Poly| -> Option<(usize, UPoly)> {
+        let (c, u) = UPoly::from_poly(p, PATH_VARIABLE)?;
+        if c.is_zero() || u.sign_at(&Rat::ZERO) == 0 || u.sign_at(&Rat::ONE) == 0 {
+            return None;
+        }
+        Some((roots_in_path(&u), u))
+    };
+    // The condition that fails most often on a long segment first: other
+    // zeros meeting too.
+    let (pairs, disc) = if m.degree(OMEGA) >= 2 {
+        let (k, u) = inner_roots(&poly::discriminant(&m, OMEGA))?;
+        (k, Some(u))
+    } else {
+        (0, None)
+    };
+    let crossings = match &h {
+        Some(h) => inner_roots(&poly::resultant(h, &m, OMEGA))?.0,
+        None => 0,
+    };
+    let event = match (pairs, crossings) {
+        (1, 0) => PathEvent::PairMeets,
+        (0, 1) => PathEvent::CrossesDoubleZero,
+        _ => return None,
+    };
+    if !no_root_on_path(&poly::resultant(&m, &d, OMEGA)) {
+        return None;
     }
     let ends = |p: &Poly| {
         let cs = p.coeffs_in(OMEGA);
         [cs[0].clone(), cs[cs.len() - 1].clone()]
     };
-    if !ends(&n).iter().chain(&ends(&d)).all(no_root_on_path)
+    let mut kept = vec![&m, &d];
+    kept.extend(&h);
+    if !kept
+        .iter()
+        .flat_map(|p| ends(p))
+        .all(|c| no_root_on_path(&c))
         || (d.degree(OMEGA) >= 2 && !no_root_on_path(&poly::discriminant(&d, OMEGA)))
+        || h.as_ref()
+            .is_some_and(|h| !no_root_on_path(&poly::resultant(h, &d, OMEGA)))
     {
-        return false;
+        return None;
     }
     // Every parameter positive on the path.
     let sign_at_0 = |p: &Poly| {
@@ -172,20 +285,151 @@ pub(super) fn merges_once(num: &Poly, den: &Poly, path: &MergePath) -> bool {
         .values()
         .any(|[p, q]| !(no_root_on_path(p) && no_root_on_path(q)) || sign_at_0(p) != sign_at_0(q))
     {
-        return false;
+        return None;
     }
     // The meeting is of two zeros only: the first principal subresultant
-    // coefficient of n and n' is not zero there (their gcd has degree 1).
-    if n.degree(OMEGA) >= 3 {
-        let psc = poly::psc(&n, &n.derivative(OMEGA), OMEGA);
-        let Some((_, p1)) = psc.get(1).and_then(|p| UPoly::from_poly(p, PATH_VARIABLE)) else {
-            return false;
-        };
-        if p1.is_zero() || count_roots_in(&disc.gcd(&p1), &Rat::ZERO, &Rat::ONE) != 0 {
-            return false;
+    // coefficient of m and m' is not zero there (their gcd has degree 1).
+    if let (PathEvent::PairMeets, Some(disc)) = (event, &disc) {
+        if m.degree(OMEGA) >= 3 {
+            let psc = poly::psc(&m, &m.derivative(OMEGA), OMEGA);
+            let (_, p1) = psc
+                .get(1)
+                .and_then(|p| UPoly::from_poly(p, PATH_VARIABLE))?;
+            let common = disc.gcd(&p1);
+            if p1.is_zero() || (!common.is_constant() && roots_in_path(&common) != 0) {
+                return None;
+            }
         }
     }
-    true
+    Some(event)
+}
+
+/// True when along `path` the one event is a pair of zeros meeting and
+/// no double zero persists ([`path_event`]).
+#[cfg(test)]
+fn merges_once(num: &Poly, den: &Poly, path: &MergePath) -> bool {
+    path_event(num, den, path, false) == Some(PathEvent::PairMeets)
+}
+
+/// The types at the two ends of `path` and its event, when
+/// [`path_event`] finds one.
+pub(super) fn path_ends(
+    num: &Poly,
+    den: &Poly,
+    path: &MergePath,
+) -> Option<(FrfType, FrfType, PathEvent)> {
+    let at = |s: &Rat| -> Option<FrfType> {
+        let point: BTreeMap<String, Rat> = path
+            .parameters
+            .iter()
+            .map(|(k, [p, q])| {
+                let v = |f: &Poly| f.subs(PATH_VARIABLE, s).as_constant();
+                Some((k.clone(), &v(p)? / &v(q)?))
+            })
+            .collect::<Option<_>>()?;
+        frf_type_at(num, den, OMEGA, &point)
+    };
+    let (before, after) = (at(&Rat::ZERO)?, at(&Rat::ONE)?);
+    let kept = before.tokens.iter().any(|k| k.multiplicity > 1);
+    let event = path_event(num, den, path, kept)?;
+    Some((before, after, event))
+}
+
+/// The type at an event between neighbouring types `before` and `after`
+/// of a path: two neighbouring zeros of `before` merged, the simple pair
+/// that has left the axis in `after` ([`PathEvent::PairMeets`]) or the
+/// simple zero and the double zero that have changed places
+/// ([`PathEvent::CrossesDoubleZero`]); `None` unless every such pair gives
+/// the same type.
+pub(super) fn merged_at_event(
+    before: &FrfType,
+    after: &FrfType,
+    event: PathEvent,
+) -> Option<FrfType> {
+    let tokens = &before.tokens;
+    let zero = |k: &Token, m: u32| k.feature == Feature::Antiresonance && k.multiplicity == m;
+    let mut merged: Option<FrfType> = None;
+    for i in 0..tokens.len().saturating_sub(1) {
+        let (x, y) = (&tokens[i], &tokens[i + 1]);
+        let mut moved = before.clone();
+        let multiplicity = match event {
+            PathEvent::PairMeets if zero(x, 1) && zero(y, 1) => {
+                moved.tokens.drain(i..=i + 1);
+                moved.nonminimum_phase = true;
+                2
+            }
+            PathEvent::CrossesDoubleZero
+                if (zero(x, 1) && zero(y, 2)) || (zero(x, 2) && zero(y, 1)) =>
+            {
+                moved.tokens.swap(i, i + 1);
+                3
+            }
+            _ => continue,
+        };
+        if &moved != after {
+            continue;
+        }
+        let mut t = before.clone();
+        t.tokens.splice(
+            i..=i + 1,
+            [Token {
+                feature: Feature::Antiresonance,
+                multiplicity,
+            }],
+        );
+        match &merged {
+            Some(m) if m != &t => return None,
+            _ => merged = Some(t),
+        }
+    }
+    merged
+}
+
+/// The ends of a path showing `t` by continuity beside a double zero that
+/// persists along it (a chart of [`Prover::double_zero_charts`]): for a
+/// triple zero alone among the multiple tokens, its two splits into a
+/// double and a simple zero (either order); for an `A^2` beside one other
+/// `A^2`, the split type and the type without the pair. Only ends whose
+/// event gives back `t` ([`merged_at_event`]).
+pub(super) fn chart_merge_ends(t: &FrfType) -> Vec<(FrfType, FrfType, PathEvent)> {
+    let multiple: Vec<usize> = (0..t.tokens.len())
+        .filter(|&i| t.tokens[i].multiplicity > 1)
+        .collect();
+    let zero = |k: &Token, m: u32| k.feature == Feature::Antiresonance && k.multiplicity == m;
+    let simple = Token {
+        feature: Feature::Antiresonance,
+        multiplicity: 1,
+    };
+    let double = Token {
+        feature: Feature::Antiresonance,
+        multiplicity: 2,
+    };
+    let mut out = Vec::new();
+    match multiple.as_slice() {
+        [i] if zero(&t.tokens[*i], 3) => {
+            let with = |a: Token, b: Token| {
+                let mut u = t.clone();
+                u.tokens.splice(*i..=*i, [a, b]);
+                u
+            };
+            let (x, y) = (with(double, simple), with(simple, double));
+            out.push((x.clone(), y.clone(), PathEvent::CrossesDoubleZero));
+            out.push((y, x, PathEvent::CrossesDoubleZero));
+        }
+        [i, j] if zero(&t.tokens[*i], 2) && zero(&t.tokens[*j], 2) => {
+            for k in [*i, *j] {
+                let mut split = t.clone();
+                split.tokens.splice(k..=k, [simple, simple]);
+                let mut gone = t.clone();
+                gone.tokens.remove(k);
+                gone.nonminimum_phase = true;
+                out.push((split, gone, PathEvent::PairMeets));
+            }
+        }
+        _ => {}
+    }
+    out.retain(|(a, b, e)| merged_at_event(a, b, *e).as_ref() == Some(t));
+    out
 }
 
 /// The segment from `a` to `b` in the free parameters of the stratum of
@@ -218,14 +462,19 @@ fn segment(
         parameters.insert(w.var.clone(), [p, q]);
     }
     parameters.remove(CHART_ROOT);
+    parameters.remove(CHART_ZERO);
     MergePath { parameters }
 }
 
-/// A wanted type with its two ends ([`merge_ends`]).
+/// A wanted type with its two ends ([`merge_ends`], [`chart_merge_ends`])
+/// and the event between them.
 struct Merge {
     wanted: FrfType,
     split: FrfType,
     gone: FrfType,
+    event: PathEvent,
+    /// A double zero kept along the path (in a double-zero chart).
+    kept: bool,
 }
 
 impl Prover<'_> {
@@ -235,7 +484,7 @@ impl Prover<'_> {
     /// a descent towards the far type, to its witness and to the witnesses
     /// of the other non-minimum-phase types on the same walls; wherever two
     /// neighbouring samples of a segment show the two ends of a wanted
-    /// type, the segment is halved until [`merges_once`] holds, and the
+    /// type, the segment is halved until [`path_event`] finds its event, and the
     /// path is recorded. Returns how many of `wanted` have a witness or a
     /// path afterwards.
     pub(crate) fn merge_search(&mut self, wanted: &[FrfType]) -> usize {
@@ -249,6 +498,8 @@ impl Prover<'_> {
                     wanted: t.clone(),
                     split,
                     gone,
+                    event: PathEvent::PairMeets,
+                    kept: false,
                 })
             })
             .collect();
@@ -303,6 +554,209 @@ impl Prover<'_> {
             }
         }
         wanted.iter().filter(|t| done(self, t)).count()
+    }
+
+    /// Double and triple zeros by continuity beside a double zero that
+    /// stays one (see the module docs) for the types of `wanted` with an
+    /// `A^3` or two `A^2` ([`chart_merge_ends`]) and every pole: from the
+    /// split type's witness, in each of its double-zero charts
+    /// ([`Self::double_zero_charts`]), segments run to the far type's
+    /// witness and to the witnesses of other types with one double zero
+    /// in the same chart, and are sampled and halved as in
+    /// [`Self::merge_search`]. Returns how many of `wanted` have a witness
+    /// or a path afterwards.
+    pub(crate) fn double_zero_chart_search(&mut self, wanted: &[FrfType]) -> usize {
+        let done = |p: &Prover, t: &FrfType| p.witnesses.contains_key(t) || p.paths.contains_key(t);
+        let top = self.stratum(&[]);
+        let degree = top.den.degree(OMEGA) - zero_roots(&top.den) as u32;
+        let merges: Vec<Merge> = wanted
+            .iter()
+            .filter(|t| !done(self, t) && t.resonances() == degree)
+            .flat_map(|t| {
+                chart_merge_ends(t)
+                    .into_iter()
+                    .map(|(split, gone, event)| Merge {
+                        wanted: t.clone(),
+                        split,
+                        gone,
+                        event,
+                        kept: true,
+                    })
+            })
+            .collect();
+        let one_double = |t: &FrfType| {
+            t.tokens.iter().filter(|k| k.multiplicity > 1).count() == 1
+                && t.tokens.iter().all(|k| {
+                    k.multiplicity == 1
+                        || (k.feature == Feature::Antiresonance && k.multiplicity == 2)
+                })
+        };
+        for m in &merges {
+            if done(self, &m.wanted) {
+                continue;
+            }
+            let Some(start) = self.witnesses.get(&m.split).cloned() else {
+                continue;
+            };
+            for (chart, a) in self.double_zero_charts(&start) {
+                if done(self, &m.wanted) {
+                    break;
+                }
+                let a = self.shortened(&chart, a, &m.split);
+                let on_chart = |w: &BTreeMap<String, Rat>| -> Option<BTreeMap<String, Rat>> {
+                    let z = self.double_zero(w)?;
+                    let mut b: BTreeMap<String, Rat> = w
+                        .iter()
+                        .filter(|(k, _)| !chart.iter().any(|c| &c.var == *k))
+                        .map(|(k, v)| (k.clone(), v.clone()))
+                        .collect();
+                    b.insert(CHART_ZERO.to_string(), z);
+                    (full_point(&chart, &b).as_ref() == Some(w)).then_some(b)
+                };
+                // First the far type one coordinate away, then legs
+                // towards witnesses one coordinate at a time: a segment's
+                // polynomials in s stay of low degree when few coordinates
+                // move on it.
+                let mut segments: Vec<(BTreeMap<String, Rat>, BTreeMap<String, Rat>)> = a
+                    .keys()
+                    .filter_map(|c| {
+                        CHART_MOVES.iter().find_map(|&(p, q)| {
+                            let mut b = a.clone();
+                            b.insert(c.clone(), &a[c] * &Rat::new(p.into(), q.into()));
+                            let t = full_point(&chart, &b).and_then(|f| self.type_at(&f));
+                            (t.as_ref() == Some(&m.gone)).then(|| (a.clone(), b))
+                        })
+                    })
+                    .collect();
+                let mut far: Vec<(FrfType, BTreeMap<String, Rat>)> = Vec::new();
+                far.extend(
+                    self.witnesses
+                        .get(&m.gone)
+                        .and_then(&on_chart)
+                        .map(|b| (m.gone.clone(), b)),
+                );
+                far.extend(
+                    self.witnesses
+                        .iter()
+                        .filter(|(t, _)| {
+                            *t != &m.gone
+                                && *t != &m.split
+                                && t.resonances() == degree
+                                && one_double(t)
+                        })
+                        .filter_map(|(t, w)| Some((t.clone(), on_chart(w)?)))
+                        .take(CHART_TARGETS),
+                );
+                for (t, b) in far {
+                    let b = self.shortened(&chart, b, &t);
+                    let mut at = a.clone();
+                    for (c, v) in &b {
+                        if &at[c] != v {
+                            let from = at.clone();
+                            at.insert(c.clone(), v.clone());
+                            segments.push((from, at.clone()));
+                        }
+                    }
+                }
+                for (from, to) in segments {
+                    if done(self, &m.wanted) {
+                        break;
+                    }
+                    self.scan_segment(&chart, &from, &to, &merges);
+                }
+            }
+        }
+        wanted.iter().filter(|t| done(self, t)).count()
+    }
+
+    /// A point of the chart of `subs` near `p` with short coordinates and
+    /// the same type `t` (else `p`): the path's polynomials in `s` grow
+    /// with the digits of its ends.
+    fn shortened(
+        &self,
+        subs: &[Substitution],
+        p: BTreeMap<String, Rat>,
+        t: &FrfType,
+    ) -> BTreeMap<String, Rat> {
+        for digits in [2, 3, 4, 6] {
+            let q: Option<BTreeMap<String, Rat>> = p
+                .iter()
+                .map(|(k, v)| Some((k.clone(), short_rational(v.to_f64(), digits)?)))
+                .collect();
+            let Some(q) = q else { continue };
+            if full_point(subs, &q).and_then(|f| self.type_at(&f)).as_ref() == Some(t) {
+                return q;
+            }
+        }
+        p
+    }
+
+    /// The one positive double zero of the numerator at `point`, if it has
+    /// exactly one multiple root (then rational: the root of
+    /// `gcd(num, num')`, of degree one).
+    fn double_zero(&self, point: &BTreeMap<String, Rat>) -> Option<Rat> {
+        let n = self.num.subs_point(point);
+        let g = poly::gcd(&n, &n.derivative(OMEGA));
+        if g.degree(OMEGA) != 1 {
+            return None;
+        }
+        let cs = g.coeffs_in(OMEGA);
+        let z = -(&cs[0].as_constant()? / &cs[1].as_constant()?);
+        (z.signum() > 0).then_some(z)
+    }
+
+    /// The charts in which `point`'s one double zero stays double: for
+    /// each pair of parameters in which the numerator is jointly linear,
+    /// `num(z) = 0` and `num'(z) = 0` solved for them in turn
+    /// ([`solve_in_turn`]) as substitutions in the other parameters and
+    /// [`CHART_ZERO`] (standing for `z`), with `point`'s coordinates in the
+    /// chart.
+    fn double_zero_charts(
+        &mut self,
+        point: &BTreeMap<String, Rat>,
+    ) -> Vec<(Vec<Substitution>, BTreeMap<String, Rat>)> {
+        let Some(z) = self.double_zero(point) else {
+            return Vec::new();
+        };
+        let to_chart = |d: &Poly| {
+            d.rename(|v| {
+                if v == OMEGA {
+                    CHART_ZERO.to_string()
+                } else {
+                    v.to_string()
+                }
+            })
+        };
+        let (value, slope) = (to_chart(&self.num), to_chart(&self.num.derivative(OMEGA)));
+        let mut out = Vec::new();
+        for vars in linear_sets(&[&self.num], &self.params, 2) {
+            let [x, y] = vars.as_slice() else { continue };
+            let conditions = [(x.clone(), value.clone()), (y.clone(), slope.clone())];
+            let Some(solved) = solve_in_turn(&BTreeMap::new(), &conditions) else {
+                continue;
+            };
+            let chart: Vec<Substitution> = solved
+                .into_iter()
+                .map(|(var, p, q)| Substitution {
+                    var,
+                    alpha: q,
+                    beta: p,
+                })
+                .collect();
+            let mut a: BTreeMap<String, Rat> = point
+                .iter()
+                .filter(|(k, _)| *k != x && *k != y)
+                .map(|(k, v)| (k.clone(), v.clone()))
+                .collect();
+            a.insert(CHART_ZERO.to_string(), z.clone());
+            if full_point(&chart, &a).as_ref() == Some(point) {
+                out.push((chart, a));
+            }
+            if out.len() >= DOUBLE_ZERO_CHARTS {
+                break;
+            }
+        }
+        out
     }
 
     /// The charts in which `point`'s one cancelled pole stays cancelled:
@@ -480,7 +934,7 @@ impl Prover<'_> {
     /// Samples the segment from `a` to `b` (free parameters of the
     /// stratum of `subs`) exactly; where two neighbouring samples show the
     /// two ends of a type of `merges` not yet shown, halves towards the
-    /// meeting and records the path once [`merges_once`] holds.
+    /// meeting and records the path once [`path_event`] finds its event.
     fn scan_segment(
         &mut self,
         subs: &[Substitution],
@@ -517,33 +971,31 @@ impl Prover<'_> {
             } else {
                 (&samples[k + 1], &samples[k])
             };
-            if let Some(path) = self.halved_path(subs, from.clone(), to.clone(), &m.split, &m.gone)
-            {
+            if let Some(path) = self.halved_path(subs, from.clone(), to.clone(), m) {
                 self.paths.insert(m.wanted.clone(), path);
             }
         }
     }
 
-    /// The segment from `a` (of type `split`) to `b` (of type `gone`),
-    /// halved towards the pair's meeting until [`merges_once`] holds.
+    /// The segment from `a` (of `m`'s split type) to `b` (of its far
+    /// type), halved towards the event until [`path_event`] finds `m`'s.
     fn halved_path(
         &mut self,
         subs: &[Substitution],
         mut a: BTreeMap<String, Rat>,
         mut b: BTreeMap<String, Rat>,
-        split: &FrfType,
-        gone: &FrfType,
+        m: &Merge,
     ) -> Option<MergePath> {
         let half = Rat::new(1.into(), 2.into());
         for _ in 0..MERGE_HALVINGS {
             let path = segment(subs, &a, &b);
-            if merges_once(&self.num, &self.den, &path) {
+            if path_event(&self.num, &self.den, &path, m.kept) == Some(m.event) {
                 return Some(path);
             }
             let mid = between(&a, &b, &half);
             match full_point(subs, &mid).and_then(|p| self.type_at(&p)) {
-                Some(t) if &t == split => a = mid,
-                Some(t) if &t == gone => b = mid,
+                Some(t) if t == m.split => a = mid,
+                Some(t) if t == m.gone => b = mid,
                 _ => return None,
             }
         }
@@ -553,10 +1005,11 @@ impl Prover<'_> {
 
 /// The model's parameters at a point of a stratum or a chart: the
 /// eliminated ones from the substitutions (positive, or `None`), the
-/// chart's cancelled root left out.
+/// chart's cancelled root or double zero left out.
 fn full_point(subs: &[Substitution], p: &BTreeMap<String, Rat>) -> Option<BTreeMap<String, Rat>> {
     let mut full = positive_full_point(subs, p)?;
     full.remove(CHART_ROOT);
+    full.remove(CHART_ZERO);
     Some(full)
 }
 
@@ -589,6 +1042,111 @@ mod tests {
         for t in ["RAA^2R", "A^2RA^2R", "RA^3R", "R^2A"] {
             assert!(merge_ends(&t.parse().unwrap()).is_none(), "{t}");
         }
+    }
+
+    #[test]
+    fn the_ends_beside_a_kept_double_zero() {
+        let ty = |s: &str| s.parse::<FrfType>().unwrap();
+        let ends = |t: &str| -> Vec<(String, String, PathEvent)> {
+            chart_merge_ends(&ty(t))
+                .into_iter()
+                .map(|(a, b, e)| (a.to_string(), b.to_string(), e))
+                .collect()
+        };
+        // A triple zero: a simple zero crosses the double one, either way.
+        assert_eq!(
+            ends("RA^3R"),
+            [
+                (
+                    "RA^2AR".into(),
+                    "RAA^2R".into(),
+                    PathEvent::CrossesDoubleZero
+                ),
+                (
+                    "RAA^2R".into(),
+                    "RA^2AR".into(),
+                    PathEvent::CrossesDoubleZero
+                ),
+            ]
+        );
+        // Two double zeros in one gap: either pair may be the one that meets.
+        assert_eq!(
+            ends("RA^2A^2R"),
+            [
+                ("RAAA^2R".into(), "RA^2R (nm)".into(), PathEvent::PairMeets),
+                ("RA^2AAR".into(), "RA^2R (nm)".into(), PathEvent::PairMeets),
+            ]
+        );
+        assert_eq!(ends("A^2RA^2R").len(), 2);
+        // A lone double zero (no chart needed), one beside a simple zero, a
+        // quadruple zero, three multiple tokens: none.
+        for t in ["RA^2R", "RAA^2R", "RA^4R", "A^2RA^2RA^2"] {
+            assert!(ends(t).is_empty(), "{t}");
+        }
+    }
+
+    #[test]
+    fn the_type_at_an_event_is_unambiguous() {
+        let ty = |s: &str| s.parse::<FrfType>().unwrap();
+        let at = |a: &str, b: &str, e| merged_at_event(&ty(a), &ty(b), e).map(|t| t.to_string());
+        assert_eq!(
+            at("RAAR", "RR (nm)", PathEvent::PairMeets).as_deref(),
+            Some("RA^2R")
+        );
+        // Three simple zeros in a gap, one pair gone: which pair met is
+        // not known.
+        assert_eq!(at("RAAAR", "RAR (nm)", PathEvent::PairMeets), None);
+        assert_eq!(
+            at("RA^2AAR", "RA^2R (nm)", PathEvent::PairMeets).as_deref(),
+            Some("RA^2A^2R")
+        );
+        assert_eq!(
+            at("RA^2AR", "RAA^2R", PathEvent::CrossesDoubleZero).as_deref(),
+            Some("RA^3R")
+        );
+        assert_eq!(
+            at("RAA^2AR", "RA^2AAR", PathEvent::CrossesDoubleZero).as_deref(),
+            Some("RA^3AR")
+        );
+        // Ends that no one event joins.
+        assert_eq!(at("RA^2AR", "RA^2AR", PathEvent::CrossesDoubleZero), None);
+        assert_eq!(at("RA^2AR", "RAA^2R", PathEvent::PairMeets), None);
+    }
+
+    #[test]
+    fn events_beside_a_kept_double_zero() {
+        let p = |s: &str| s.parse::<Poly>().unwrap();
+        let path = |pairs: &[(&str, &str)]| MergePath {
+            parameters: pairs
+                .iter()
+                .map(|(k, v)| (k.to_string(), [p(v), p("1")]))
+                .collect(),
+        };
+        // The zero b = 1 + 2 s crosses the double zero at z = 2 at s = 1/2.
+        let num = p("(Omega - z)^2*(Omega - b)");
+        let crossing = path(&[("z", "2"), ("b", "1 + 2*s")]);
+        assert_eq!(
+            path_event(&num, &p("Omega - 10"), &crossing, true),
+            Some(PathEvent::CrossesDoubleZero)
+        );
+        // Without the kept factor divided out the discriminant vanishes
+        // all along: refused.
+        assert_eq!(path_event(&num, &p("Omega - 10"), &crossing, false), None);
+        // The double zero crosses the pole at 4 (z = 3 + 2 s): refused.
+        let moving = path(&[("z", "3 + 2*s"), ("b", "1 + 2*s")]);
+        assert_eq!(path_event(&num, &p("Omega - 4"), &moving, true), None);
+        // Beside the double zero at 5, a pair meets at b = sqrt 3.
+        let num = p("(Omega - z)^2*(Omega^2 - 2*b*Omega + c)");
+        let pair = path(&[("z", "5"), ("b", "2 - s"), ("c", "3")]);
+        assert_eq!(
+            path_event(&num, &p("Omega - 10"), &pair, true),
+            Some(PathEvent::PairMeets)
+        );
+        // With the double zero at 2 between the pair (zeros 1 and 3 at
+        // s = 0), the upper zero crosses it before the pair meets: two
+        // events, refused.
+        let straddled = path(&[("z", "2"), ("b", "2 - s"), ("c", "3")]);
+        assert_eq!(path_event(&num, &p("Omega - 10"), &straddled, true), None);
     }
 
     #[test]

@@ -154,9 +154,18 @@ pub fn explain(analysis: &ModelAnalysis, t: &FrfType, format: ExplainFormat) -> 
     match v.status {
         Status::Possible if v.witness.is_none() => {
             let path = v.path.as_ref()?;
-            let (split, gone) = super::continuity::merge_ends(t)?;
+            let (split, gone, event) =
+                super::continuity::path_ends(&analysis.numerator, &analysis.denominator, path)?;
+            let what = match event {
+                super::continuity::PathEvent::PairMeets => {
+                    "two zeros meet exactly once, as a double zero"
+                }
+                super::continuity::PathEvent::CrossesDoubleZero => {
+                    "a simple zero crosses the double zero (which stays double all along) exactly once, making a triple zero"
+                }
+            };
             w.para(&format!(
-                "Verdict: **possible**, shown by continuity. Along the path below (each parameter a rational function of s, positive for 0 <= s <= 1) the type at s = 0 is {split} and at s = 1 {gone}; in between the two zeros meet exactly once, as a double zero, while no other zero or pole meets another, reaches 0 or leaves to infinity. So the type is {t} at that s."
+                "Verdict: **possible**, shown by continuity. Along the path below (each parameter a rational function of s, positive for 0 <= s <= 1) the type at s = 0 is {split} and at s = 1 {gone}; in between {what}, while no other zero or pole meets another, reaches 0 or leaves to infinity. So the type is {t} at that s."
             ));
             let rows: Vec<String> = path
                 .parameters

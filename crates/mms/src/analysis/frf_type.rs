@@ -219,12 +219,8 @@ pub fn frf_type_at(
     var: &str,
     point: &BTreeMap<String, Rat>,
 ) -> Option<FrfType> {
-    let mut n = num.clone();
-    let mut d = den.clone();
-    for (name, value) in point {
-        n = n.subs(name, value);
-        d = d.subs(name, value);
-    }
+    let n = num.subs_point(point);
+    let d = den.subs_point(point);
     let n = univariate(&n, var)?;
     let d = univariate(&d, var)?;
     frf_type_of(&n, &d)

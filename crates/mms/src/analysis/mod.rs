@@ -84,16 +84,19 @@ pub struct TypeVerdict {
     pub path: Option<MergePath>,
 }
 
-/// A double zero shown by continuity instead of at a rational point.
+/// A double or triple zero shown by continuity instead of at a rational
+/// point.
 ///
 /// Each parameter is a rational function of [`PATH_VARIABLE`] `s`, positive
-/// on `[0, 1]`. At `s = 0` the model shows the type with the double zero
-/// split into two simple ones; at `s = 1` the same type with that pair off
-/// the real axis; and in between exactly one thing happens: the pair
-/// meets, as a double zero and nothing else multiple, while no pole or
-/// zero meets a pole, reaches `0` or leaves to infinity. So the type is
-/// shown at that `s` (an algebraic number), which `mms check` confirms by
-/// re-deriving every one of these conditions exactly.
+/// on `[0, 1]`. Along the path exactly one thing happens: two simple zeros
+/// meet as a double zero (the type at `s = 0` shows them split, the type
+/// at `s = 1` without them, off the real axis), or a simple zero crosses a
+/// double zero that stays double all along (the two swap places between
+/// `s = 0` and `s = 1`: a triple zero at the crossing); no pole or zero
+/// meets a pole, reaches `0` or leaves to infinity, and nothing else
+/// meets. So the type with the two zeros merged is shown at that `s` (an
+/// algebraic number), which `mms check` confirms by re-deriving every one
+/// of these conditions exactly.
 ///
 /// ```
 /// use mms::analysis::MergePath;
@@ -245,7 +248,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 23;
+pub const ENGINE_VERSION: u32 = 24;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
@@ -372,6 +375,7 @@ fn search_unknown(prover: &mut Prover, unknown: &[FrfType], limits: &SearchLimit
         + prover.close_merge_search(unknown)
         + prover.wall_targeted_search(unknown)
         + prover.merge_search(unknown)
+        + prover.double_zero_chart_search(unknown)
 }
 
 /// Possible types first, then unknown ones, then impossible ones.
