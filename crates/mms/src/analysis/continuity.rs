@@ -718,40 +718,15 @@ impl Prover<'_> {
         let Some(z) = self.double_zero(point) else {
             return Vec::new();
         };
-        let to_chart = |d: &Poly| {
-            d.rename(|v| {
-                if v == OMEGA {
-                    CHART_ZERO.to_string()
-                } else {
-                    v.to_string()
-                }
-            })
-        };
-        let (value, slope) = (to_chart(&self.num), to_chart(&self.num.derivative(OMEGA)));
+        let (value, slope) = (
+            with_omega_as(&self.num, CHART_ZERO),
+            with_omega_as(&self.num.derivative(OMEGA), CHART_ZERO),
+        );
         let mut out = Vec::new();
         for vars in linear_sets(&[&self.num], &self.params, 2) {
             let [x, y] = vars.as_slice() else { continue };
             let conditions = [(x.clone(), value.clone()), (y.clone(), slope.clone())];
-            let Some(solved) = solve_in_turn(&BTreeMap::new(), &conditions) else {
-                continue;
-            };
-            let chart: Vec<Substitution> = solved
-                .into_iter()
-                .map(|(var, p, q)| Substitution {
-                    var,
-                    alpha: q,
-                    beta: p,
-                })
-                .collect();
-            let mut a: BTreeMap<String, Rat> = point
-                .iter()
-                .filter(|(k, _)| *k != x && *k != y)
-                .map(|(k, v)| (k.clone(), v.clone()))
-                .collect();
-            a.insert(CHART_ZERO.to_string(), z.clone());
-            if full_point(&chart, &a).as_ref() == Some(point) {
-                out.push((chart, a));
-            }
+            out.extend(chart_through(point, &conditions, CHART_ZERO, &z));
             if out.len() >= DOUBLE_ZERO_CHARTS {
                 break;
             }
@@ -781,15 +756,6 @@ impl Prover<'_> {
         };
         let mut at_r = point.clone();
         at_r.insert(OMEGA.to_string(), r.clone());
-        let to_chart = |d: &Poly| {
-            d.rename(|v| {
-                if v == OMEGA {
-                    CHART_ROOT.to_string()
-                } else {
-                    v.to_string()
-                }
-            })
-        };
         let mut out = Vec::new();
         for (d1, _, d2, _) in self.cancellation_mechanisms() {
             if !(d1.subs_point(&at_r).is_zero() && d2.subs_point(&at_r).is_zero()) {
@@ -798,27 +764,11 @@ impl Prover<'_> {
             let (in1, in2) = wall_parameters(&d1, &d2, &[]);
             for x in &in1 {
                 for y in &in2 {
-                    let conditions = [(x.clone(), to_chart(&d1)), (y.clone(), to_chart(&d2))];
-                    let Some(solved) = solve_in_turn(&BTreeMap::new(), &conditions) else {
-                        continue;
-                    };
-                    let chart: Vec<Substitution> = solved
-                        .into_iter()
-                        .map(|(var, p, q)| Substitution {
-                            var,
-                            alpha: q,
-                            beta: p,
-                        })
-                        .collect();
-                    let mut a: BTreeMap<String, Rat> = point
-                        .iter()
-                        .filter(|(k, _)| *k != x && *k != y)
-                        .map(|(k, v)| (k.clone(), v.clone()))
-                        .collect();
-                    a.insert(CHART_ROOT.to_string(), r.clone());
-                    if full_point(&chart, &a).as_ref() == Some(point) {
-                        out.push((chart, a));
-                    }
+                    let conditions = [
+                        (x.clone(), with_omega_as(&d1, CHART_ROOT)),
+                        (y.clone(), with_omega_as(&d2, CHART_ROOT)),
+                    ];
+                    out.extend(chart_through(point, &conditions, CHART_ROOT, r));
                     if out.len() >= MERGE_CHARTS {
                         return out;
                     }
@@ -1011,6 +961,45 @@ fn full_point(subs: &[Substitution], p: &BTreeMap<String, Rat>) -> Option<BTreeM
     full.remove(CHART_ROOT);
     full.remove(CHART_ZERO);
     Some(full)
+}
+
+/// `p` with `Omega` renamed to a chart's coordinate `name`.
+fn with_omega_as(p: &Poly, name: &str) -> Poly {
+    p.rename(|v| {
+        if v == OMEGA {
+            name.to_string()
+        } else {
+            v.to_string()
+        }
+    })
+}
+
+/// The chart in which `conditions` (each of degree one in its parameter,
+/// solved in turn) hold, with `coordinate` at `value` and the other
+/// parameters free, and `point`'s coordinates in it, if `point` is the
+/// chart's point there.
+fn chart_through(
+    point: &BTreeMap<String, Rat>,
+    conditions: &[(String, Poly)],
+    coordinate: &str,
+    value: &Rat,
+) -> Option<(Vec<Substitution>, BTreeMap<String, Rat>)> {
+    let solved = solve_in_turn(&BTreeMap::new(), conditions)?;
+    let chart: Vec<Substitution> = solved
+        .into_iter()
+        .map(|(var, p, q)| Substitution {
+            var,
+            alpha: q,
+            beta: p,
+        })
+        .collect();
+    let mut a: BTreeMap<String, Rat> = point
+        .iter()
+        .filter(|(k, _)| !conditions.iter().any(|(x, _)| x == *k))
+        .map(|(k, v)| (k.clone(), v.clone()))
+        .collect();
+    a.insert(coordinate.to_string(), value.clone());
+    (full_point(&chart, &a).as_ref() == Some(point)).then_some((chart, a))
 }
 
 /// The number of roots at `Omega = 0` of `p`.
