@@ -29,7 +29,7 @@ use super::walls::{solve_in_turn, wall_parameters};
 use super::MergePath;
 use crate::tf::OMEGA;
 use poly::{Poly, Rat, UPoly};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// The path's variable.
 pub const PATH_VARIABLE: &str = "s";
@@ -566,9 +566,8 @@ impl Prover<'_> {
     /// [`Self::merge_search`]. Returns how many of `wanted` have a witness
     /// or a path afterwards.
     pub(crate) fn double_zero_chart_search(&mut self, wanted: &[FrfType]) -> usize {
-        let done = |p: &Prover, t: &FrfType| p.witnesses.contains_key(t) || p.paths.contains_key(t);
-        let top = self.stratum(&[]);
-        let degree = top.den.degree(OMEGA) - zero_roots(&top.den) as u32;
+        let done = |p: &Prover, t: &FrfType| p.shown(t);
+        let degree = self.kept_poles();
         let merges: Vec<Merge> = wanted
             .iter()
             .filter(|t| !done(self, t) && t.resonances() == degree)
@@ -669,6 +668,64 @@ impl Prover<'_> {
         wanted.iter().filter(|t| done(self, t)).count()
     }
 
+    /// Points with a double zero beside other zeros (`A^2A`, `AA^2`, ...):
+    /// at every point of a double-zero chart the double zero is exact, so
+    /// the types with one `A^2` of `wanted` (every pole) are looked for at
+    /// the points one move of one coordinate away ([`CHART_MOVES`]) from
+    /// the witnesses of types with one `A^2` in the same gap, in their
+    /// charts. Returns how many of `wanted` have a witness or a path
+    /// afterwards.
+    pub(crate) fn double_zero_chart_points(&mut self, wanted: &[FrfType]) -> usize {
+        let done = |p: &Prover, t: &FrfType| p.shown(t);
+        let degree = self.kept_poles();
+        // The gap (poles below it) of a type's one A^2.
+        let gap_of_double = |t: &FrfType| -> Option<usize> {
+            let multiple: Vec<usize> = (0..t.tokens.len())
+                .filter(|&i| t.tokens[i].multiplicity > 1)
+                .collect();
+            let [i] = multiple.as_slice() else {
+                return None;
+            };
+            let k = &t.tokens[*i];
+            (k.feature == Feature::Antiresonance && k.multiplicity == 2 && t.resonances() == degree)
+                .then(|| {
+                    t.tokens[..*i]
+                        .iter()
+                        .filter(|k| k.feature == Feature::Resonance)
+                        .count()
+                })
+        };
+        let gaps: BTreeSet<usize> = wanted
+            .iter()
+            .filter(|t| !done(self, t))
+            .filter_map(gap_of_double)
+            .collect();
+        if gaps.is_empty() {
+            return wanted.iter().filter(|t| done(self, t)).count();
+        }
+        let starts: Vec<BTreeMap<String, Rat>> = self
+            .witnesses
+            .iter()
+            .filter(|(t, _)| gap_of_double(t).is_some_and(|g| gaps.contains(&g)))
+            .map(|(_, w)| w.clone())
+            .take(CHART_TARGETS)
+            .collect();
+        for start in starts {
+            for (chart, a) in self.double_zero_charts(&start) {
+                for c in a.keys() {
+                    for &(p, q) in &CHART_MOVES {
+                        let mut b = a.clone();
+                        b.insert(c.clone(), &a[c] * &Rat::new(p.into(), q.into()));
+                        if let Some(f) = full_point(&chart, &b) {
+                            self.record(f);
+                        }
+                    }
+                }
+            }
+        }
+        wanted.iter().filter(|t| done(self, t)).count()
+    }
+
     /// A point of the chart of `subs` near `p` with short coordinates and
     /// the same type `t` (else `p`): the path's polynomials in `s` grow
     /// with the digits of its ends.
@@ -689,6 +746,18 @@ impl Prover<'_> {
             }
         }
         p
+    }
+
+    /// True when `t` has a witness or a path.
+    fn shown(&self, t: &FrfType) -> bool {
+        self.witnesses.contains_key(t) || self.paths.contains_key(t)
+    }
+
+    /// The number of poles of the reduced transfer function (its positive
+    /// roots: the orthant's denominator without its roots at `Omega = 0`).
+    fn kept_poles(&mut self) -> u32 {
+        let top = self.stratum(&[]);
+        top.den.degree(OMEGA) - zero_roots(&top.den) as u32
     }
 
     /// The one positive double zero of the numerator at `point`, if it has
@@ -1136,6 +1205,53 @@ mod tests {
         // events, refused.
         let straddled = path(&[("z", "2"), ("b", "2 - s"), ("c", "3")]);
         assert_eq!(path_event(&num, &p("Omega - 10"), &straddled, true), None);
+    }
+
+    /// Every point of a double-zero chart has its double zero at the
+    /// chart's coordinate: checked at points one move away from a
+    /// witness of N5-g1-a3.1-s4.1 (`AARRRRA^2`), by substituting that
+    /// coordinate into the numerator and its derivative (both vanish) and
+    /// by the gcd of the two (degree one).
+    #[test]
+    fn double_zero_charts_keep_their_double_zero() {
+        use crate::Model;
+        let m = Model::from_id("N5-g1-a3.1-s4.1").unwrap();
+        let tf = m.undamped_tf();
+        let mut prover = Prover::new(&m, tf.num.clone(), tf.den.clone());
+        let w: BTreeMap<String, Rat> = [
+            ("c1", "993427/10000"),
+            ("c23", "350773/10000000"),
+            ("c34", "34551/2500"),
+            ("c45", "127731/100000"),
+            ("m1", "167020834154375189354794109511689111109606421/14998185942844685253047268561680386572000000"),
+            ("m2", "6271/500000"),
+            ("m3", "5861/2000"),
+            ("m4", "772720182485754442304050993073470641479/196072273249939474117559205766953477750"),
+            ("m5", "229763/500000"),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v.parse().unwrap()))
+        .collect();
+        assert_eq!(prover.type_at(&w).unwrap().to_string(), "AARRRRA^2");
+        let charts = prover.double_zero_charts(&w);
+        assert!(!charts.is_empty());
+        let mut checked = 0;
+        for (chart, a) in &charts {
+            for c in a.keys() {
+                let mut b = a.clone();
+                b.insert(c.clone(), &a[c] * &Rat::from(2));
+                let Some(f) = full_point(chart, &b) else {
+                    continue;
+                };
+                let n = tf.num.subs_point(&f);
+                let z = &b[CHART_ZERO];
+                assert!(n.subs(OMEGA, z).is_zero());
+                assert!(n.derivative(OMEGA).subs(OMEGA, z).is_zero());
+                assert_eq!(poly::gcd(&n, &n.derivative(OMEGA)).degree(OMEGA), 1);
+                checked += 1;
+            }
+        }
+        assert!(checked >= 4, "{checked}");
     }
 
     #[test]

@@ -376,6 +376,7 @@ fn search_unknown(prover: &mut Prover, unknown: &[FrfType], limits: &SearchLimit
         + prover.wall_targeted_search(unknown)
         + prover.merge_search(unknown)
         + prover.double_zero_chart_search(unknown)
+        + prover.double_zero_chart_points(unknown)
 }
 
 /// Possible types first, then unknown ones, then impossible ones.
