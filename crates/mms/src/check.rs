@@ -1894,7 +1894,27 @@ impl ModelChecker {
             }
             out
         };
+        let rootless = |p: &Poly, what: &str| -> Result<(), String> {
+            let ok = UPoly::from_poly(p, S).is_some_and(|(c, u)| {
+                !c.is_zero()
+                    && u.sign_at(&Rat::ZERO) != 0
+                    && count_roots_in(&u, &Rat::ZERO, &Rat::ONE) == 0
+            });
+            if ok {
+                Ok(())
+            } else {
+                Err(format!(
+                    "path: the {what} has a root on [0, 1] (or is not a polynomial in s)"
+                ))
+            }
+        };
         let (n, d) = (along(&self.num), along(&self.den));
+        // Not zero anywhere on the path: the gcd's content in s cannot make
+        // the transfer function vanish at some s.
+        rootless(
+            &d.lead_in(OMEGA),
+            "denominator's leading coefficient before reduction",
+        )?;
         let g = gcd(&n, &d);
         let reduce = |p: &Poly| -> Result<Poly, String> {
             let p = p.div_exact(&g).ok_or("path: the gcd does not divide")?;
@@ -1907,18 +1927,6 @@ impl ModelChecker {
             Ok(p)
         };
         let (n, d) = (reduce(&n)?, reduce(&d)?);
-        let rootless = |p: &Poly, what: &str| -> Result<(), String> {
-            let ok = UPoly::from_poly(p, S).is_some_and(|(c, u)| {
-                !c.is_zero()
-                    && u.sign_at(&Rat::ZERO) != 0
-                    && count_roots_in(&u, &Rat::ZERO, &Rat::ONE) == 0
-            });
-            if ok {
-                Ok(())
-            } else {
-                Err(format!("path: the {what} has a root on [0, 1]"))
-            }
-        };
         // A double zero kept along the path: n = h^2 m, h of degree one.
         let common = gcd(&n, &n.derivative(OMEGA));
         let (h, m) = match common.degree(OMEGA) {

@@ -213,6 +213,11 @@ pub(super) fn path_event(
     let path = &path.parameters;
     let (n, _) = along(num, path);
     let (d, _) = along(den, path);
+    // The transfer function vanishes nowhere on the path (the gcd's content
+    // in s could otherwise hide a point where it does).
+    if !no_root_on_path(&d.lead_in(OMEGA)) {
+        return None;
+    }
     let g = poly::gcd(&n, &d);
     let (n, d) = (n.div_exact(&g)?, d.div_exact(&g)?);
     let (n, d) = (without_zero_roots(&n), without_zero_roots(&d));
