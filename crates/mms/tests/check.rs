@@ -1417,14 +1417,10 @@ fn a_double_zero_by_continuity_is_checked_and_its_forgeries_rejected() {
 /// s = 1; halving the interval where the count drops brings the two
 /// together.
 fn meets_below_the_first_pole(id: &str, path: &Value) {
-    use poly::{positive_roots, Poly, Rat, UPoly};
+    use poly::{positive_roots, Rat};
     let tf = Model::from_id(id).unwrap().undamped_tf();
     let below_first_pole = |s: &Rat| -> Vec<f64> {
-        let point = path_point(path, s);
-        let at = |p: &Poly| UPoly::from_poly(&p.subs_point(&point), "Omega").unwrap().1;
-        let (n, d) = (at(&tf.num), at(&tf.den));
-        let g = n.gcd(&d);
-        let (n, d) = (n.div_exact(&g).unwrap(), d.div_exact(&g).unwrap());
+        let (n, d) = reduced_on_path(&tf, path, s);
         let pole = refined(&d, &positive_roots(&d)[0]);
         positive_roots(&n)
             .iter()
@@ -1452,6 +1448,24 @@ fn meets_below_the_first_pole(id: &str, path: &Value) {
         z.len() == 2 && z[1] / z[0] < 1.0 + 1e-5 && gap0 > 1.001,
         "{z:?} {gap0}"
     );
+}
+
+/// The transfer function `tf` at the point `s` of `path`, numerator and
+/// denominator divided by their gcd.
+fn reduced_on_path(
+    tf: &mms::UndampedTf,
+    path: &Value,
+    s: &poly::Rat,
+) -> (poly::UPoly, poly::UPoly) {
+    let point = path_point(path, s);
+    let at = |p: &poly::Poly| {
+        poly::UPoly::from_poly(&p.subs_point(&point), "Omega")
+            .unwrap()
+            .1
+    };
+    let (n, d) = (at(&tf.num), at(&tf.den));
+    let g = n.gcd(&d);
+    (n.div_exact(&g).unwrap(), d.div_exact(&g).unwrap())
 }
 
 /// A simple real root of `u` to about 50 bits, by halving its isolating
@@ -1579,13 +1593,10 @@ fn two_double_zeros_by_continuity_beside_a_kept_one() {
 /// neighbouring zeros of multiplicities `meeting` together (to 1e-5),
 /// while one zero stays double at every point visited.
 fn zeros_meet_beside_a_double_zero(id: &str, path: &Value, meeting: [u32; 2]) {
-    use poly::{positive_roots, Poly, Rat, UPoly};
+    use poly::{positive_roots, Rat};
     let tf = Model::from_id(id).unwrap().undamped_tf();
     let zeros = |s: &Rat| -> Vec<(f64, u32)> {
-        let point = path_point(path, s);
-        let at = |p: &Poly| UPoly::from_poly(&p.subs_point(&point), "Omega").unwrap().1;
-        let (n, d) = (at(&tf.num), at(&tf.den));
-        let n = n.div_exact(&n.gcd(&d)).unwrap();
+        let (n, _) = reduced_on_path(&tf, path, s);
         let square_free = n.div_exact(&n.gcd(&n.derivative())).unwrap();
         positive_roots(&n)
             .iter()

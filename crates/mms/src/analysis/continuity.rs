@@ -268,9 +268,9 @@ pub(super) fn path_event(
         let cs = p.coeffs_in(OMEGA);
         [cs[0].clone(), cs[cs.len() - 1].clone()]
     };
-    let mut kept = vec![&m, &d];
-    kept.extend(&h);
-    if !kept
+    let mut polys = vec![&m, &d];
+    polys.extend(&h);
+    if !polys
         .iter()
         .flat_map(|p| ends(p))
         .all(|c| no_root_on_path(&c))
@@ -309,13 +309,6 @@ pub(super) fn path_event(
     Some(event)
 }
 
-/// True when along `path` the one event is a pair of zeros meeting and
-/// no double zero persists ([`path_event`]).
-#[cfg(test)]
-fn merges_once(num: &Poly, den: &Poly, path: &MergePath) -> bool {
-    path_event(num, den, path, false) == Some(PathEvent::PairMeets)
-}
-
 /// The types at the two ends of `path` and its event, when
 /// [`path_event`] finds one.
 pub(super) fn path_ends(
@@ -352,19 +345,18 @@ pub(super) fn merged_at_event(
     event: PathEvent,
 ) -> Option<FrfType> {
     let tokens = &before.tokens;
-    let zero = |k: &Token, m: u32| k.feature == Feature::Antiresonance && k.multiplicity == m;
     let mut merged: Option<FrfType> = None;
     for i in 0..tokens.len().saturating_sub(1) {
         let (x, y) = (&tokens[i], &tokens[i + 1]);
         let mut moved = before.clone();
         let multiplicity = match event {
-            PathEvent::PairMeets if zero(x, 1) && zero(y, 1) => {
+            PathEvent::PairMeets if x.is_zero_of(1) && y.is_zero_of(1) => {
                 moved.tokens.drain(i..=i + 1);
                 moved.nonminimum_phase = true;
                 2
             }
             PathEvent::CrossesDoubleZero
-                if (zero(x, 1) && zero(y, 2)) || (zero(x, 2) && zero(y, 1)) =>
+                if (x.is_zero_of(1) && y.is_zero_of(2)) || (x.is_zero_of(2) && y.is_zero_of(1)) =>
             {
                 moved.tokens.swap(i, i + 1);
                 3
@@ -400,7 +392,6 @@ pub(super) fn chart_merge_ends(t: &FrfType) -> Vec<(FrfType, FrfType, PathEvent)
     let multiple: Vec<usize> = (0..t.tokens.len())
         .filter(|&i| t.tokens[i].multiplicity > 1)
         .collect();
-    let zero = |k: &Token, m: u32| k.feature == Feature::Antiresonance && k.multiplicity == m;
     let simple = Token {
         feature: Feature::Antiresonance,
         multiplicity: 1,
@@ -411,7 +402,7 @@ pub(super) fn chart_merge_ends(t: &FrfType) -> Vec<(FrfType, FrfType, PathEvent)
     };
     let mut out = Vec::new();
     match multiple.as_slice() {
-        [i] if zero(&t.tokens[*i], 3) => {
+        [i] if t.tokens[*i].is_zero_of(3) => {
             let with = |a: Token, b: Token| {
                 let mut u = t.clone();
                 u.tokens.splice(*i..=*i, [a, b]);
@@ -421,7 +412,7 @@ pub(super) fn chart_merge_ends(t: &FrfType) -> Vec<(FrfType, FrfType, PathEvent)
             out.push((x.clone(), y.clone(), PathEvent::CrossesDoubleZero));
             out.push((y, x, PathEvent::CrossesDoubleZero));
         }
-        [i, j] if zero(&t.tokens[*i], 2) && zero(&t.tokens[*j], 2) => {
+        [i, j] if t.tokens[*i].is_zero_of(2) && t.tokens[*j].is_zero_of(2) => {
             for k in [*i, *j] {
                 let mut split = t.clone();
                 split.tokens.splice(k..=k, [simple, simple]);
@@ -493,10 +484,9 @@ impl Prover<'_> {
     /// path is recorded. Returns how many of `wanted` have a witness or a
     /// path afterwards.
     pub(crate) fn merge_search(&mut self, wanted: &[FrfType]) -> usize {
-        let done = |p: &Prover, t: &FrfType| p.witnesses.contains_key(t) || p.paths.contains_key(t);
         let merges: Vec<Merge> = wanted
             .iter()
-            .filter(|t| !done(self, t))
+            .filter(|t| !self.shown(t))
             .filter_map(|t| {
                 let (split, gone) = merge_ends(t)?;
                 Some(Merge {
@@ -509,7 +499,7 @@ impl Prover<'_> {
             })
             .collect();
         for m in &merges {
-            if done(self, &m.wanted) {
+            if self.shown(&m.wanted) {
                 continue;
             }
             let Some(start) = self.witnesses.get(&m.split).cloned() else {
@@ -537,7 +527,7 @@ impl Prover<'_> {
                     .take(MERGE_TARGETS),
             );
             for b in ends {
-                if done(self, &m.wanted) {
+                if self.shown(&m.wanted) {
                     break;
                 }
                 self.scan_segment(&subs, &a, &b, &merges);
@@ -546,11 +536,11 @@ impl Prover<'_> {
             // parameter): the chart of a block mechanism, the cancelled
             // root one of its coordinates.
             let kept = s.den.degree(OMEGA) as usize - zero_roots(&s.den);
-            if done(self, &m.wanted) || kept == m.split.resonances() as usize || !subs.is_empty() {
+            if self.shown(&m.wanted) || kept == m.split.resonances() as usize || !subs.is_empty() {
                 continue;
             }
             for (chart, a) in self.cancelled_root_charts(&start) {
-                if done(self, &m.wanted) {
+                if self.shown(&m.wanted) {
                     break;
                 }
                 if let Some(b) = self.chart_departure(&chart, &a, &m.gone) {
@@ -558,7 +548,7 @@ impl Prover<'_> {
                 }
             }
         }
-        wanted.iter().filter(|t| done(self, t)).count()
+        wanted.iter().filter(|t| self.shown(t)).count()
     }
 
     /// Double and triple zeros by continuity beside a double zero that
@@ -571,11 +561,10 @@ impl Prover<'_> {
     /// [`Self::merge_search`]. Returns how many of `wanted` have a witness
     /// or a path afterwards.
     pub(crate) fn double_zero_chart_search(&mut self, wanted: &[FrfType]) -> usize {
-        let done = |p: &Prover, t: &FrfType| p.shown(t);
         let degree = self.kept_poles();
         let merges: Vec<Merge> = wanted
             .iter()
-            .filter(|t| !done(self, t) && t.resonances() == degree)
+            .filter(|t| !self.shown(t) && t.resonances() == degree)
             .flat_map(|t| {
                 chart_merge_ends(t)
                     .into_iter()
@@ -588,22 +577,15 @@ impl Prover<'_> {
                     })
             })
             .collect();
-        let one_double = |t: &FrfType| {
-            t.tokens.iter().filter(|k| k.multiplicity > 1).count() == 1
-                && t.tokens.iter().all(|k| {
-                    k.multiplicity == 1
-                        || (k.feature == Feature::Antiresonance && k.multiplicity == 2)
-                })
-        };
         for m in &merges {
-            if done(self, &m.wanted) {
+            if self.shown(&m.wanted) {
                 continue;
             }
             let Some(start) = self.witnesses.get(&m.split).cloned() else {
                 continue;
             };
             for (chart, a) in self.double_zero_charts(&start) {
-                if done(self, &m.wanted) {
+                if self.shown(&m.wanted) {
                     break;
                 }
                 let a = self.shortened(&chart, a, &m.split);
@@ -624,9 +606,8 @@ impl Prover<'_> {
                 let mut segments: Vec<(BTreeMap<String, Rat>, BTreeMap<String, Rat>)> = a
                     .keys()
                     .filter_map(|c| {
-                        CHART_MOVES.iter().find_map(|&(p, q)| {
-                            let mut b = a.clone();
-                            b.insert(c.clone(), &a[c] * &Rat::new(p.into(), q.into()));
+                        CHART_MOVES.iter().find_map(|&factor| {
+                            let b = moved(&a, c, factor);
                             let t = full_point(&chart, &b).and_then(|f| self.type_at(&f));
                             (t.as_ref() == Some(&m.gone)).then(|| (a.clone(), b))
                         })
@@ -646,7 +627,7 @@ impl Prover<'_> {
                             *t != &m.gone
                                 && *t != &m.split
                                 && t.resonances() == degree
-                                && one_double(t)
+                                && double_zero_gap(t).is_some()
                         })
                         .filter_map(|(t, w)| Some((t.clone(), on_chart(w)?)))
                         .take(CHART_TARGETS),
@@ -663,14 +644,14 @@ impl Prover<'_> {
                     }
                 }
                 for (from, to) in segments {
-                    if done(self, &m.wanted) {
+                    if self.shown(&m.wanted) {
                         break;
                     }
                     self.scan_segment(&chart, &from, &to, &merges);
                 }
             }
         }
-        wanted.iter().filter(|t| done(self, t)).count()
+        wanted.iter().filter(|t| self.shown(t)).count()
     }
 
     /// Points with a double zero beside other zeros (`A^2A`, `AA^2`, ...):
@@ -681,32 +662,15 @@ impl Prover<'_> {
     /// charts. Returns how many of `wanted` have a witness or a path
     /// afterwards.
     pub(crate) fn double_zero_chart_points(&mut self, wanted: &[FrfType]) -> usize {
-        let done = |p: &Prover, t: &FrfType| p.shown(t);
         let degree = self.kept_poles();
-        // The gap (poles below it) of a type's one A^2.
-        let gap_of_double = |t: &FrfType| -> Option<usize> {
-            let multiple: Vec<usize> = (0..t.tokens.len())
-                .filter(|&i| t.tokens[i].multiplicity > 1)
-                .collect();
-            let [i] = multiple.as_slice() else {
-                return None;
-            };
-            let k = &t.tokens[*i];
-            (k.feature == Feature::Antiresonance && k.multiplicity == 2 && t.resonances() == degree)
-                .then(|| {
-                    t.tokens[..*i]
-                        .iter()
-                        .filter(|k| k.feature == Feature::Resonance)
-                        .count()
-                })
-        };
+        let gap_of_double = |t: &FrfType| double_zero_gap(t).filter(|_| t.resonances() == degree);
         let gaps: BTreeSet<usize> = wanted
             .iter()
-            .filter(|t| !done(self, t))
+            .filter(|t| !self.shown(t))
             .filter_map(gap_of_double)
             .collect();
         if gaps.is_empty() {
-            return wanted.iter().filter(|t| done(self, t)).count();
+            return wanted.iter().filter(|t| self.shown(t)).count();
         }
         let starts: Vec<BTreeMap<String, Rat>> = self
             .witnesses
@@ -718,17 +682,15 @@ impl Prover<'_> {
         for start in starts {
             for (chart, a) in self.double_zero_charts(&start) {
                 for c in a.keys() {
-                    for &(p, q) in &CHART_MOVES {
-                        let mut b = a.clone();
-                        b.insert(c.clone(), &a[c] * &Rat::new(p.into(), q.into()));
-                        if let Some(f) = full_point(&chart, &b) {
+                    for &factor in &CHART_MOVES {
+                        if let Some(f) = full_point(&chart, &moved(&a, c, factor)) {
                             self.record(f);
                         }
                     }
                 }
             }
         }
-        wanted.iter().filter(|t| done(self, t)).count()
+        wanted.iter().filter(|t| self.shown(t)).count()
     }
 
     /// A point of the chart of `subs` near `p` with short coordinates and
@@ -1037,6 +999,30 @@ fn full_point(subs: &[Substitution], p: &BTreeMap<String, Rat>) -> Option<BTreeM
     Some(full)
 }
 
+/// The gap (the number of poles below it) of `t`'s double zero, if an
+/// `A^2` is `t`'s only multiple token.
+fn double_zero_gap(t: &FrfType) -> Option<usize> {
+    let multiple: Vec<usize> = (0..t.tokens.len())
+        .filter(|&i| t.tokens[i].multiplicity > 1)
+        .collect();
+    let [i] = multiple.as_slice() else {
+        return None;
+    };
+    t.tokens[*i].is_zero_of(2).then(|| {
+        t.tokens[..*i]
+            .iter()
+            .filter(|k| k.feature == Feature::Resonance)
+            .count()
+    })
+}
+
+/// `a` with its coordinate `c` multiplied by `p / q`.
+fn moved(a: &BTreeMap<String, Rat>, c: &str, (p, q): (i64, i64)) -> BTreeMap<String, Rat> {
+    let mut b = a.clone();
+    b.insert(c.to_string(), &a[c] * &Rat::new(p.into(), q.into()));
+    b
+}
+
 /// `p` with `Omega` renamed to a chart's coordinate `name`.
 fn with_omega_as(p: &Poly, name: &str) -> Poly {
     p.rename(|v| {
@@ -1272,6 +1258,10 @@ mod tests {
             .collect(),
         };
         let num = p("Omega^2 - 2*b*Omega + c");
+        // One pair meeting, no double zero kept.
+        let merges_once = |num: &Poly, den: &Poly, path: &MergePath| {
+            path_event(num, den, path, false) == Some(PathEvent::PairMeets)
+        };
         // Along b = 2 - s, c = 3 the discriminant 4 (b^2 - c) vanishes once
         // in (0, 1), at b = sqrt 3; the pole at 10 stays above both zeros.
         assert!(merges_once(&num, &p("Omega - 10"), &path("2 - s", "3")));

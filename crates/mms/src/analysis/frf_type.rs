@@ -26,6 +26,13 @@ pub struct Token {
     pub multiplicity: u32,
 }
 
+impl Token {
+    /// True for an antiresonance of multiplicity `m` (`A^m`).
+    pub(crate) fn is_zero_of(&self, m: u32) -> bool {
+        self.feature == Feature::Antiresonance && self.multiplicity == m
+    }
+}
+
 /// The type of an undamped FRF (the paper's Tab. 3 vocabulary): the distinct
 /// positive real zeros and poles of the reduced TF in increasing frequency,
 /// with multiplicities, and whether zeros off the positive real axis exist

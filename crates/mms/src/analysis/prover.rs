@@ -1218,11 +1218,7 @@ fn descartes(s: &Stratum, t: &FrfType) -> Option<OpenProof> {
             continue;
         }
         let v = signs.windows(2).filter(|w| w[0] != w[1]).count() as u32;
-        let needed = t
-            .tokens
-            .iter()
-            .filter(|k| k.feature == Feature::Antiresonance && k.multiplicity == *m)
-            .count() as u32;
+        let needed = t.tokens.iter().filter(|k| k.is_zero_of(*m)).count() as u32;
         if needed > v || (v - needed) % 2 == 1 {
             return Some(OpenProof::Descartes {
                 part: p.clone(),
