@@ -7,20 +7,20 @@
 //! output does not depend on the number of jobs, on the order in which the
 //! jobs finish, or on which summaries came from the `--cache` directory.
 
-use crate::analyze_cache::Cache;
+use crate::analyze_cache::{Cache, Hit};
 use crate::TableFormat3;
 use indicatif::{ProgressBar, ProgressStyle};
-use mms::analysis::{analyze, ModelAnalysis, SearchLimits, Status};
+use mms::analysis::{analysis_source, analyze, analyze_each, ModelAnalysis, SearchLimits, Status};
 use mms::identifiability::UnidentifiableDirection;
 use mms::table::{
     AnalysisTable, Covers, ModelTiming, RunTiming, Shard, SimilarSystems, TableModel,
 };
 use mms::Model;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -36,7 +36,7 @@ pub struct Table {
 
 pub fn table(models: &[Model]) -> Table {
     let limits = SearchLimits::default();
-    let analyses: Vec<ModelAnalysis> = models.iter().map(|m| analyze(m, &limits)).collect();
+    let analyses = analyze_each(models, &limits);
     let types: Vec<Types> = analyses
         .iter()
         .map(|a| Types {
@@ -146,6 +146,9 @@ struct Done {
     cached: bool,
 }
 
+/// The models of one job, by their index in the model list.
+type JobResult = Result<Vec<(usize, Done)>, String>;
+
 /// A finished batch.
 struct Batch {
     done: Vec<Done>,
@@ -181,81 +184,145 @@ fn analyse_all(models: &[Model], opts: &Options) -> Result<Batch, String> {
         f(&mut r);
         progress.set_message(r.iter().cloned().collect::<Vec<_>>().join(", "));
     };
-    let one = |m: &Model| {
-        let name = m.name();
+    // Models that share an analysis source (reciprocal twins, members of
+    // one class) are one job: the source is analysed once, or read from
+    // the cache, and carried over to each of them.
+    let mut jobs: Vec<(Model, Vec<usize>)> = Vec::new();
+    for (i, m) in models.iter().enumerate() {
+        let source = analysis_source(m);
+        match jobs.iter_mut().find(|(s, _)| *s == source) {
+            Some((_, members)) => members.push(i),
+            None => jobs.push((source, vec![i])),
+        }
+    }
+    let one = |(source, members): &(Model, Vec<usize>)| {
+        let names: Vec<String> = members.iter().map(|&i| models[i].name()).collect();
+        show(&|r| r.extend(names.iter().cloned()));
+        let done = analyse_shared(source, members, models, &limits, cache.as_ref(), &progress);
         show(&|r| {
-            r.insert(name.clone());
+            for n in &names {
+                r.remove(n);
+            }
         });
-        let done = analyse_one(m, &limits, cache.as_ref(), &progress);
-        show(&|r| {
-            r.remove(&name);
-        });
-        progress.inc(1);
         done
     };
     let start = Instant::now();
-    let (done, threads) = if opts.jobs == 1 {
-        let done = models.iter().map(one).collect::<Result<Vec<_>, String>>();
-        (done, 1)
-    } else {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(opts.jobs)
-            // The exact algebra recurses; give the workers the stack of a
-            // main thread rather than the 2 MiB default of spawned threads.
-            .stack_size(8 << 20)
-            .build()
-            .map_err(|e| format!("--jobs {}: {e}", opts.jobs))?;
-        // An indexed parallel collect keeps the order of `models`.
-        let done = pool.install(|| {
-            models
-                .par_iter()
-                .map(one)
-                .collect::<Result<Vec<_>, String>>()
-        });
-        (done, pool.current_num_threads())
+    let threads = match opts.jobs {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    }
+    .min(jobs.len().max(1));
+    // A shared queue in the order of `jobs`: each worker takes the next job
+    // when it is free, so one slow class never waits behind a batch
+    // assigned in advance.
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<JobResult>>> =
+        Mutex::new((0..jobs.len()).map(|_| None).collect());
+    let work = || loop {
+        let k = next.fetch_add(1, Ordering::Relaxed);
+        let Some(job) = jobs.get(k) else { break };
+        let r = one(job);
+        results.lock().unwrap_or_else(|e| e.into_inner())[k] = Some(r);
     };
+    if threads == 1 {
+        work();
+    } else {
+        std::thread::scope(|scope| -> Result<(), String> {
+            for _ in 0..threads {
+                std::thread::Builder::new()
+                    // The exact algebra recurses; give the workers the stack
+                    // of a main thread rather than the 2 MiB default.
+                    .stack_size(8 << 20)
+                    .spawn_scoped(scope, work)
+                    .map_err(|e| format!("--jobs {}: cannot start a worker: {e}", opts.jobs))?;
+            }
+            Ok(())
+        })?;
+    }
+    let done = results
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+        .into_iter()
+        .map(|r| r.expect("every job ran"))
+        .collect::<Result<Vec<_>, String>>();
+    // Back into the order of `models`.
+    let mut done: Vec<(usize, Done)> = done?.into_iter().flatten().collect();
+    done.sort_by_key(|(i, _)| *i);
+    let done: Vec<Done> = done.into_iter().map(|(_, d)| d).collect();
     progress.finish_and_clear();
     Ok(Batch {
-        done: done?,
+        done,
         wall_seconds: start.elapsed().as_secs_f64(),
         threads,
     })
 }
 
-/// One model, from the cache when it holds a usable file, else analysed
-/// (and stored).
-fn analyse_one(
-    model: &Model,
+/// The models `members` (indices into `models`) of one analysis source:
+/// each from the cache when it holds a usable file; the others carried over
+/// from the source's analysis, read from the cache or computed once (and
+/// stored). The computing time goes to the first model that needed it.
+fn analyse_shared(
+    source: &Model,
+    members: &[usize],
+    models: &[Model],
     limits: &SearchLimits,
     cache: Option<&Cache>,
     progress: &ProgressBar,
-) -> Result<Done, String> {
-    if let Some(cache) = cache {
-        match cache.load(model) {
-            Ok(Some(hit)) => {
-                return Ok(Done {
+) -> JobResult {
+    let lookup = |m: &Model| -> Option<Hit> {
+        match cache?.load(m) {
+            Ok(hit) => hit,
+            // A bad cache file costs a recomputation, never the run.
+            Err(why) => {
+                progress.suspend(|| eprintln!("mms: warning: {why}; recomputing"));
+                None
+            }
+        }
+    };
+    let mut analysis: Option<ModelAnalysis> = None;
+    let mut out = Vec::new();
+    for &i in members {
+        let model = &models[i];
+        if let Some(hit) = lookup(model) {
+            out.push((
+                i,
+                Done {
                     summary: hit.summary,
                     seconds: hit.seconds,
                     cached: true,
-                })
-            }
-            Ok(None) => {}
-            // A bad cache file costs a recomputation, never the run.
-            Err(why) => progress.suspend(|| eprintln!("mms: warning: {why}; recomputing")),
+                },
+            ));
+            progress.inc(1);
+            continue;
         }
+        let start = Instant::now();
+        if analysis.is_none() {
+            analysis = Some(match lookup(source) {
+                Some(hit) => hit.summary.analysis,
+                None => analyze(source, limits),
+            });
+        }
+        let a = analysis
+            .as_ref()
+            .expect("set above")
+            .carried_over(source, model)
+            .expect("a model is of its source's class or its reciprocal's");
+        let summary = Summary::new(model, &a)?;
+        let seconds = start.elapsed().as_secs_f64();
+        if let Some(cache) = cache {
+            cache.store(model, &summary, seconds)?;
+        }
+        out.push((
+            i,
+            Done {
+                summary,
+                seconds,
+                cached: false,
+            },
+        ));
+        progress.inc(1);
     }
-    let start = Instant::now();
-    let a = analyze(model, limits);
-    let summary = Summary::new(model, &a)?;
-    let seconds = start.elapsed().as_secs_f64();
-    if let Some(cache) = cache {
-        cache.store(model, &summary, seconds)?;
-    }
-    Ok(Done {
-        summary,
-        seconds,
-        cached: false,
-    })
+    Ok(out)
 }
 
 /// The stderr line closing a run: wall time, and total, median and maximum

@@ -236,6 +236,31 @@ impl ModelAnalysis {
         rename::Renaming::mirror(model).analysis(self, &model.mirrored())
     }
 
+    /// This analysis, of `from`, carried over to `to`: a member of the
+    /// renumbering class of `from` or of its reciprocal's (the same
+    /// transfer function by reciprocity, so that nothing but the ports
+    /// changes). `None` when `to` is neither.
+    ///
+    /// ```
+    /// use mms::analysis::{analyze, SearchLimits};
+    /// let m = mms::Model::from_id("N4-g0-a1.0-s3.0")?;
+    /// let a = analyze(&m, &SearchLimits::default());
+    /// let twin = a.carried_over(&m, &m.reciprocal()).unwrap();
+    /// assert_eq!((twin.actuator, twin.sensor), (a.sensor, a.actuator));
+    /// assert_eq!(twin.types, a.types);
+    /// assert!(a.carried_over(&m, &mms::Model::from_id("A1")?).is_none());
+    /// # Ok::<(), mms::ModelError>(())
+    /// ```
+    pub fn carried_over(&self, from: &Model, to: &Model) -> Option<ModelAnalysis> {
+        if *to == *from || to.reciprocal() == *from {
+            Some(rename::Renaming::identity(from).analysis(self, to))
+        } else if *to == from.mirrored() || to.reciprocal() == from.mirrored() {
+            Some(rename::Renaming::mirror(from).analysis(self, to))
+        } else {
+            None
+        }
+    }
+
     fn with_status(&self, s: Status) -> Vec<&FrfType> {
         self.types
             .iter()
@@ -248,17 +273,19 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 24;
+pub const ENGINE_VERSION: u32 = 25;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
 /// The verdicts are the same for every member of the model's renumbering
-/// class: the class's representative ([`Model::representative`]) is
-/// analysed, and its analysis carried over to the other member, renamed
+/// class, and for its reciprocal (actuator and sensor swapped, the same
+/// transfer function): one of these models, [`analysis_source`], is
+/// analysed, and its analysis carried over to the others
+/// ([`ModelAnalysis::carried_over`]), renamed where the mirror renumbers
 /// (the witnesses' points, the certificates' polynomials and masses).
 /// Where the proof rules and searches leave types open, the witness
-/// searches run on the other member too, whose random draws go by its own
-/// parameters and so fall elsewhere.
+/// searches run on the mirrored member too, whose random draws go by its
+/// own parameters and so fall elsewhere.
 ///
 /// ```
 /// use mms::analysis::{analyze, SearchLimits};
@@ -272,13 +299,69 @@ pub const ENGINE_VERSION: u32 = 24;
 ///     v
 /// };
 /// assert_eq!(statuses(&analyze(&m, &limits)), statuses(&analyze(&mirror, &limits)));
+/// assert_eq!(statuses(&analyze(&m, &limits)), statuses(&analyze(&m.reciprocal(), &limits)));
 /// # Ok::<(), mms::ModelError>(())
 /// ```
 pub fn analyze(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
-    let representative = model.representative();
-    if representative != *model {
-        return analyze(&representative, limits).mirrored(&representative);
+    let source = analysis_source(model);
+    analyze_source(&source, limits)
+        .carried_over(&source, model)
+        .expect("the source is of the model's class or its reciprocal's")
+}
+
+/// The analyses of `models`, in their order, each [`analysis_source`]
+/// analysed once however many of `models` share it.
+///
+/// ```
+/// use mms::analysis::{analyze_each, SearchLimits};
+/// use mms::Model;
+/// let m = Model::from_id("N4-g0-a1.0-s3.0")?;
+/// let models = [m, m.reciprocal(), m.mirrored()];
+/// let a = analyze_each(&models, &SearchLimits::default());
+/// assert_eq!(a[1].generic_id, m.reciprocal().id());
+/// assert_eq!(a[0].numerator, a[1].numerator); // reciprocity
+/// # Ok::<(), mms::ModelError>(())
+/// ```
+pub fn analyze_each(models: &[Model], limits: &SearchLimits) -> Vec<ModelAnalysis> {
+    let mut done: BTreeMap<Model, ModelAnalysis> = BTreeMap::new();
+    models
+        .iter()
+        .map(|m| {
+            let source = analysis_source(m);
+            done.entry(source)
+                .or_insert_with(|| analyze_source(&source, limits))
+                .carried_over(&source, m)
+                .expect("the source is of the model's class or its reciprocal's")
+        })
+        .collect()
+}
+
+/// The model whose analysis [`analyze`] carries over to `model`: of the
+/// representatives ([`Model::representative`]) of the model's class and of
+/// its reciprocal's class, the first in the tables' order. Reciprocal
+/// models have the same transfer function in the same parameters, so their
+/// two classes need one analysis between them.
+///
+/// ```
+/// use mms::analysis::analysis_source;
+/// let m = mms::Model::from_id("N5-g2-a4.2-s5.2")?;
+/// assert_eq!(analysis_source(&m).id(), "N5-g2-a3.2-s4.2"); // its mirror's reciprocal
+/// assert_eq!(analysis_source(&analysis_source(&m)), analysis_source(&m));
+/// # Ok::<(), mms::ModelError>(())
+/// ```
+pub fn analysis_source(model: &Model) -> Model {
+    let own = model.representative();
+    let other = model.reciprocal().representative();
+    let key = |m: &Model| (m.paper_id().is_none(), m.paper_id(), *m);
+    if key(&other) < key(&own) {
+        other
+    } else {
+        own
     }
+}
+
+/// The analysis of a model that is its own [`analysis_source`].
+fn analyze_source(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
     let own = analyze_alone(model, limits);
     let mirror = model.mirrored();
     if mirror == *model || own.unknown().is_empty() {

@@ -31,6 +31,14 @@ impl Renaming {
         }
     }
 
+    /// From `model` to itself or its reciprocal: nothing renamed.
+    pub(crate) fn identity(model: &Model) -> Renaming {
+        Renaming {
+            names: BTreeMap::new(),
+            masses: (0..=model.n_masses()).collect(),
+        }
+    }
+
     fn name(&self, v: &str) -> String {
         self.names.get(v).cloned().unwrap_or_else(|| v.to_string())
     }
