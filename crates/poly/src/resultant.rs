@@ -270,6 +270,18 @@ pub fn resultant(a: &Poly, b: &Poly, var: &str) -> Poly {
     if n == 0 {
         return b.pow(m);
     }
+    // Over the primitive integer parts, so the determinant's arithmetic
+    // needs no gcd per addition: Res(ca A, cb B) = ca^n cb^m Res(A, B).
+    let ((ca, pa), (cb, pb)) = (a.primitive(), b.primitive());
+    if !(ca.is_one() && cb.is_one()) {
+        let r = resultant_integer(&pa, &pb, var, m, n);
+        return r.scale(&(ca.pow(n as i32) * cb.pow(m as i32)));
+    }
+    resultant_integer(a, b, var, m, n)
+}
+
+/// [`resultant`] of `a` and `b` of degrees `m, n >= 1` in `var`.
+fn resultant_integer(a: &Poly, b: &Poly, var: &str, m: u32, n: u32) -> Poly {
     if m.max(n) as usize <= BEZOUT_MAX {
         if m >= n {
             return resultant_bezout(a, b, var);
@@ -302,6 +314,11 @@ pub fn discriminant(p: &Poly, var: &str) -> Poly {
     let n = p.degree(var);
     if n <= 1 {
         return Poly::one();
+    }
+    // Over the primitive integer part: disc(c P) = c^(2n-2) disc(P).
+    let (c, pp) = p.primitive();
+    if !c.is_one() {
+        return discriminant(&pp, var).scale(&c.pow(2 * n as i32 - 2));
     }
     if n as usize <= BEZOUT_MAX {
         return discriminant_bezout(p, var);
