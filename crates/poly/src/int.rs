@@ -12,6 +12,23 @@ use std::fmt;
 use std::ops::{Add, Mul, Neg, Sub};
 use std::str::FromStr;
 
+/// gcd(a, w) for a big `a` and a word `w`: one division, then words.
+fn mixed_gcd(a: &num_bigint::BigUint, w: u64) -> Int {
+    if w == 0 {
+        return Int::from_big(BigInt::from(a.clone()));
+    }
+    let (mut x, mut y) = (w, (a % w).to_u64().expect("a remainder below a word"));
+    while y != 0 {
+        let t = x % y;
+        x = y;
+        y = t;
+    }
+    match i64::try_from(x) {
+        Ok(v) => Int::Small(v),
+        Err(_) => Int::Big(BigInt::from(x)),
+    }
+}
+
 /// An exact integer: `i64` while it fits, a big integer otherwise.
 ///
 /// The representation is canonical (a value that fits in `i64` is always
@@ -107,7 +124,10 @@ impl Int {
                     Int::Big(BigInt::from(a))
                 }
             }
-            _ => Int::from_big(self.to_big().gcd(&other.to_big())),
+            (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) => {
+                mixed_gcd(b.magnitude(), a.unsigned_abs())
+            }
+            (Int::Big(a), Int::Big(b)) => Int::from_big(a.gcd(b)),
         }
     }
 
@@ -393,6 +413,23 @@ impl One for Int {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The word-sized shortcut for a big and a small operand agrees with
+        /// num-bigint's gcd, for every sign and for operands sharing a
+        /// factor (so that the gcd is not 1).
+        #[test]
+        fn gcd_of_big_and_small_matches_bigint(
+            a in any::<i64>(), b in any::<i64>(), k in any::<i64>(), f in 1i64..1_000_000,
+        ) {
+            let big = &(&Int::from(a) * &Int::from(b)) * &Int::from(f);
+            let small = &Int::from(k % 1_000_000_007) * &Int::from(f);
+            let want = Int::from_big(big.to_big().gcd(&small.to_big()));
+            prop_assert_eq!(big.gcd(&small), want.clone());
+            prop_assert_eq!(small.gcd(&big), want);
+        }
+    }
 
     #[test]
     fn overflow_promotes_and_demotes() {
