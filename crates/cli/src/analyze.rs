@@ -11,7 +11,7 @@ use crate::analyze_cache::{Cache, Hit};
 use crate::TableFormat3;
 use indicatif::{ProgressBar, ProgressStyle};
 use mms::analysis::{analysis_source, analyze, analyze_each, ModelAnalysis, SearchLimits, Status};
-use mms::identifiability::UnidentifiableDirection;
+use mms::identifiability::{Identifiability, UnidentifiableDirection};
 use mms::table::{
     AnalysisTable, Covers, ModelTiming, RunTiming, Shard, SimilarSystems, TableModel,
 };
@@ -98,8 +98,9 @@ pub struct Summary {
 }
 
 impl Summary {
-    fn new(model: &Model, a: &ModelAnalysis) -> Result<Summary, String> {
-        let idf = mms::identifiability(model);
+    /// `idf`: the identifiability of `model` or of its reciprocal (the
+    /// same transfer function in the same parameters).
+    fn new(a: &ModelAnalysis, idf: &Identifiability) -> Result<Summary, String> {
         Ok(Summary {
             id: a.id.clone(),
             generic_id: a.generic_id.clone(),
@@ -112,7 +113,7 @@ impl Summary {
                 .count(),
             determinable_parameters: idf.determinable_parameters,
             moment_invariants: idf.nonconstant_invariants,
-            unidentifiable_directions: idf.unidentifiable_directions,
+            unidentifiable_directions: idf.unidentifiable_directions.clone(),
             analysis: a.clone(),
         })
     }
@@ -280,6 +281,7 @@ fn analyse_shared(
         }
     };
     let mut analysis: Option<ModelAnalysis> = None;
+    let mut idfs: Vec<(Model, Identifiability)> = Vec::new();
     let mut out = Vec::new();
     for &i in members {
         let model = &models[i];
@@ -307,7 +309,15 @@ fn analyse_shared(
             .expect("set above")
             .carried_over(source, model)
             .expect("a model is of its source's class or its reciprocal's");
-        let summary = Summary::new(model, &a)?;
+        // The reciprocal's identifiability is this model's: computed once.
+        let known = idfs
+            .iter()
+            .position(|(m, _)| *m == *model || *m == model.reciprocal());
+        let k = known.unwrap_or_else(|| {
+            idfs.push((*model, mms::identifiability(model)));
+            idfs.len() - 1
+        });
+        let summary = Summary::new(&a, &idfs[k].1)?;
         let seconds = start.elapsed().as_secs_f64();
         if let Some(cache) = cache {
             cache.store(model, &summary, seconds)?;

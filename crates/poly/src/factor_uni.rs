@@ -114,7 +114,7 @@ pub fn rational_roots(p: &UPoly) -> Vec<Rat> {
     if f.len() > 1 {
         let found = match nonzero_roots_modular(&f) {
             Some(r) => r,
-            // Not square-free modulo any listed prime: its square-free part
+            // Not square-free modulo the primes tried: its square-free part
             // has the same roots and is square-free modulo almost all.
             None => {
                 let part = UPoly::new(f.clone()).square_free_part();
@@ -139,7 +139,10 @@ fn nonzero_roots_modular(f: &[Int]) -> Option<Vec<Rat>> {
     let p = (1009u64..20_000)
         .step_by(2)
         .filter(|&p| is_prime(p) && lc.rem_u64(p) != 0)
-        .take(40)
+        // A square-free f is square-free modulo all primes but the few
+        // dividing its discriminant: three failures say f has a square
+        // factor, and each try costs a reduction and a gcd of full degree.
+        .take(3)
         .find(|&p| Fp::new(p).is_squarefree(&Fp::new(p).reduce_z(f)))?;
     let fp = Fp::new(p);
     let a = fp.monic(&fp.reduce_z(f));
