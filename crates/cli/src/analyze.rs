@@ -283,9 +283,16 @@ fn analyse_shared(
     let mut analysis: Option<ModelAnalysis> = None;
     let mut idfs: Vec<(Model, Identifiability)> = Vec::new();
     let mut out = Vec::new();
-    for &i in members {
+    // The source first (when it is a member): its cached analysis serves
+    // the others.
+    let mut order: Vec<usize> = members.to_vec();
+    order.sort_by_key(|&i| models[i] != *source);
+    for i in order {
         let model = &models[i];
         if let Some(hit) = lookup(model) {
+            if *model == *source {
+                analysis = Some(hit.summary.analysis.clone());
+            }
             out.push((
                 i,
                 Done {
@@ -299,7 +306,13 @@ fn analyse_shared(
         }
         let start = Instant::now();
         if analysis.is_none() {
-            analysis = Some(match lookup(source) {
+            // A member source came first and missed the cache.
+            let stored = if members.iter().any(|&j| models[j] == *source) {
+                None
+            } else {
+                lookup(source)
+            };
+            analysis = Some(match stored {
                 Some(hit) => hit.summary.analysis,
                 None => analyze(source, limits),
             });
