@@ -273,11 +273,12 @@ pub fn resultant(a: &Poly, b: &Poly, var: &str) -> Poly {
     // Over the primitive integer parts, so the determinant's arithmetic
     // needs no gcd per addition: Res(ca A, cb B) = ca^n cb^m Res(A, B).
     let ((ca, pa), (cb, pb)) = (a.primitive(), b.primitive());
-    if !(ca.is_one() && cb.is_one()) {
-        let r = resultant_integer(&pa, &pb, var, m, n);
-        return r.scale(&(ca.pow(n as i32) * cb.pow(m as i32)));
+    let r = resultant_integer(&pa, &pb, var, m, n);
+    if ca.is_one() && cb.is_one() {
+        r
+    } else {
+        r.scale(&(ca.pow(n as i32) * cb.pow(m as i32)))
     }
-    resultant_integer(a, b, var, m, n)
 }
 
 /// [`resultant`] of `a` and `b` of degrees `m, n >= 1` in `var`.

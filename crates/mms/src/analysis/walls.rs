@@ -590,8 +590,8 @@ fn tangent_points(
     let Some(eqs) = eqs else {
         return Vec::new();
     };
-    // Scaled to integer coefficients: the same roots, and the determinant
-    // in integers instead of fractions reduced at every product.
+    // Only its roots are used: the primitive parts' resultant spares
+    // rescaling the whole polynomial by the contents' powers.
     let res = poly::resultant(&eqs[0].primitive_part(), &eqs[1].primitive_part(), w);
     let mut points = Vec::new();
     for r in rational_roots(&res, OMEGA) {
