@@ -378,9 +378,9 @@ fn timing_line(batch: &Batch) -> String {
 }
 
 /// The `--timings` fields of `--format json`.
-struct Timings<'a> {
-    models: &'a [Done],
-    batch: &'a Batch,
+struct Timings {
+    models: Vec<ModelTiming>,
+    run: RunTiming,
 }
 
 /// For each possible type of `a`, the other classes that can show it
@@ -401,7 +401,7 @@ pub fn similar_cell(similar: &Similar, a: &Summary, sep: &str, inner: &str) -> S
 }
 
 fn render(
-    summaries: &[Summary],
+    summaries: Vec<Summary>,
     similar: &Similar,
     format: TableFormat3,
     timings: Option<&Timings>,
@@ -411,14 +411,13 @@ fn render(
     match format {
         TableFormat3::Report => {
             let n = summaries.first().map_or(0, |a| a.analysis.masses);
-            s = crate::tables::report(n, summaries, similar)?;
+            s = crate::tables::report(n, &summaries, similar)?;
         }
         TableFormat3::Json => {
             let models: Vec<TableModel> = summaries
-                .iter()
+                .into_iter()
                 .enumerate()
                 .map(|(i, a)| TableModel {
-                    analysis: a.analysis.clone(),
                     // A slice's similar systems are those of the whole
                     // table: `mms merge` fills them in.
                     similar: (!matches!(covers, Covers::Slice { .. })).then(|| {
@@ -433,22 +432,15 @@ fn render(
                     }),
                     determinable_parameters: Some(a.determinable_parameters),
                     moment_invariants: Some(a.moment_invariants),
-                    unidentifiable_directions: Some(a.unidentifiable_directions.clone()),
-                    timing: timings.map(|t| ModelTiming {
-                        seconds: t.models[i].seconds,
-                        cached: t.models[i].cached,
-                    }),
+                    unidentifiable_directions: Some(a.unidentifiable_directions),
+                    timing: timings.map(|t| t.models[i].clone()),
+                    analysis: a.analysis,
                 })
                 .collect();
             // What the file covers, by which engine and search: a reader
             // can tell a complete table from a pruned or foreign one.
             let mut table = AnalysisTable::new(covers.clone(), models);
-            table.timing = timings.map(|t| RunTiming {
-                wall_seconds: t.batch.wall_seconds,
-                threads: t.batch.threads,
-                models_analysed: t.batch.done.len(),
-                models_from_cache: t.batch.done.iter().filter(|d| d.cached).count(),
-            });
+            table.timing = timings.map(|t| t.run.clone());
             s = table.to_json();
         }
         TableFormat3::Table => {
@@ -463,7 +455,7 @@ fn render(
                 "determinable",
                 "moments"
             );
-            for a in summaries {
+            for a in &summaries {
                 let _ = writeln!(
                     s,
                     "{:<16} {:<44} {:<40} {:>10} {:>7} {:>12} {:>8}",
@@ -476,7 +468,7 @@ fn render(
                     a.moment_invariants
                 );
             }
-            for a in summaries {
+            for a in &summaries {
                 for u in &a.unknown {
                     let _ = writeln!(s, "unknown: {} {}", a.id, u);
                 }
@@ -485,7 +477,7 @@ fn render(
         TableFormat3::Md => {
             s.push_str("| ID | Possible FRF types | Pot. similar systems | Impossible (certified) | Unknown | Determinable parameters | Non-constant moment invariants |\n");
             s.push_str("|---|---|---|---|---|---|---|\n");
-            for a in summaries {
+            for a in &summaries {
                 let types: Vec<String> = a.possible.iter().map(|t| format!("`{t}`")).collect();
                 let unknown: Vec<String> = a.unknown.iter().map(|t| format!("`{t}`")).collect();
                 let _ = writeln!(
@@ -507,7 +499,7 @@ fn render(
         }
         TableFormat3::Tex => {
             s.push_str("\\begin{tabular}{lllrr}\n\\hline\nID & Possible FRF types & Pot. similar systems & Impossible & Unknown \\\\\n\\hline\n");
-            for a in summaries {
+            for a in &summaries {
                 let types: Vec<String> = a.possible.iter().map(|t| tex_type(t)).collect();
                 let _ = writeln!(
                     s,
@@ -588,7 +580,23 @@ pub fn run(models: &[Model], format: TableFormat3, opts: &Options) -> Result<Str
     if batch.done.len() > 1 {
         eprintln!("{}", timing_line(&batch));
     }
-    let summaries: Vec<Summary> = batch.done.iter().map(|d| d.summary.clone()).collect();
+    let timings = opts.timings.then(|| Timings {
+        models: batch.done[..models.len()]
+            .iter()
+            .map(|d| ModelTiming {
+                seconds: d.seconds,
+                cached: d.cached,
+            })
+            .collect(),
+        run: RunTiming {
+            wall_seconds: batch.wall_seconds,
+            threads: batch.threads,
+            models_analysed: batch.done.len(),
+            models_from_cache: batch.done.iter().filter(|d| d.cached).count(),
+        },
+    });
+    // Moved, not cloned: a 5-mass table's analyses are a few GB.
+    let mut summaries: Vec<Summary> = batch.done.into_iter().map(|d| d.summary).collect();
     let own = &summaries[..models.len()];
     // Every peer is in `work`, whose summaries are in the same order.
     let peer_types: Vec<Types> = peers
@@ -598,10 +606,6 @@ pub fn run(models: &[Model], format: TableFormat3, opts: &Options) -> Result<Str
         .collect();
     let own_types: Vec<Types> = own.iter().map(Summary::types).collect();
     let similar = similar_map(&own_types, &peer_types);
-    let timings = opts.timings.then(|| Timings {
-        models: &batch.done[..models.len()],
-        batch: &batch,
-    });
     // What the file claims to cover, which `mms check` holds it to: every
     // class of N masses, or the models given.
     let ids: Vec<String> = models.iter().map(|m| m.id()).collect();
@@ -612,5 +616,6 @@ pub fn run(models: &[Model], format: TableFormat3, opts: &Options) -> Result<Str
         None if every_class => Covers::Masses(n),
         None => Covers::Models(ids),
     };
-    render(own, &similar, format, timings.as_ref(), &covers)
+    summaries.truncate(models.len());
+    render(summaries, &similar, format, timings.as_ref(), &covers)
 }

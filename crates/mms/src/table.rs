@@ -264,11 +264,50 @@ impl AnalysisTable {
     /// The table as pretty JSON, every object's keys in sorted order, so
     /// the same table gives the same bytes.
     pub fn to_json(&self) -> String {
-        // Through a `Value`, whose maps keep their keys sorted.
-        let v = self.to_value();
-        let mut s = serde_json::to_string_pretty(&v).expect("a JSON value serializes");
-        s.push('\n');
-        s
+        // Through `Value`s, whose maps keep their keys sorted: the head
+        // first, then one model at a time into the place of "models", so
+        // that a table of many models never holds a second tree of itself.
+        let head = TableHead {
+            format: &self.format,
+            format_version: self.format_version,
+            mms_version: &self.mms_version,
+            engine_version: self.engine_version,
+            search_limits: &self.search_limits,
+            covers: &self.covers,
+            models: [],
+            timing: self.timing.as_ref(),
+        };
+        let head = serde_json::to_value(head).expect("a table's head serializes");
+        let serde_json::Value::Object(fields) = head else {
+            unreachable!("a struct serializes to an object")
+        };
+        let mut out = String::from("{\n");
+        for (i, (key, value)) in fields.iter().enumerate() {
+            out.push_str("  ");
+            out.push_str(&serde_json::to_string(key).expect("a key serializes"));
+            out.push_str(": ");
+            if key == "models" && !self.models.is_empty() {
+                out.push_str("[\n");
+                for (j, model) in self.models.iter().enumerate() {
+                    let v = serde_json::to_value(model).expect("a table's model serializes");
+                    let text = serde_json::to_string_pretty(&v).expect("a JSON value serializes");
+                    out.push_str("    ");
+                    push_indented(&mut out, &text, "    ");
+                    out.push_str(if j + 1 < self.models.len() {
+                        ",\n"
+                    } else {
+                        "\n"
+                    });
+                }
+                out.push_str("  ]");
+            } else {
+                let text = serde_json::to_string_pretty(value).expect("a JSON value serializes");
+                push_indented(&mut out, &text, "  ");
+            }
+            out.push_str(if i + 1 < fields.len() { ",\n" } else { "\n" });
+        }
+        out.push_str("}\n");
+        out
     }
 
     /// The table as a JSON value (keys sorted).
@@ -283,6 +322,34 @@ impl AnalysisTable {
         self.models
             .iter()
             .find(|m| m.analysis.id.trim_end_matches('*') == id || m.analysis.generic_id == id)
+    }
+}
+
+/// The fields of an [`AnalysisTable`] but its models, borrowed: what
+/// [`AnalysisTable::to_json`] writes around them. The field names are the
+/// table's (serde sorts them anyway).
+#[derive(Serialize)]
+struct TableHead<'a> {
+    format: &'a str,
+    format_version: u32,
+    mms_version: &'a str,
+    engine_version: u32,
+    search_limits: &'a SearchLimits,
+    covers: &'a Covers,
+    models: [TableModel; 0],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    timing: Option<&'a RunTiming>,
+}
+
+/// Appends `text`, each line after the first indented by `indent`: a pretty
+/// JSON value nested at that depth (a JSON string holds no raw newline).
+fn push_indented(out: &mut String, text: &str, indent: &str) {
+    for (k, line) in text.split('\n').enumerate() {
+        if k > 0 {
+            out.push('\n');
+            out.push_str(indent);
+        }
+        out.push_str(line);
     }
 }
 

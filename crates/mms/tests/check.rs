@@ -1102,6 +1102,26 @@ fn a_pruned_table_is_refused() {
     check(&one).unwrap_or_else(|e| panic!("{e}"));
 }
 
+/// The table's text, written a model at a time, is the whole table's
+/// JSON value pretty-printed in one go (sorted keys), with and without the
+/// run's timing and for a table of no model.
+#[test]
+fn the_table_text_is_the_pretty_printed_value() {
+    let whole = |t: &AnalysisTable| serde_json::to_string_pretty(&t.to_value()).unwrap() + "\n";
+    let mut table = AnalysisTable::from_json(&paper_file().to_string()).unwrap();
+    assert_eq!(table.to_json(), whole(&table));
+    table.timing = Some(mms::table::RunTiming {
+        wall_seconds: 1.5,
+        threads: 2,
+        models_analysed: 11,
+        models_from_cache: 3,
+    });
+    assert!(table.to_json().contains("\"timing\": {"));
+    assert_eq!(table.to_json(), whole(&table));
+    let empty = AnalysisTable::new(Covers::Models(Vec::new()), Vec::new());
+    assert_eq!(empty.to_json(), whole(&empty));
+}
+
 /// The table file names its format and version: a file of another
 /// version, of no version (as written before the format was versioned)
 /// or of another format is refused as such, before anything else is read;
