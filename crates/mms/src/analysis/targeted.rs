@@ -447,6 +447,17 @@ pub(super) fn nelder_mead_for(
         if simplex[0].1 < stop {
             break;
         }
+        // A simplex shrunk to rounding size moves no further than
+        // rounding: the rest of the budget would be spent in place.
+        let base = &simplex[0].0;
+        let collapsed = simplex[1..].iter().all(|(x, _)| {
+            x.iter()
+                .zip(base)
+                .all(|(a, b)| (a - b).abs() <= 1e-12 * (1.0 + b.abs()))
+        });
+        if collapsed {
+            break;
+        }
         let centroid: Vec<f64> = (0..n)
             .map(|j| simplex[..n].iter().map(|s| s.0[j]).sum::<f64>() / n as f64)
             .collect();
@@ -1689,6 +1700,24 @@ mod tests {
         assert!(common.degree(OMEGA) >= 1, "{common}");
         let tf_at = crate::analysis::frf_type_at(&tf.num, &tf.den, OMEGA, found).unwrap();
         assert_eq!(tf_at, t);
+    }
+
+    #[test]
+    fn a_collapsed_simplex_ends_the_descent() {
+        // A smooth bowl with its minimum at (1, -2): the descent gets there
+        // and stops once the simplex is of rounding size, long before the
+        // budget, which a target value below any cost never ends.
+        let mut evaluations = 0;
+        let mut bowl = |x: &[f64]| {
+            evaluations += 1;
+            (x[0] - 1.0).powi(2) + 3.0 * (x[1] + 2.0).powi(2)
+        };
+        let best = nelder_mead_for(&mut bowl, &[4.0, 5.0], 0.5, f64::MIN_POSITIVE, 1_000_000);
+        assert!(
+            (best[0] - 1.0).abs() < 1e-6 && (best[1] + 2.0).abs() < 1e-6,
+            "{best:?}"
+        );
+        assert!(evaluations < 5_000, "{evaluations} evaluations");
     }
 
     #[test]
