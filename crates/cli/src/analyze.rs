@@ -406,6 +406,7 @@ fn render(
     format: TableFormat3,
     timings: Option<&Timings>,
     covers: &Covers,
+    threads: usize,
 ) -> Result<String, String> {
     let mut s = String::new();
     match format {
@@ -441,7 +442,7 @@ fn render(
             // can tell a complete table from a pruned or foreign one.
             let mut table = AnalysisTable::new(covers.clone(), models);
             table.timing = timings.map(|t| t.run.clone());
-            s = table.to_json();
+            s = table.to_json_on(threads);
         }
         TableFormat3::Table => {
             let _ = writeln!(
@@ -595,6 +596,7 @@ pub fn run(models: &[Model], format: TableFormat3, opts: &Options) -> Result<Str
             models_from_cache: batch.done.iter().filter(|d| d.cached).count(),
         },
     });
+    let threads = batch.threads;
     // Moved, not cloned: a 5-mass table's analyses are a few GB.
     let mut summaries: Vec<Summary> = batch.done.into_iter().map(|d| d.summary).collect();
     let own = &summaries[..models.len()];
@@ -617,5 +619,12 @@ pub fn run(models: &[Model], format: TableFormat3, opts: &Options) -> Result<Str
         None => Covers::Models(ids),
     };
     summaries.truncate(models.len());
-    render(summaries, &similar, format, timings.as_ref(), &covers)
+    render(
+        summaries,
+        &similar,
+        format,
+        timings.as_ref(),
+        &covers,
+        threads,
+    )
 }
