@@ -50,6 +50,58 @@ fn binary_gcd_u128(mut a: u128, mut b: u128) -> u128 {
     }
 }
 
+/// Lehmer's gcd (Knuth, TAOCP 4.5.2, Algorithm L): Euclid's quotients
+/// found from the leading 64 bits, then applied to the whole numbers at
+/// once, until both fit in two words. num-bigint's binary gcd shifts and
+/// subtracts whole numbers bit by bit.
+fn lehmer_gcd(a: &num_bigint::BigUint, b: &num_bigint::BigUint) -> num_bigint::BigUint {
+    use num_bigint::BigUint;
+    let (mut u, mut v) = if a >= b {
+        (a.clone(), b.clone())
+    } else {
+        (b.clone(), a.clone())
+    };
+    while !v.is_zero() {
+        if let (Some(x), Some(y)) = (u.to_u128(), v.to_u128()) {
+            return BigUint::from(binary_gcd_u128(x, y));
+        }
+        let shift = u.bits() - 64;
+        let lead = |w: &BigUint| i128::from((w >> shift).to_u64().expect("64 leading bits"));
+        let (mut uh, mut vh) = (lead(&u), lead(&v));
+        // u' = A u + B v and v' = C u + D v after the steps taken; a step
+        // is taken only when both bounds of the quotient agree, so it is
+        // Euclid's. The cofactors stay below 2^65 in magnitude.
+        let (mut ca, mut cb, mut cc, mut cd) = (1i128, 0i128, 0i128, 1i128);
+        while vh + cc > 0 && vh + cd > 0 && uh + ca >= 0 && uh + cb >= 0 {
+            let q = (uh + ca) / (vh + cc);
+            if q != (uh + cb) / (vh + cd) {
+                break;
+            }
+            (ca, cc) = (cc, ca - q * cc);
+            (cb, cd) = (cd, cb - q * cd);
+            (uh, vh) = (vh, uh - q * vh);
+        }
+        if cb == 0 {
+            let r = &u % &v;
+            u = v;
+            v = r;
+        } else {
+            let combine = |x: i128, y: i128| -> BigUint {
+                let (px, py) = (&u * x.unsigned_abs(), &v * y.unsigned_abs());
+                match (x >= 0, y >= 0) {
+                    (true, false) => px - py,
+                    (false, true) => py - px,
+                    _ => px + py,
+                }
+            };
+            let (nu, nv) = (combine(ca, cb), combine(cc, cd));
+            u = nu;
+            v = nv;
+        }
+    }
+    u
+}
+
 /// An exact integer: `i64` while it fits, a big integer otherwise.
 ///
 /// The representation is canonical (a value that fits in `i64` is always
@@ -151,7 +203,7 @@ impl Int {
             (Int::Big(a), Int::Big(b)) => {
                 match (a.magnitude().to_u128(), b.magnitude().to_u128()) {
                     (Some(x), Some(y)) => Int::from(binary_gcd_u128(x, y)),
-                    _ => Int::from_big(a.gcd(b)),
+                    _ => Int::from_big(BigInt::from(lehmer_gcd(a.magnitude(), b.magnitude()))),
                 }
             }
         }
@@ -479,6 +531,26 @@ mod tests {
             let want = Int::from_big(x.to_big().gcd(&y.to_big()));
             prop_assert_eq!(x.gcd(&y), want.clone());
             prop_assert_eq!(y.gcd(&x), want);
+        }
+    }
+
+    proptest! {
+        /// Lehmer's gcd of big operands (up to eight words, with a shared
+        /// factor of up to four) agrees with num-bigint's binary gcd.
+        #[test]
+        fn lehmer_gcd_matches_bigint(
+            x in proptest::collection::vec(any::<u64>(), 1..8),
+            y in proptest::collection::vec(any::<u64>(), 1..8),
+            f in proptest::collection::vec(any::<u64>(), 0..4),
+        ) {
+            let big = |w: &[u64]| {
+                w.iter().fold(num_bigint::BigUint::from(1u8), |acc, &d| (acc << 64) + d)
+            };
+            let g = big(&f);
+            let (a, b) = (big(&x) * &g, big(&y) * &g);
+            let want = a.gcd(&b);
+            prop_assert_eq!(lehmer_gcd(&a, &b), want.clone());
+            prop_assert_eq!(lehmer_gcd(&b, &a), want);
         }
     }
 
