@@ -543,6 +543,7 @@ pub(crate) fn build_stratum(
     den0: &Poly,
     params: &[String],
     subs: Vec<Substitution>,
+    discriminants: &mut HashMap<Poly, Poly>,
 ) -> Stratum {
     let mut num = num0.clone();
     let mut den = den0.clone();
@@ -574,7 +575,17 @@ pub(crate) fn build_stratum(
         crit.push((p.lead_in(OMEGA), false, true));
         crit.push((p.subs(OMEGA, &Rat::ZERO), false, true));
         if p.degree(OMEGA) >= 2 {
-            crit.push((discriminant(p, OMEGA), false, false));
+            // Kept: the sign conditions of a part's real roots need the
+            // same discriminant (at six masses one costs a minute).
+            let d = match discriminants.get(*p) {
+                Some(d) => d.clone(),
+                None => {
+                    let d = discriminant(p, OMEGA);
+                    discriminants.insert((*p).clone(), d.clone());
+                    d
+                }
+            };
+            crit.push((d, false, false));
         }
     }
     for i in 0..all.len() {
@@ -782,6 +793,7 @@ impl<'a> Prover<'a> {
             &self.den,
             &self.params,
             subs.to_vec(),
+            &mut self.conditions.discriminants,
         ));
         self.strata.insert(key, s.clone());
         s
