@@ -708,7 +708,14 @@ pub(crate) struct ConditionCache {
 struct SampleSigns {
     points: Vec<BTreeMap<String, Rat>>,
     approx: Vec<BTreeMap<String, f64>>,
-    signs: HashMap<Poly, Vec<Option<i32>>>,
+    signs: HashMap<Poly, ConditionSigns>,
+}
+
+/// One condition at the sample points: whether its f64 value lets it
+/// hold, and its exact signs as far as they were needed.
+struct ConditionSigns {
+    plausible: Vec<bool>,
+    exact: Vec<Option<i32>>,
 }
 
 impl ConditionCache {
@@ -1383,23 +1390,32 @@ fn holds_at_a_sample(
             signs: HashMap::new(),
         }
     });
-    for j in 0..known.points.len() {
-        // f64 first, to skip the exact evaluation where it plainly fails.
-        let plausible = conditions.iter().all(|(g, _)| {
-            g.eval_f64(&known.approx[j])
-                .is_ok_and(|v| v > -1e-9 * (1.0 + v.abs()))
-        });
-        if !plausible {
-            continue;
+    // f64 first, to skip the exact evaluation where it plainly fails: each
+    // condition's values at all the points once per model, since the sign
+    // cases of a model repeat the same conditions many times over.
+    let n = known.points.len();
+    let mut plausible = vec![true; n];
+    for (g, _) in conditions {
+        if !known.signs.contains_key(g) {
+            let at = ConditionSigns {
+                plausible: known
+                    .approx
+                    .iter()
+                    .map(|x| g.eval_f64(x).is_ok_and(|v| v > -1e-9 * (1.0 + v.abs())))
+                    .collect(),
+                exact: vec![None; n],
+            };
+            known.signs.insert(g.clone(), at);
         }
+        let at = &known.signs[g];
+        for (p, q) in plausible.iter_mut().zip(&at.plausible) {
+            *p &= *q;
+        }
+    }
+    for j in (0..n).filter(|&j| plausible[j]) {
         let mut all = true;
         for (g, strict) in conditions {
-            if !known.signs.contains_key(g) {
-                known
-                    .signs
-                    .insert(g.clone(), vec![None; known.points.len()]);
-            }
-            let slot = &mut known.signs.get_mut(g).expect("just stored")[j];
+            let slot = &mut known.signs.get_mut(g).expect("stored above").exact[j];
             let sign =
                 *slot.get_or_insert_with(|| g.eval(&known.points[j]).map_or(-1, |v| v.signum()));
             if !(sign > 0 || (!strict && sign == 0)) {
