@@ -1239,12 +1239,7 @@ impl Poly {
             .collect::<Result<_, _>>()?;
         // Each power once per variable, not once per term: the same
         // `powi` values, so the same bits as taking them term by term.
-        let mut top = vec![0u32; vals.len()];
-        for t in &self.terms {
-            for (m, &e) in top.iter_mut().zip(&t.exps) {
-                *m = (*m).max(e);
-            }
-        }
+        let top = max_exps(&self.terms, vals.len());
         let powers: Vec<Vec<f64>> = vals
             .iter()
             .zip(&top)

@@ -537,6 +537,17 @@ fn omega_parts(p: &Poly) -> Vec<(Poly, u32)> {
         .collect()
 }
 
+/// The discriminant of `p` in Omega, computed once per model: the strata
+/// and the sign conditions of the parts' real roots ask for the same ones.
+fn kept_discriminant(kept: &mut HashMap<Poly, Poly>, p: &Poly) -> Poly {
+    if let Some(d) = kept.get(p) {
+        return d.clone();
+    }
+    let d = discriminant(p, OMEGA);
+    kept.insert(p.clone(), d.clone());
+    d
+}
+
 /// Builds a stratum from the model's `num/den` and substitutions.
 pub(crate) fn build_stratum(
     num0: &Poly,
@@ -577,15 +588,7 @@ pub(crate) fn build_stratum(
         if p.degree(OMEGA) >= 2 {
             // Kept: the sign conditions of a part's real roots need the
             // same discriminant (at six masses one costs a minute).
-            let d = match discriminants.get(*p) {
-                Some(d) => d.clone(),
-                None => {
-                    let d = discriminant(p, OMEGA);
-                    discriminants.insert((*p).clone(), d.clone());
-                    d
-                }
-            };
-            crit.push((d, false, false));
+            crit.push((kept_discriminant(discriminants, p), false, false));
         }
     }
     for i in 0..all.len() {
@@ -1651,14 +1654,7 @@ fn conditions_for(
         let real_rooted = slots.len() as u32 == d;
         if real_rooted {
             // d real simple roots (off the walls): positive discriminant.
-            let disc = match cache.discriminants.get(*o) {
-                Some(d) => d.clone(),
-                None => {
-                    let d = discriminant(o, OMEGA);
-                    cache.discriminants.insert((*o).clone(), d.clone());
-                    d
-                }
-            };
+            let disc = kept_discriminant(&mut cache.discriminants, o);
             out.push(condition(
                 cache,
                 ConditionRule::RealRoots {
