@@ -150,6 +150,15 @@ fn check_accepts_analyze_output_and_rejects_tampering() {
         out.starts_with("checked 25 witnesses and ") && out.ends_with(" certificates: all valid\n"),
         "{out}"
     );
+    // Models checked in parallel: the same line.
+    for jobs in ["0", "2"] {
+        let (code, same, err) = mms(&["check", "--jobs", jobs, good.to_str().unwrap()]);
+        assert_eq!(
+            (code, same.as_str()),
+            (0, out.as_str()),
+            "--jobs {jobs}: {err}"
+        );
+    }
 
     // Flip the sign of the first definite factor of the first certificate
     // that has factors (A1 is collocated: most of its certificates are the

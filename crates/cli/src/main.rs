@@ -160,9 +160,14 @@ enum Command {
     /// Re-verify every witness and certificate of an `analyze --format json`
     /// file with the independent exact checker.
     Check {
-        /// The JSON file written by `mms analyze --format json`.
+        /// The JSON file written by `mms analyze --format json` (the whole
+        /// table, a slice of it, or one model).
         #[arg(value_name = "FILE")]
         file: PathBuf,
+        /// Check N models at a time (0: one per core). The output is the
+        /// same for every N.
+        #[arg(long, value_name = "N", default_value_t = 1)]
+        jobs: usize,
     },
     /// Estimate or convert the FRF of a recording (H1 with Welch averaging
     /// for time-domain data) and write it as CSV or UFF58.
@@ -449,7 +454,7 @@ fn run(cli: Cli) -> Result<(), String> {
             })?;
             output::emit(None, &text)
         }
-        Command::Check { file } => output::emit(None, &check::run(&file)?),
+        Command::Check { file, jobs } => output::emit(None, &check::run(&file, jobs)?),
         Command::Algebra { masses, format } => output::emit(None, &algebra::run(masses, format)?),
         Command::Frf {
             recording,

@@ -186,12 +186,34 @@ pub enum CheckError {
 /// Checks a whole file, an [`AnalysisTable`] as written by `mms analyze
 /// --format json`. See the [module docs](self).
 pub fn check_file(text: &str) -> Result<CheckReport, CheckError> {
+    check_file_on(text, 1)
+}
+
+/// [`check_file`] with the models checked on `threads` threads (at least
+/// one). The report, and the error when several models fail (the first in
+/// the file's order), are the same for every number of threads.
+///
+/// ```
+/// use mms::analysis::{analyze, SearchLimits};
+/// use mms::check::{check_file, check_file_on};
+/// use mms::table::{AnalysisTable, Covers, TableModel};
+///
+/// let models: Vec<TableModel> = ["A1", "A2", "B1"]
+///     .iter()
+///     .map(|id| TableModel::new(analyze(&mms::Model::from_id(id).unwrap(), &SearchLimits::default())))
+///     .collect();
+/// let covers = Covers::Models(vec!["A1".into(), "A2".into(), "B1".into()]);
+/// let text = AnalysisTable::new(covers, models).to_json();
+/// assert_eq!(check_file_on(&text, 3)?, check_file(&text)?);
+/// # Ok::<(), mms::check::CheckError>(())
+/// ```
+pub fn check_file_on(text: &str, threads: usize) -> Result<CheckReport, CheckError> {
     // The typed table holds the file to the format; the walk reads the
     // file's own tree, rather than printing every polynomial of the typed
     // table back into one.
     AnalysisTable::from_json(text).map_err(CheckError::Table)?;
     let v: Value = serde_json::from_str(text).map_err(|e| TableError::Json(e.to_string()))?;
-    check_tree(&v)
+    check_tree(&v, threads)
 }
 
 /// Checks a table: every model it covers, every verdict with its witness
@@ -199,11 +221,11 @@ pub fn check_file(text: &str) -> Result<CheckReport, CheckError> {
 /// claims it makes: the check walks its JSON tree with its own code and
 /// re-derives everything, using none of the prover's methods.
 pub fn check_table(table: &AnalysisTable) -> Result<CheckReport, CheckError> {
-    check_tree(&table.to_value())
+    check_tree(&table.to_value(), 1)
 }
 
-/// [`check_table`] of a table's JSON tree.
-fn check_tree(v: &Value) -> Result<CheckReport, CheckError> {
+/// [`check_table`] of a table's JSON tree, the models on `threads` threads.
+fn check_tree(v: &Value, threads: usize) -> Result<CheckReport, CheckError> {
     let models = v["models"]
         .as_array()
         .ok_or_else(|| CheckError::Malformed {
@@ -219,8 +241,8 @@ fn check_tree(v: &Value) -> Result<CheckReport, CheckError> {
     }
     check_coverage(v, models)?;
     let mut report = CheckReport::default();
-    for (i, m) in models.iter().enumerate() {
-        report.add(&check_model_at(m, &format!("models[{i}]"), true)?);
+    for r in check_models(models, threads) {
+        report.add(&r?);
     }
     // With every class present, the similar systems follow from the
     // verdicts just checked.
@@ -228,6 +250,52 @@ fn check_tree(v: &Value) -> Result<CheckReport, CheckError> {
         check_similar(models)?;
     }
     Ok(report)
+}
+
+/// Each model's check, in the file's order, up to and including the
+/// first failing one. The models go to `threads` threads one at a time as
+/// each thread frees (their costs differ by orders of magnitude); a thread
+/// skips the models after a known failure, but never one before it, so
+/// the first failure in the file's order is always found.
+fn check_models(models: &[Value], threads: usize) -> Vec<Result<CheckReport, CheckError>> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
+    let next = AtomicUsize::new(0);
+    let first_failure = AtomicUsize::new(usize::MAX);
+    let results: Mutex<Vec<Option<Result<CheckReport, CheckError>>>> =
+        Mutex::new(vec![None; models.len()]);
+    let work = || loop {
+        let i = next.fetch_add(1, Ordering::Relaxed);
+        if i >= models.len() {
+            break;
+        }
+        if i > first_failure.load(Ordering::Relaxed) {
+            continue;
+        }
+        let r = check_model_at(&models[i], &format!("models[{i}]"), true);
+        if r.is_err() {
+            first_failure.fetch_min(i, Ordering::Relaxed);
+        }
+        results.lock().unwrap_or_else(|e| e.into_inner())[i] = Some(r);
+    };
+    std::thread::scope(|scope| {
+        for _ in 1..threads.max(1) {
+            scope.spawn(work);
+        }
+        work();
+    });
+    let results = results.into_inner().unwrap_or_else(|e| e.into_inner());
+    let mut out = Vec::new();
+    for r in results {
+        // Every model up to the first failure was checked.
+        let Some(r) = r else { break };
+        let failed = r.is_err();
+        out.push(r);
+        if failed {
+            break;
+        }
+    }
+    out
 }
 
 /// Every model's `similar`, where given: for each type it can show, the

@@ -3,7 +3,7 @@
 //! tampered witnesses and certificates, naming the failing step.
 
 use mms::analysis::{analyze, SearchLimits};
-use mms::check::{check_analysis, check_file, CheckError, CheckReport};
+use mms::check::{check_analysis, check_file, check_file_on, CheckError, CheckReport};
 use mms::table::{AnalysisTable, Covers, TableError, TableModel, TABLE_FORMAT_VERSION};
 use mms::{Model, PAPER_IDS};
 use serde_json::{json, Value};
@@ -136,6 +136,45 @@ fn accepts_all_paper_models() {
             r.certificates
         )
     );
+}
+
+#[test]
+fn threads_change_neither_the_report_nor_the_error() {
+    let text = paper_file().to_string();
+    let one = check_file(&text).unwrap_or_else(|e| panic!("{e}"));
+    for threads in [2, 3, 11, 16] {
+        assert_eq!(
+            check_file_on(&text, threads),
+            Ok(one.clone()),
+            "{threads} threads"
+        );
+    }
+    // Two bad witnesses, in an early and a late model: every number of
+    // threads names the first in the file's order, as one thread does.
+    let mut v = paper_file().clone();
+    v.pointer_mut(&verdict_ptr("A2", "R")).unwrap()["witness"]["m1"] = "17/3".into();
+    let last = PAPER_IDS.last().unwrap().0;
+    let t = v.pointer(&model_ptr(last)).unwrap()["types"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|t| t["status"] == "possible" && t.get("witness").is_some())
+        .expect("a witness in the last model");
+    v.pointer_mut(&format!("{}/types/{t}/witness", model_ptr(last)))
+        .unwrap()
+        .as_object_mut()
+        .unwrap()
+        .remove("m1");
+    let text = v.to_string();
+    let first = check_file(&text).unwrap_err();
+    assert_eq!(type_step(&first).0, "A2", "{first}");
+    for threads in [2, 3, 11] {
+        assert_eq!(
+            check_file_on(&text, threads),
+            Err(first.clone()),
+            "{threads} threads"
+        );
+    }
 }
 
 #[test]
