@@ -27,7 +27,7 @@ use super::prover::{positive_full_point, substitute, Prover, Sampler, Stratum, S
 use crate::tf::OMEGA;
 use crate::tf::{Compiled, UndampedCoefficients};
 use crate::xorshift::XorShift;
-use poly::{Int, Poly, Rat};
+use poly::{rational_roots, Int, Poly, Rat, UPoly};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Floating-point samples per model.
@@ -1043,21 +1043,10 @@ impl Prover<'_> {
     /// it found.
     pub(crate) fn root_condition_search(&mut self, wanted: &[FrfType], seed: u64) -> usize {
         let degree = self.den.degree(OMEGA);
-        let mut signatures: BTreeSet<(u32, Vec<u32>)> = BTreeSet::new();
-        for t in wanted {
-            let simple_poles = t
-                .tokens
-                .iter()
-                .all(|k| k.feature == Feature::Antiresonance || k.multiplicity == 1);
-            if !simple_poles || t.resonances() > degree {
-                continue;
-            }
-            let mults = multiple_antiresonances(t);
-            let cancelled = degree - t.resonances();
-            if cancelled > 0 || !mults.is_empty() {
-                signatures.insert((cancelled, mults));
-            }
-        }
+        let signatures: BTreeSet<(u32, Vec<u32>)> = wanted
+            .iter()
+            .filter_map(|t| root_signature(t, degree))
+            .collect();
         if signatures.is_empty() {
             return 0;
         }
@@ -1138,6 +1127,152 @@ impl Prover<'_> {
             }
         }
         self.witnessed(wanted)
+    }
+
+    /// [`Self::root_condition_search`] where no parameter set holds the
+    /// conditions linearly, one parameter short of it: with a jointly
+    /// linear set `vars` of one fewer than the conditions and one more
+    /// parameter `x`, and the rest at random values, the conditions are
+    /// linear in `vars` with coefficients polynomial in `x`. They have a
+    /// common solution where the determinant of that system (with its
+    /// constant column) vanishes, a polynomial in `x` alone; each positive
+    /// rational root gives an exact point on the wanted variety. A
+    /// quadruple zero of a numerator linear in only three parameters at a
+    /// time is found so. Runs last, on what the other searches leave, so
+    /// that their draws do not change. Returns how many of `wanted` have a
+    /// witness afterwards.
+    pub(crate) fn root_condition_pencil_search(&mut self, wanted: &[FrfType], seed: u64) -> usize {
+        let degree = self.den.degree(OMEGA);
+        let mut signatures: BTreeMap<(u32, Vec<u32>), Vec<FrfType>> = BTreeMap::new();
+        for t in wanted {
+            if self.witnesses.contains_key(t) || self.paths.contains_key(t) {
+                continue;
+            }
+            if let Some(s) = root_signature(t, degree) {
+                signatures.entry(s).or_default().push(t.clone());
+            }
+        }
+        let max_mult = signatures
+            .keys()
+            .flat_map(|(_, m)| m.iter().copied())
+            .max()
+            .unwrap_or(1);
+        let mut derivatives = vec![self.num.clone()];
+        while derivatives.len() < max_mult as usize {
+            let d = derivatives[derivatives.len() - 1].derivative(OMEGA);
+            derivatives.push(d);
+        }
+        // First the zeros of a witness of the split type merged (A^4 from
+        // AAAA), at several places across them, from the witness and from
+        // the point with its zeros pulled together.
+        let tf = UndampedCoefficients::new(self.model);
+        let params = self.params.clone();
+        for t in signatures.values().flatten() {
+            let Some((mults, w)) = self.split_witness(t, degree) else {
+                continue;
+            };
+            let size = mults.iter().sum::<u32>() as usize;
+            if size < 2 || !linear_sets(&[&self.num], &params, size).is_empty() {
+                continue;
+            }
+            let sets = linear_sets(&[&self.num], &params, size - 1);
+            let x: Vec<f64> = params.iter().map(|p| w[p].to_f64()).collect();
+            let close = pull_together(&tf, t, &x);
+            'bases: for base in [x, close] {
+                let Some(groups) = merged_groups(&tf, t, &base) else {
+                    continue;
+                };
+                if groups.len() != mults.len() {
+                    continue;
+                }
+                for frac in PENCIL_FRACTIONS {
+                    let roots: Option<Vec<(Rat, u32)>> = groups
+                        .iter()
+                        .map(|&(a, b, k)| Some((short_rational((a + frac * (b - a)).exp(), 4)?, k)))
+                        .collect();
+                    let Some(roots) = roots else { continue };
+                    let equations = self.root_equations(&[], &roots, &derivatives);
+                    for vars in &sets {
+                        for x in params.iter().filter(|p| !vars.contains(p)) {
+                            let fixed: Option<BTreeMap<String, Rat>> = params
+                                .iter()
+                                .zip(&base)
+                                .filter(|(p, _)| !vars.contains(p) && *p != x)
+                                .map(|(p, v)| Some((p.clone(), short_rational(*v, 6)?)))
+                                .collect();
+                            let Some(fixed) = fixed else { continue 'bases };
+                            for point in pencil_points(&equations, vars, x, fixed) {
+                                self.record(point);
+                            }
+                            if self.witnesses.contains_key(t) {
+                                break 'bases;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        // Then random roots and parameters.
+        let mut rng = Sampler::new(seed);
+        for ((cancelled, mults), types) in signatures {
+            let size = 2 * cancelled as usize + mults.iter().sum::<u32>() as usize;
+            let polys: Vec<&Poly> = if cancelled == 0 {
+                vec![&self.num]
+            } else {
+                vec![&self.num, &self.den]
+            };
+            if size < 2 || !linear_sets(&polys, &self.params, size).is_empty() {
+                continue;
+            }
+            let sets = linear_sets(&polys, &self.params, size - 1);
+            if sets.is_empty() {
+                continue;
+            }
+            for _ in 0..PENCIL_TRIALS {
+                if types.iter().all(|t| self.witnesses.contains_key(t)) {
+                    break;
+                }
+                let vars = sets[rng.index(sets.len())].clone();
+                let others: Vec<String> = self
+                    .params
+                    .iter()
+                    .filter(|p| !vars.contains(p))
+                    .cloned()
+                    .collect();
+                let x = others[rng.index(others.len())].clone();
+                let fixed: BTreeMap<String, Rat> = others
+                    .iter()
+                    .filter(|p| **p != x)
+                    .map(|p| (p.clone(), rng.value()))
+                    .collect();
+                let cancel: Vec<Rat> = (0..cancelled).map(|_| rng.value()).collect();
+                let multiple: Vec<(Rat, u32)> = mults.iter().map(|&k| (rng.value(), k)).collect();
+                let equations = self.root_equations(&cancel, &multiple, &derivatives);
+                for point in pencil_points(&equations, &vars, &x, fixed) {
+                    self.record(point);
+                }
+            }
+        }
+        self.witnessed(wanted)
+    }
+
+    /// `num(r) = den(r) = 0` for every `r` of `cancel` and `num^(i)(r) =
+    /// 0`, `i < k`, for every `(r, k)` of `multiple`.
+    fn root_equations(
+        &self,
+        cancel: &[Rat],
+        multiple: &[(Rat, u32)],
+        derivatives: &[Poly],
+    ) -> Vec<Poly> {
+        let mut equations: Vec<Poly> = Vec::new();
+        for r in cancel {
+            equations.push(self.num.subs(OMEGA, r));
+            equations.push(self.den.subs(OMEGA, r));
+        }
+        for (r, k) in multiple {
+            equations.extend(derivatives[..*k as usize].iter().map(|d| d.subs(OMEGA, r)));
+        }
+        equations
     }
 
     /// Constructs cancellations from the chain's blocks:
@@ -1263,15 +1398,8 @@ impl Prover<'_> {
         multiple: &[(Rat, u32)],
         derivatives: &[Poly],
     ) {
-        let mut equations: Vec<Poly> = Vec::new();
-        for r in cancel {
-            equations.push(self.num.subs(OMEGA, r));
-            equations.push(self.den.subs(OMEGA, r));
-        }
-        for (r, k) in multiple {
-            equations.extend(derivatives[..*k as usize].iter().map(|d| d.subs(OMEGA, r)));
-        }
-        let equations: Vec<Poly> = equations
+        let equations: Vec<Poly> = self
+            .root_equations(cancel, multiple, derivatives)
             .into_iter()
             .map(|e| e.subs_point(&fixed))
             .collect();
@@ -1439,6 +1567,87 @@ pub(super) fn split_type(t: &FrfType) -> FrfType {
 }
 
 /// The multiplicities of `t`'s multiple antiresonances, in order.
+/// The root coincidences a type of a model with `degree` poles needs: its
+/// number of cancelled poles and the multiplicities of its multiple
+/// antiresonances; `None` for a type with none, or with a multiple pole.
+fn root_signature(t: &FrfType, degree: u32) -> Option<(u32, Vec<u32>)> {
+    let simple_poles = t
+        .tokens
+        .iter()
+        .all(|k| k.feature == Feature::Antiresonance || k.multiplicity == 1);
+    if !simple_poles || t.resonances() > degree {
+        return None;
+    }
+    let mults = multiple_antiresonances(t);
+    let cancelled = degree - t.resonances();
+    (cancelled > 0 || !mults.is_empty()).then_some((cancelled, mults))
+}
+
+/// The points where `equations` (jointly linear in `vars`, and in `x`
+/// too once `fixed` is substituted) hold at once: the positive rational
+/// roots `x0` of the determinant of the rows `[d e / d v_1 .. d e / d v_n,
+/// e at v = 0]`, each completed by solving all but one equation for
+/// `vars` (the first choice that is unique and positive) and kept if the
+/// left-out one holds too.
+fn pencil_points(
+    equations: &[Poly],
+    vars: &[String],
+    x: &str,
+    fixed: BTreeMap<String, Rat>,
+) -> Vec<BTreeMap<String, Rat>> {
+    let equations: Vec<Poly> = equations.iter().map(|e| e.subs_point(&fixed)).collect();
+    if equations.len() != vars.len() + 1 {
+        return Vec::new();
+    }
+    let at_zero: BTreeMap<String, Rat> = vars.iter().map(|v| (v.clone(), Rat::ZERO)).collect();
+    let rows: Vec<Vec<Poly>> = equations
+        .iter()
+        .map(|e| {
+            let mut row: Vec<Poly> = vars.iter().map(|v| e.derivative(v)).collect();
+            row.push(e.subs_point(&at_zero));
+            row
+        })
+        .collect();
+    if rows
+        .iter()
+        .flatten()
+        .any(|p| p.vars().iter().any(|v| v != x))
+    {
+        return Vec::new();
+    }
+    let det = poly::det(&rows);
+    let Some((_, u)) = UPoly::from_poly(&det, x) else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for x0 in rational_roots(&u).into_iter().filter(|r| r.signum() > 0) {
+        let at_x: BTreeMap<String, Rat> = [(x.to_string(), x0.clone())].into();
+        let eqs: Vec<Poly> = equations.iter().map(|e| e.subs_point(&at_x)).collect();
+        for left_out in (0..eqs.len()).rev() {
+            let rest: Vec<Poly> = eqs
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| *i != left_out)
+                .map(|(_, e)| e.clone())
+                .collect();
+            let Some(sol) = solve_linear(&rest, vars) else {
+                continue;
+            };
+            if sol.iter().any(|v| v.signum() <= 0) {
+                continue;
+            }
+            let mut point = fixed.clone();
+            point.insert(x.to_string(), x0.clone());
+            point.extend(vars.iter().cloned().zip(sol));
+            if eqs[left_out].eval(&point).is_ok_and(|v| v.is_zero()) {
+                out.push(point);
+            }
+            break;
+        }
+    }
+    out
+}
+
 pub(super) fn multiple_antiresonances(t: &FrfType) -> Vec<u32> {
     t.tokens
         .iter()
@@ -1456,6 +1665,13 @@ pub(super) const MERGE_FRACTIONS: [f64; 5] = [0.5, 0.25, 0.75, 0.1, 0.9];
 const MERGE_SETS: usize = 24;
 /// Trials per root-coincidence signature in the root-condition search.
 const ROOT_TRIALS: usize = 2000;
+/// Trials per root-coincidence signature in the search one parameter short
+/// of a linear set.
+const PENCIL_TRIALS: usize = 500;
+/// Where between the zeros of a split witness the merged root goes in the
+/// search one parameter short of a linear set, in the order tried: the
+/// solved parameters move far, so more places than [`MERGE_FRACTIONS`].
+const PENCIL_FRACTIONS: [f64; 11] = [0.5, 0.25, 0.75, 0.1, 0.9, 0.05, 0.95, 0.35, 0.65, 0.8, 0.2];
 /// Candidate parameter sets kept for the root-condition search, at most.
 const MAX_LINEAR_SETS: usize = 64;
 
@@ -1807,6 +2023,46 @@ mod tests {
         let f = p("a*b + c^2 + a*d + b + 1");
         let sets = linear_sets(&[&f], &params, 2);
         assert_eq!(sets, vec![vec!["b".to_string(), "d".to_string()]]);
+    }
+
+    /// N5-g1-a2.1-s4.1's numerator is linear in `c1, m1, m2` jointly and
+    /// in no four parameters; a quadruple zero at `Omega = 1/2` is found
+    /// with `c23` as the parameter one short. The point is the one sympy
+    /// finds by solving the first three conditions and then the fourth
+    /// for `c23` (scripts/quadruple_zero_point.py), and the numerator
+    /// there is a multiple of `(Omega - 1/2)^4`.
+    #[test]
+    fn a_quadruple_zero_one_parameter_short_of_a_linear_set() {
+        let model = Model::from_id("N5-g1-a2.1-s4.1").unwrap();
+        let num = model.undamped_tf().num;
+        let vars: Vec<String> = ["c1", "m1", "m2"].iter().map(|s| s.to_string()).collect();
+        assert!(linear_sets(&[&num], &model.undamped_parameters(), 4).is_empty());
+        assert!(linear_sets(&[&num], &model.undamped_parameters(), 3)
+            .iter()
+            .any(|set| set.len() == 3 && vars.iter().all(|v| set.contains(v))));
+        let z: Rat = "1/2".parse().unwrap();
+        let mut equations = Vec::new();
+        let mut d = num.clone();
+        for _ in 0..4 {
+            equations.push(d.subs(OMEGA, &z));
+            d = d.derivative(OMEGA);
+        }
+        let fixed = point(
+            "c34=247281/25000 c45=29163/200000 m3=169783/10000 m4=470593/5000 m5=128607/500000",
+        );
+        let found = pencil_points(&equations, &vars, "c23", fixed.clone());
+        let mut expected = fixed;
+        expected.extend(point(
+            "c1=7270684179057141808752772005997609/285730712504365797240669548262500 \
+             c23=1033510567014063014454693381790319765999/1386143327576619880510221603777403200000 \
+             m1=89771175462149219173064936996625358234223/1940488702445149526116503916506081500000 \
+             m2=1033510567014063014454693381790319765999/970244351222574763058251958253040750000",
+        ));
+        assert_eq!(found, vec![expected.clone()]);
+        let n = num.subs_point(&expected);
+        let lead = n.coeffs_in(OMEGA)[4].clone();
+        let quartic = (&Poly::var(OMEGA) - &Poly::constant(z)).pow(4);
+        assert_eq!(n, &lead * &quartic);
     }
 
     #[test]
