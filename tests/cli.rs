@@ -290,6 +290,33 @@ fn check_accepts_analyze_output_and_rejects_tampering() {
         &|m| m["unidentifiable_directions"][0]["m2"] = "m2*m3 + m1".into(),
         "changes along it",
     );
+    // Where the rank is only sampled (six masses), the file claims a
+    // range: the sampled rank as a lower bound, and an upper bound the
+    // checker reaches on its own (here by counting, without the
+    // direction). A range whose top it cannot reach, or one that is no
+    // range, is refused.
+    let mut ranged = full.clone();
+    ranged["models"][b2]["unidentifiable_directions"] = serde_json::json!([]);
+    ranged["models"][b2]["determinable_parameters_at_most"] = 5.into();
+    std::fs::write(&bad, ranged.to_string()).unwrap();
+    let (code, out, err) = mms(&["check", bad.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("all valid"), "{out}");
+    refused(
+        &|m| {
+            m["unidentifiable_directions"] = serde_json::json!([]);
+            m["determinable_parameters_at_most"] = 4.into();
+        },
+        "the file says 4, not above determinable_parameters (4)",
+    );
+    refused(
+        &|m| {
+            m["unidentifiable_directions"] = serde_json::json!([]);
+            m["determinable_parameters"] = 3.into();
+            m["determinable_parameters_at_most"] = 4.into();
+        },
+        "determinable_parameters_at_most: the file says 4 and proves no bound below 5",
+    );
     // The critical factors' statuses carry their proofs: a definite sign
     // flipped, an undetermined factor called definite, a wall without its
     // substitution.

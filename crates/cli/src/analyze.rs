@@ -90,6 +90,10 @@ pub struct Summary {
     pub impossible: usize,
     /// Tab. 5: determinable parameters and non-constant moment invariants.
     pub determinable_parameters: usize,
+    /// Where the rank is only sampled: its proven upper bound
+    /// (`determinable_parameters` is then a proven lower bound).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub determinable_parameters_at_most: Option<usize>,
     pub moment_invariants: usize,
     /// The proof of the upper bound of `determinable_parameters`.
     pub unidentifiable_directions: Vec<UnidentifiableDirection>,
@@ -112,10 +116,20 @@ impl Summary {
                 .filter(|v| v.status == Status::Impossible)
                 .count(),
             determinable_parameters: idf.determinable_parameters,
+            determinable_parameters_at_most: (!idf.is_proven()).then_some(idf.rank_upper_bound),
             moment_invariants: idf.nonconstant_invariants,
             unidentifiable_directions: idf.unidentifiable_directions.clone(),
             analysis: a.clone(),
         })
+    }
+
+    /// The determinable parameters as shown: the number, or where the rank
+    /// is only sampled the number with its proven upper bound.
+    pub fn determinable(&self) -> String {
+        match self.determinable_parameters_at_most {
+            Some(most) => format!("{} (at most {most})", self.determinable_parameters),
+            None => self.determinable_parameters.to_string(),
+        }
     }
 
     fn types(&self) -> Types<'_> {
@@ -432,6 +446,7 @@ fn render(
                             .collect()
                     }),
                     determinable_parameters: Some(a.determinable_parameters),
+                    determinable_parameters_at_most: a.determinable_parameters_at_most,
                     moment_invariants: Some(a.moment_invariants),
                     unidentifiable_directions: Some(a.unidentifiable_directions),
                     timing: timings.map(|t| t.models[i].clone()),
@@ -465,7 +480,7 @@ fn render(
                     similar_cell(similar, a, "; ", ","),
                     a.impossible,
                     a.unknown.len(),
-                    a.determinable_parameters,
+                    a.determinable(),
                     a.moment_invariants
                 );
             }
@@ -493,7 +508,7 @@ fn render(
                     } else {
                         unknown.join(", ")
                     },
-                    a.determinable_parameters,
+                    a.determinable(),
                     a.moment_invariants
                 );
             }
@@ -627,4 +642,32 @@ pub fn run(models: &[Model], format: TableFormat3, opts: &Options) -> Result<Str
         &covers,
         threads,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mms::analysis::{analyze, SearchLimits};
+    use mms::{identifiability, identifiability_with, Model, RankOptions};
+
+    /// B2 has 4 determinable parameters of 5 (the paper's Tab. 5). With
+    /// the symbolic proof it is one number; with the rank only sampled (as
+    /// at six masses) the summary keeps the proven upper bound, 5 by
+    /// counting, and shows the range.
+    #[test]
+    fn a_sampled_rank_is_shown_as_a_range() {
+        let b2 = Model::from_id("B2").unwrap();
+        let a = analyze(&b2, &SearchLimits::default());
+        let proven = Summary::new(&a, &identifiability(&b2)).unwrap();
+        assert_eq!(proven.determinable_parameters_at_most, None);
+        assert_eq!(proven.determinable(), "4");
+        let sampled_only = RankOptions {
+            symbolic_work_limit: 0,
+            ..RankOptions::default()
+        };
+        let sampled = Summary::new(&a, &identifiability_with(&b2, &sampled_only)).unwrap();
+        assert_eq!(sampled.determinable_parameters, 4);
+        assert_eq!(sampled.determinable_parameters_at_most, Some(5));
+        assert_eq!(sampled.determinable(), "4 (at most 5)");
+    }
 }

@@ -211,7 +211,7 @@ pub fn report(n: usize, summaries: &[Summary], similar: &Similar) -> Result<Stri
             similar_cell(similar, a, "; ", ", "),
             a.impossible,
             a.unknown.len(),
-            a.determinable_parameters,
+            a.determinable(),
             a.moment_invariants
         );
     }

@@ -49,7 +49,8 @@
 //!    critical factors (coverage, `cancels`, each status's proof), the
 //!    count of moment invariants and the determinable parameters (the rank
 //!    of its own Jacobian at a point, against the listed unidentifiable
-//!    directions multiplied out).
+//!    directions multiplied out; or, where the file claims only a range,
+//!    each end of it).
 //!
 //! The checker relies on three theorems it cannot check by computation:
 //! the roots of the denominator are real and positive for all positive
@@ -1077,7 +1078,9 @@ fn rank_point(params: &[String], shift: usize) -> BTreeMap<String, Rat> {
 /// listed `unidentifiable_directions` (each a polynomial vector field that
 /// the Jacobian maps to zero, multiplied out here; independent, checked at
 /// a point). Lower bound: the rank at a point (a non-vanishing minor there
-/// is a non-zero polynomial), at up to four points.
+/// is a non-zero polynomial), at up to four points. The two must meet,
+/// unless the file claims a range: `determinable_parameters_at_most`, at
+/// or above the upper bound shown here.
 fn check_determinable(
     m: &Value,
     path: &str,
@@ -1165,13 +1168,29 @@ fn check_determinable(
              points is at most {best}"
         ));
     }
-    if claimed < upper {
-        return Err(format!(
+    // A sampled rank is claimed as a range: the lower bound just checked,
+    // and an upper bound the checker must reach on its own.
+    let at_most = match m.get("determinable_parameters_at_most") {
+        Some(_) => Some(uint_field(m, "determinable_parameters_at_most", path)? as usize),
+        None => None,
+    };
+    match at_most {
+        Some(most) if most <= claimed => Err(format!(
+            "determinable_parameters_at_most: the file says {most}, not above \
+             determinable_parameters ({claimed}): an exact rank is claimed without it"
+        )),
+        Some(most) if most < upper => Err(format!(
+            "determinable_parameters_at_most: the file says {most} and proves no bound below \
+             {upper}: list the unidentifiable directions"
+        )),
+        Some(_) => Ok(()),
+        None if claimed < upper => Err(format!(
             "determinable_parameters: the file says {claimed} and proves no bound below {upper}: \
-             list the unidentifiable directions"
-        ));
+             list the unidentifiable directions, or claim a range with \
+             determinable_parameters_at_most"
+        )),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 fn point_text(at: &BTreeMap<String, Rat>) -> String {

@@ -36,7 +36,7 @@ pub const TABLE_FORMAT: &str = "mms-analysis-table";
 
 /// The version of the format: raised whenever a field is added, removed or
 /// changes meaning, so that no reader takes a file for what it is not.
-pub const TABLE_FORMAT_VERSION: u32 = 4;
+pub const TABLE_FORMAT_VERSION: u32 = 5;
 
 /// A table of analyses (see the [module docs](self)).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -136,9 +136,17 @@ pub struct TableModel {
     /// show it (the paper's "potentially similar systems").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub similar: Option<Vec<SimilarSystems>>,
-    /// The number of parameters the FRF determines (the paper's Tab. 5).
+    /// The number of parameters the FRF determines (the paper's Tab. 5):
+    /// the rank of the invariants' Jacobian, proven; a proven lower bound
+    /// where `determinable_parameters_at_most` is given.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub determinable_parameters: Option<usize>,
+    /// Where the rank is only sampled (its symbolic proof too large, as at
+    /// six masses): the proven upper bound, larger than
+    /// `determinable_parameters`. The rank at random points is the lower
+    /// bound and, with overwhelming probability, the rank itself.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub determinable_parameters_at_most: Option<usize>,
     /// The number of moment invariants that are not constant (Tab. 5).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub moment_invariants: Option<usize>,
@@ -636,6 +644,7 @@ impl TableModel {
             analysis,
             similar: None,
             determinable_parameters: None,
+            determinable_parameters_at_most: None,
             moment_invariants: None,
             unidentifiable_directions: None,
             timing: None,
