@@ -830,7 +830,6 @@ impl Prover<'_> {
         let degree = self.den.degree(OMEGA);
         let tf = UndampedCoefficients::new(self.model);
         let params = self.params.clone();
-        let mut derivatives = vec![self.num.clone()];
         for t in wanted {
             let Some((mults, w)) = self.split_witness(t, degree) else {
                 continue;
@@ -843,15 +842,10 @@ impl Prover<'_> {
             if groups.len() != mults.len() {
                 continue;
             }
-            let roots: Option<Vec<(Rat, u32)>> = groups
-                .iter()
-                .map(|&(a, b, k)| Some((short_rational((0.5 * (a + b)).exp(), 6)?, k)))
-                .collect();
-            let Some(roots) = roots else { continue };
-            while derivatives.len() < mults.iter().copied().max().unwrap_or(1) as usize {
-                let d = derivatives[derivatives.len() - 1].derivative(OMEGA);
-                derivatives.push(d);
-            }
+            let Some(roots) = merged_roots(&groups, 0.5, 6) else {
+                continue;
+            };
+            let derivatives = self.numerator_derivatives(mults.iter().copied().max().unwrap_or(1));
             let size = mults.iter().sum::<u32>() as usize;
             for vars in linear_sets(&[&self.num], &params, size)
                 .iter()
@@ -1055,11 +1049,7 @@ impl Prover<'_> {
             .flat_map(|(_, m)| m.iter().copied())
             .max()
             .unwrap_or(1);
-        let mut derivatives = vec![self.num.clone()];
-        while derivatives.len() < max_mult as usize {
-            let d = derivatives[derivatives.len() - 1].derivative(OMEGA);
-            derivatives.push(d);
-        }
+        let derivatives = self.numerator_derivatives(max_mult);
         // First, merge the zeros of a witness of the split type (A^2 as
         // AA): the root goes between them and the solved parameters stay
         // near the witness's, keeping the rest of the ordering.
@@ -1082,11 +1072,9 @@ impl Prover<'_> {
             // The merged root at several places across each group, every
             // parameter set: the first that keeps the rest of the order.
             'merge: for frac in MERGE_FRACTIONS {
-                let roots: Option<Vec<(Rat, u32)>> = groups
-                    .iter()
-                    .map(|&(a, b, k)| Some((short_rational((a + frac * (b - a)).exp(), 4)?, k)))
-                    .collect();
-                let Some(roots) = roots else { continue };
+                let Some(roots) = merged_roots(&groups, frac, 4) else {
+                    continue;
+                };
                 for vars in sets.iter().take(MERGE_SETS) {
                     let fixed: BTreeMap<String, Rat> = w
                         .iter()
@@ -1139,9 +1127,25 @@ impl Prover<'_> {
     /// rational root gives an exact point on the wanted variety. A
     /// quadruple zero of a numerator linear in only three parameters at a
     /// time is found so. Runs last, on what the other searches leave, so
-    /// that their draws do not change. Returns how many of `wanted` have a
-    /// witness afterwards.
+    /// that their draws do not change. Three passes, in this order: the
+    /// zeros of split witnesses merged, the walk along the variety from
+    /// witnesses on it, random roots and parameters. Returns how many of
+    /// `wanted` have a witness afterwards.
     pub(crate) fn root_condition_pencil_search(&mut self, wanted: &[FrfType], seed: u64) -> usize {
+        self.pencil_merge_search(wanted);
+        self.variety_walk_search(wanted);
+        self.pencil_random_search(wanted, seed);
+        self.witnessed(wanted)
+    }
+
+    /// The types of `wanted` that are neither witnessed nor proven
+    /// impossible, by root signature, and the numerator derivatives their
+    /// multiple zeros need.
+    #[allow(clippy::type_complexity)]
+    fn pencil_signatures(
+        &self,
+        wanted: &[FrfType],
+    ) -> (BTreeMap<(u32, Vec<u32>), Vec<FrfType>>, Vec<Poly>) {
         let degree = self.den.degree(OMEGA);
         let mut signatures: BTreeMap<(u32, Vec<u32>), Vec<FrfType>> = BTreeMap::new();
         for t in wanted {
@@ -1157,14 +1161,17 @@ impl Prover<'_> {
             .flat_map(|(_, m)| m.iter().copied())
             .max()
             .unwrap_or(1);
-        let mut derivatives = vec![self.num.clone()];
-        while derivatives.len() < max_mult as usize {
-            let d = derivatives[derivatives.len() - 1].derivative(OMEGA);
-            derivatives.push(d);
-        }
-        // First the zeros of a witness of the split type merged (A^4 from
-        // AAAA), at several places across them, from the witness and from
-        // the point with its zeros pulled together.
+        let derivatives = self.numerator_derivatives(max_mult);
+        (signatures, derivatives)
+    }
+
+    /// The first pass of [`Self::root_condition_pencil_search`]: the zeros
+    /// of a witness of the split type merged (A^4 from AAAA), at several
+    /// places across them, from the witness and from the point with its
+    /// zeros pulled together.
+    fn pencil_merge_search(&mut self, wanted: &[FrfType]) {
+        let degree = self.den.degree(OMEGA);
+        let (signatures, derivatives) = self.pencil_signatures(wanted);
         let tf = UndampedCoefficients::new(self.model);
         let params = self.params.clone();
         for t in signatures.values().flatten() {
@@ -1175,7 +1182,8 @@ impl Prover<'_> {
             if size < 2 || !linear_sets(&[&self.num], &params, size).is_empty() {
                 continue;
             }
-            let sets = linear_sets(&[&self.num], &params, size - 1);
+            let mut sets = linear_sets(&[&self.num], &params, size - 1);
+            sets.truncate(PENCIL_SETS);
             let x: Vec<f64> = params.iter().map(|p| w[p].to_f64()).collect();
             let close = pull_together(&tf, t, &x);
             'bases: for base in [x, close] {
@@ -1186,11 +1194,9 @@ impl Prover<'_> {
                     continue;
                 }
                 for frac in PENCIL_FRACTIONS {
-                    let roots: Option<Vec<(Rat, u32)>> = groups
-                        .iter()
-                        .map(|&(a, b, k)| Some((short_rational((a + frac * (b - a)).exp(), 4)?, k)))
-                        .collect();
-                    let Some(roots) = roots else { continue };
+                    let Some(roots) = merged_roots(&groups, frac, 4) else {
+                        continue;
+                    };
                     let equations = self.root_equations(&[], &roots, &derivatives);
                     for vars in &sets {
                         for x in params.iter().filter(|p| !vars.contains(p)) {
@@ -1212,7 +1218,115 @@ impl Prover<'_> {
                 }
             }
         }
-        // Then random roots and parameters.
+    }
+
+    /// The second pass of [`Self::root_condition_pencil_search`]: along
+    /// the variety from every witness on it (the same multiple zeros,
+    /// every pole), each multiple zero moved by factors up to 64 either
+    /// way, or one other parameter by 2 to 8, the conditions solved again.
+    /// Where the zeros fall between other poles the type changes, which no
+    /// merge from a split witness reaches when that split type has no
+    /// witness.
+    fn variety_walk_search(&mut self, wanted: &[FrfType]) {
+        let degree = self.den.degree(OMEGA);
+        let (signatures, derivatives) = self.pencil_signatures(wanted);
+        let params = self.params.clone();
+        for ((cancelled, mults), types) in &signatures {
+            let size = mults.iter().sum::<u32>() as usize;
+            if *cancelled > 0 || size < 2 {
+                continue;
+            }
+            if !linear_sets(&[&self.num], &params, size).is_empty() {
+                continue;
+            }
+            let mut sets = linear_sets(&[&self.num], &params, size - 1);
+            sets.truncate(PENCIL_SETS);
+            let starts: Vec<(MultipleZeros, BTreeMap<String, Rat>)> = self
+                .witnesses
+                .iter()
+                .filter(|(t, _)| {
+                    t.resonances() == degree
+                        && root_signature(t, degree).as_ref() == Some(&(0, mults.clone()))
+                })
+                .filter_map(|(_, w)| Some((multiple_zeros(&self.num.subs_point(w))?, w.clone())))
+                .filter(|(roots, _)| {
+                    let mut m: Vec<u32> = roots.iter().map(|r| r.1).collect();
+                    let mut want = mults.clone();
+                    m.sort_unstable();
+                    want.sort_unstable();
+                    m == want
+                })
+                .collect();
+            'walk: for (roots, w) in starts {
+                // The zeros, and the one other parameter moved with its value.
+                let mut moves: Vec<(MultipleZeros, Option<(String, Rat)>)> = Vec::new();
+                for i in 0..roots.len() {
+                    for k in (-24..=24).filter(|k| *k != 0) {
+                        let z = roots[i].0.to_f64() * 2f64.powf(f64::from(k) / 4.0);
+                        let Some(z) = short_rational(z, 4) else {
+                            continue;
+                        };
+                        let mut r = roots.clone();
+                        r[i].0 = z;
+                        moves.push((r, None));
+                    }
+                }
+                for p in &params {
+                    for k in [-3, -2, -1, 1, 2, 3] {
+                        moves.push((
+                            roots.clone(),
+                            Some((p.clone(), &w[p] * &Rat::from(2).pow(k))),
+                        ));
+                    }
+                }
+                for vars in &sets {
+                    for x in params.iter().filter(|p| !vars.contains(p)) {
+                        for (r, moved) in &moves {
+                            if types.iter().all(|t| self.witnesses.contains_key(t)) {
+                                break 'walk;
+                            }
+                            self.walk_step(&w, r, moved.as_ref(), vars, x, &derivatives);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// One step of [`Self::variety_walk_search`] from the witness `w`: its
+    /// multiple zeros at `roots` (moved or not) and the parameter `moved`
+    /// at its new value, if any; the conditions solved for `vars` and the
+    /// roots of their determinant in `x`, the other parameters kept.
+    fn walk_step(
+        &mut self,
+        w: &BTreeMap<String, Rat>,
+        roots: &[(Rat, u32)],
+        moved: Option<&(String, Rat)>,
+        vars: &[String],
+        x: &str,
+        derivatives: &[Poly],
+    ) {
+        if moved.is_some_and(|(p, _)| vars.contains(p) || p == x) {
+            return;
+        }
+        let mut fixed: BTreeMap<String, Rat> = w
+            .iter()
+            .filter(|(p, _)| !vars.contains(p) && *p != x)
+            .map(|(p, v)| (p.clone(), v.clone()))
+            .collect();
+        if let Some((p, v)) = moved {
+            fixed.insert(p.clone(), v.clone());
+        }
+        let equations = self.root_equations(&[], roots, derivatives);
+        for point in pencil_points(&equations, vars, x, fixed) {
+            self.record(point);
+        }
+    }
+
+    /// The last pass of [`Self::root_condition_pencil_search`]: random
+    /// roots and parameters.
+    fn pencil_random_search(&mut self, wanted: &[FrfType], seed: u64) {
+        let (signatures, derivatives) = self.pencil_signatures(wanted);
         let mut rng = Sampler::new(seed);
         for ((cancelled, mults), types) in signatures {
             let size = 2 * cancelled as usize + mults.iter().sum::<u32>() as usize;
@@ -1253,7 +1367,17 @@ impl Prover<'_> {
                 }
             }
         }
-        self.witnessed(wanted)
+    }
+
+    /// The numerator and its first `count - 1` derivatives in `Omega`: the
+    /// conditions of a zero of multiplicity `count`.
+    fn numerator_derivatives(&self, count: u32) -> Vec<Poly> {
+        let mut out = vec![self.num.clone()];
+        while out.len() < count as usize {
+            let d = out[out.len() - 1].derivative(OMEGA);
+            out.push(d);
+        }
+        out
     }
 
     /// `num(r) = den(r) = 0` for every `r` of `cancel` and `num^(i)(r) =
@@ -1464,6 +1588,16 @@ fn merged_groups(
     Some(groups)
 }
 
+/// The merged roots of `groups` (see [`merged_groups`]), each at `frac`
+/// of its group's log-range, as rationals of `digits` significant digits,
+/// with their multiplicities.
+fn merged_roots(groups: &[(f64, f64, u32)], frac: f64, digits: i32) -> Option<MultipleZeros> {
+    groups
+        .iter()
+        .map(|&(a, b, k)| Some((short_rational((a + frac * (b - a)).exp(), digits)?, k)))
+        .collect()
+}
+
 /// From `x`, where the split type of `t` shows, a point where the zeros
 /// `t` merges lie close together (the sum of the groups' log-ranges
 /// minimised by Nelder-Mead in log-parameters) and the split type still
@@ -1648,6 +1782,29 @@ fn pencil_points(
     out
 }
 
+/// Multiple zeros, each with its multiplicity.
+type MultipleZeros = Vec<(Rat, u32)>;
+
+/// The positive rational multiple zeros of a numerator with rational
+/// coefficients in `Omega`, with their multiplicities; `None` if it is not
+/// such a polynomial.
+fn multiple_zeros(n: &Poly) -> Option<MultipleZeros> {
+    let (_, u) = UPoly::from_poly(n, OMEGA)?;
+    let mut out = Vec::new();
+    for r in rational_roots(&u).into_iter().filter(|r| r.signum() > 0) {
+        let mut k = 0;
+        let mut d = u.clone();
+        while !d.is_zero() && d.eval(&r).is_zero() {
+            k += 1;
+            d = d.derivative();
+        }
+        if k > 1 {
+            out.push((r, k));
+        }
+    }
+    Some(out)
+}
+
 pub(super) fn multiple_antiresonances(t: &FrfType) -> Vec<u32> {
     t.tokens
         .iter()
@@ -1668,6 +1825,10 @@ const ROOT_TRIALS: usize = 2000;
 /// Trials per root-coincidence signature in the search one parameter short
 /// of a linear set.
 const PENCIL_TRIALS: usize = 500;
+/// Parameter sets (in lexicographic order) that the search one parameter
+/// short of a linear set merges and walks in: each is tried with every
+/// other parameter as the one short, at every place and move.
+const PENCIL_SETS: usize = 3;
 /// Where between the zeros of a split witness the merged root goes in the
 /// search one parameter short of a linear set, in the order tried: the
 /// solved parameters move far, so more places than [`MERGE_FRACTIONS`].
@@ -2063,6 +2224,60 @@ mod tests {
         let lead = n.coeffs_in(OMEGA)[4].clone();
         let quartic = (&Poly::var(OMEGA) - &Poly::constant(z)).pow(4);
         assert_eq!(n, &lead * &quartic);
+    }
+
+    /// The walk along the variety: from the quadruple zero below every
+    /// pole (the point of the test above, `A^4RRRR`), moving the zero
+    /// and the other parameters reaches `RA^4RRR`, the zero between the
+    /// first and the second pole, which no split witness is given for.
+    /// Checked by another route: the numerator at the point is a multiple
+    /// of `(Omega - z)^4`, and Descartes' rule on the denominator's
+    /// Taylor coefficients at `z` finds one pole below `z` and three above
+    /// it.
+    #[test]
+    fn the_walk_moves_a_quadruple_zero_past_a_pole() {
+        let m = Model::from_id("N5-g1-a2.1-s4.1").unwrap();
+        let tf = m.undamped_tf();
+        let mut prover = Prover::new(&m, tf.num.clone(), tf.den.clone());
+        let start = point(
+            "c1=7270684179057141808752772005997609/285730712504365797240669548262500 \
+             c23=1033510567014063014454693381790319765999/1386143327576619880510221603777403200000 \
+             c34=247281/25000 c45=29163/200000 \
+             m1=89771175462149219173064936996625358234223/1940488702445149526116503916506081500000 \
+             m2=1033510567014063014454693381790319765999/970244351222574763058251958253040750000 \
+             m3=169783/10000 m4=470593/5000 m5=128607/500000",
+        );
+        let below: FrfType = "A^4RRRR".parse().unwrap();
+        assert_eq!(prover.type_at(&start), Some(below.clone()));
+        prover.witnesses.insert(below, start);
+        let wanted: FrfType = "RA^4RRR".parse().unwrap();
+        prover.variety_walk_search(std::slice::from_ref(&wanted));
+        let w = &prover.witnesses[&wanted];
+        let n = tf.num.subs_point(w);
+        let c = n.coeffs_in(OMEGA);
+        let z = -(&c[3].as_constant().unwrap() / &c[4].as_constant().unwrap()) / Rat::from(4);
+        let quartic = (&Poly::var(OMEGA) - &Poly::constant(z.clone())).pow(4);
+        assert_eq!(n, &c[4] * &quartic);
+        // The denominator is real-rooted (a symmetric definite eigenvalue
+        // problem), so Descartes' rule is exact: the sign changes of the
+        // Taylor coefficients at `z`, `d^(k)(z)`, count the poles above
+        // `z`, those of `(-1)^k d^(k)(z)` the ones below.
+        let d = tf.den.subs_point(w);
+        assert_eq!(d.degree(OMEGA), 4);
+        let mut signs = Vec::new();
+        let mut dk = d.clone();
+        for _ in 0..=4 {
+            signs.push(dk.subs(OMEGA, &z).as_constant().unwrap().signum());
+            dk = dk.derivative(OMEGA);
+        }
+        let changes = |s: &[i32]| s.windows(2).filter(|p| p[0] * p[1] < 0).count();
+        let alternated: Vec<i32> = signs
+            .iter()
+            .enumerate()
+            .map(|(k, s)| if k % 2 == 0 { *s } else { -s })
+            .collect();
+        assert!(signs.iter().all(|s| *s != 0));
+        assert_eq!((changes(&alternated), changes(&signs)), (1, 3));
     }
 
     #[test]
