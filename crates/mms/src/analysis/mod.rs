@@ -273,7 +273,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 27;
+pub const ENGINE_VERSION: u32 = 28;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
@@ -461,6 +461,7 @@ fn search_unknown(prover: &mut Prover, unknown: &[FrfType], limits: &SearchLimit
         + prover.double_zero_chart_search(unknown)
         + prover.double_zero_chart_points(unknown)
         + prover.root_condition_pencil_search(unknown, 0x9E2C_11A5)
+        + prover.root_walk_search(unknown)
 }
 
 /// Possible types first, then unknown ones, then impossible ones.

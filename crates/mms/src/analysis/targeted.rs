@@ -1248,37 +1248,23 @@ impl Prover<'_> {
                     t.resonances() == degree
                         && root_signature(t, degree).as_ref() == Some(&(0, mults.clone()))
                 })
-                .filter_map(|(_, w)| Some((multiple_zeros(&self.num.subs_point(w))?, w.clone())))
-                .filter(|(roots, _)| {
-                    let mut m: Vec<u32> = roots.iter().map(|r| r.1).collect();
-                    let mut want = mults.clone();
-                    m.sort_unstable();
-                    want.sort_unstable();
-                    m == want
+                .filter_map(|(_, w)| {
+                    let n = self.num.subs_point(w);
+                    Some((root_coincidences(&n, &self.den.subs_point(w))?.1, w.clone()))
                 })
+                .filter(|(roots, _)| same_multiplicities(roots, mults))
                 .collect();
+            let steps: Vec<i32> = (-24..=24).filter(|k| *k != 0).collect();
             'walk: for (roots, w) in starts {
-                // The zeros, and the one other parameter moved with its value.
-                let mut moves: Vec<(MultipleZeros, Option<(String, Rat)>)> = Vec::new();
-                for i in 0..roots.len() {
-                    for k in (-24..=24).filter(|k| *k != 0) {
-                        let z = roots[i].0.to_f64() * 2f64.powf(f64::from(k) / 4.0);
-                        let Some(z) = short_rational(z, 4) else {
-                            continue;
-                        };
-                        let mut r = roots.clone();
-                        r[i].0 = z;
-                        moves.push((r, None));
-                    }
-                }
-                for p in &params {
-                    for k in [-3, -2, -1, 1, 2, 3] {
-                        moves.push((
-                            roots.clone(),
-                            Some((p.clone(), &w[p] * &Rat::from(2).pow(k))),
-                        ));
-                    }
-                }
+                let at: Vec<Rat> = roots.iter().map(|r| r.0.clone()).collect();
+                let moves: Vec<(MultipleZeros, Option<(String, Rat)>)> =
+                    walk_moves(&at, &w, &params, &steps)
+                        .into_iter()
+                        .map(|(at, moved)| {
+                            let r = at.into_iter().zip(roots.iter().map(|r| r.1)).collect();
+                            (r, moved)
+                        })
+                        .collect();
                 for vars in &sets {
                     for x in params.iter().filter(|p| !vars.contains(p)) {
                         for (r, moved) in &moves {
@@ -1291,6 +1277,67 @@ impl Prover<'_> {
                 }
             }
         }
+    }
+
+    /// The walk of [`Self::variety_walk_search`] where one set of
+    /// parameters holds every condition of the multiple zeros linearly:
+    /// from each of the first [`WALK_STARTS`] witnesses with the wanted
+    /// multiple zeros and every pole, each zero is moved in turn, nearest
+    /// first, or one other parameter, and the conditions solved again
+    /// exactly. A double zero moved past a pole, or past a simple zero, is
+    /// reached so where no merge of a split witness keeps the rest of the
+    /// order. Runs after the other searches. Returns how many of `wanted`
+    /// have a witness afterwards.
+    pub(crate) fn root_walk_search(&mut self, wanted: &[FrfType]) -> usize {
+        let degree = self.den.degree(OMEGA);
+        let (signatures, derivatives) = self.pencil_signatures(wanted);
+        let params = self.params.clone();
+        let steps: Vec<i32> = (1..=12).flat_map(|k| [k, -k]).collect();
+        for ((cancelled, mults), types) in &signatures {
+            let size = mults.iter().sum::<u32>() as usize;
+            if *cancelled > 0 || size < 2 {
+                continue;
+            }
+            let mut sets = linear_sets(&[&self.num], &params, size);
+            sets.truncate(PENCIL_SETS);
+            let signature = Some((0, mults.clone()));
+            let starts: Vec<(MultipleZeros, BTreeMap<String, Rat>)> = self
+                .witnesses
+                .iter()
+                .filter(|(t, _)| root_signature(t, degree) == signature)
+                .filter_map(|(_, w)| {
+                    let n = self.num.subs_point(w);
+                    Some((root_coincidences(&n, &self.den.subs_point(w))?.1, w.clone()))
+                })
+                .filter(|(roots, _)| same_multiplicities(roots, mults))
+                .take(WALK_STARTS)
+                .collect();
+            'walk: for (roots, w) in starts {
+                let at: Vec<Rat> = roots.iter().map(|r| r.0.clone()).collect();
+                for (at, moved) in walk_moves(&at, &w, &params, &steps) {
+                    let multiple: MultipleZeros =
+                        at.into_iter().zip(roots.iter().map(|r| r.1)).collect();
+                    for vars in &sets {
+                        if types.iter().all(|t| self.witnesses.contains_key(t)) {
+                            break 'walk;
+                        }
+                        if moved.as_ref().is_some_and(|(p, _)| vars.contains(p)) {
+                            continue;
+                        }
+                        let mut fixed: BTreeMap<String, Rat> = w
+                            .iter()
+                            .filter(|(p, _)| !vars.contains(p))
+                            .map(|(p, v)| (p.clone(), v.clone()))
+                            .collect();
+                        if let Some((p, v)) = &moved {
+                            fixed.insert(p.clone(), v.clone());
+                        }
+                        self.solve_root_conditions(vars, fixed, &[], &multiple, &derivatives);
+                    }
+                }
+            }
+        }
+        self.witnessed(wanted)
     }
 
     /// One step of [`Self::variety_walk_search`] from the witness `w`: its
@@ -1785,24 +1832,69 @@ fn pencil_points(
 /// Multiple zeros, each with its multiplicity.
 type MultipleZeros = Vec<(Rat, u32)>;
 
-/// The positive rational multiple zeros of a numerator with rational
-/// coefficients in `Omega`, with their multiplicities; `None` if it is not
-/// such a polynomial.
-fn multiple_zeros(n: &Poly) -> Option<MultipleZeros> {
-    let (_, u) = UPoly::from_poly(n, OMEGA)?;
-    let mut out = Vec::new();
-    for r in rational_roots(&u).into_iter().filter(|r| r.signum() > 0) {
+/// Of a numerator and denominator with rational coefficients in `Omega`:
+/// the positive rational cancelled poles (common zeros, simple in the
+/// numerator) and the positive rational multiple zeros of the numerator
+/// with their multiplicities, each in increasing order; `None` if they are
+/// not such polynomials or a cancelled pole is a multiple zero too.
+fn root_coincidences(num: &Poly, den: &Poly) -> Option<(Vec<Rat>, MultipleZeros)> {
+    let (_, n) = UPoly::from_poly(num, OMEGA)?;
+    let (_, d) = UPoly::from_poly(den, OMEGA)?;
+    let (mut cancel, mut multiple) = (Vec::new(), Vec::new());
+    for r in rational_roots(&n).into_iter().filter(|r| r.signum() > 0) {
         let mut k = 0;
-        let mut d = u.clone();
-        while !d.is_zero() && d.eval(&r).is_zero() {
+        let mut nk = n.clone();
+        while !nk.is_zero() && nk.eval(&r).is_zero() {
             k += 1;
-            d = d.derivative();
+            nk = nk.derivative();
         }
-        if k > 1 {
-            out.push((r, k));
+        match (d.eval(&r).is_zero(), k) {
+            (true, 1) => cancel.push(r),
+            (true, _) => return None,
+            (false, 1) => {}
+            (false, _) => multiple.push((r, k)),
         }
     }
-    Some(out)
+    Some((cancel, multiple))
+}
+
+/// Whether `roots` have the multiplicities `mults`, in any order.
+fn same_multiplicities(roots: &[(Rat, u32)], mults: &[u32]) -> bool {
+    let mut have: Vec<u32> = roots.iter().map(|r| r.1).collect();
+    let mut want = mults.to_vec();
+    have.sort_unstable();
+    want.sort_unstable();
+    have == want
+}
+
+/// The moves of a walk along a variety from the witness `w` with its
+/// coincident roots `at`: each root in turn scaled by `2^(k/4)` for `k` in
+/// `steps` (rounded to four digits), then each parameter of `params` scaled
+/// by 2 to 8 either way, given with its new value.
+#[allow(clippy::type_complexity)]
+fn walk_moves(
+    at: &[Rat],
+    w: &BTreeMap<String, Rat>,
+    params: &[String],
+    steps: &[i32],
+) -> Vec<(Vec<Rat>, Option<(String, Rat)>)> {
+    let mut moves = Vec::new();
+    for i in 0..at.len() {
+        for k in steps {
+            let Some(z) = short_rational(at[i].to_f64() * 2f64.powf(f64::from(*k) / 4.0), 4) else {
+                continue;
+            };
+            let mut a = at.to_vec();
+            a[i] = z;
+            moves.push((a, None));
+        }
+    }
+    for p in params {
+        for k in [-3, -2, -1, 1, 2, 3] {
+            moves.push((at.to_vec(), Some((p.clone(), &w[p] * &Rat::from(2).pow(k)))));
+        }
+    }
+    moves
 }
 
 pub(super) fn multiple_antiresonances(t: &FrfType) -> Vec<u32> {
@@ -1829,6 +1921,9 @@ const PENCIL_TRIALS: usize = 500;
 /// short of a linear set merges and walks in: each is tried with every
 /// other parameter as the one short, at every place and move.
 const PENCIL_SETS: usize = 3;
+/// Witnesses a walk of [`Prover::root_walk_search`] starts from, per root
+/// signature.
+const WALK_STARTS: usize = 2;
 /// Where between the zeros of a split witness the merged root goes in the
 /// search one parameter short of a linear set, in the order tried: the
 /// solved parameters move far, so more places than [`MERGE_FRACTIONS`].
@@ -2278,6 +2373,74 @@ mod tests {
             .collect();
         assert!(signs.iter().all(|s| *s != 0));
         assert_eq!((changes(&alternated), changes(&signs)), (1, 3));
+    }
+
+    /// The walk with a linear set: from the double zero above two simple
+    /// zeros (`AAA^2RRRR`, a witness of the table), moving it down
+    /// reaches `A^2AARRRR`, below them. Checked by another route: the
+    /// numerator at the point is `(Omega - z)^2 q` with `q` of degree two;
+    /// `q` has a positive discriminant and the denominator is real-rooted, so
+    /// Descartes' rule on Taylor coefficients counts their roots above a
+    /// point exactly: `q` has both roots above `z`, and a point found by
+    /// bisection has both of them below it and all four poles above it.
+    #[test]
+    fn the_walk_moves_a_double_zero_below_two_simple_ones() {
+        let m = Model::from_id("N5-g1-a2.1-s4.1").unwrap();
+        let tf = m.undamped_tf();
+        let mut prover = Prover::new(&m, tf.num.clone(), tf.den.clone());
+        let start = point(
+            "c1=41241939/2500000 c23=490183917/10000000000 c34=989123767/100000000 \
+             c45=3645383/25000000 m2=161916331/2000000000 m3=169796483/10000000 \
+             m5=257592441/1000000000 \
+             m1=106029178452472125087705383978392214208949519860526731386910799126239249310723/\
+             3747618510086243398469434062977857866318920011641761151370265095750000000000 \
+             m4=7038595450818191697400488495434563383672093835191063/\
+             74202222446526633461545836819499827183123898232800",
+        );
+        let above: FrfType = "AAA^2RRRR".parse().unwrap();
+        assert_eq!(prover.type_at(&start), Some(above.clone()));
+        prover.witnesses.insert(above, start);
+        let wanted: FrfType = "A^2AARRRR".parse().unwrap();
+        assert_eq!(prover.root_walk_search(std::slice::from_ref(&wanted)), 1);
+        let w = &prover.witnesses[&wanted];
+        let n = UPoly::from_poly(&tf.num.subs_point(w), OMEGA).unwrap().1;
+        let d = UPoly::from_poly(&tf.den.subs_point(w), OMEGA).unwrap().1;
+        let doubles: Vec<Rat> = rational_roots(&n)
+            .into_iter()
+            .filter(|r| n.derivative().eval(r).is_zero())
+            .collect();
+        assert_eq!(doubles.len(), 1);
+        let z = &doubles[0];
+        let square = UPoly::linear_root(z).pow(2);
+        let q = n
+            .div_exact(&square)
+            .expect("(Omega - z)^2 divides the numerator");
+        assert_eq!((q.degree(), d.degree()), (Some(2), Some(4)));
+        let c = q.coeffs();
+        assert!(&c[1] * &c[1] - &(&c[0] * &c[2]) * &Int::from(4) > Int::from(0));
+        let roots_above = |p: &UPoly, b: &Rat| {
+            let mut signs = Vec::new();
+            let mut pk = p.clone();
+            while !pk.is_zero() {
+                signs.push(pk.sign_at(b));
+                pk = pk.derivative();
+            }
+            assert!(signs.iter().all(|s| *s != 0));
+            signs.windows(2).filter(|s| s[0] * s[1] < 0).count()
+        };
+        assert_eq!(roots_above(&q, z), 2);
+        // Bisection for a point just above the larger zero of `q`.
+        let (mut lo, mut hi) = (z.clone(), z * &Rat::from(1i64 << 40));
+        assert_eq!(roots_above(&q, &hi), 0);
+        for _ in 0..200 {
+            let mid = (&lo + &hi) / Rat::from(2);
+            if roots_above(&q, &mid) == 0 {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        assert_eq!(roots_above(&d, &hi), 4);
     }
 
     #[test]
