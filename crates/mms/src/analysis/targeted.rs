@@ -1231,6 +1231,7 @@ impl Prover<'_> {
         let degree = self.den.degree(OMEGA);
         let (signatures, derivatives) = self.pencil_signatures(wanted);
         let params = self.params.clone();
+        let steps: Vec<i32> = (-24..=24).filter(|k| *k != 0).collect();
         for ((cancelled, mults), types) in &signatures {
             let size = mults.iter().sum::<u32>() as usize;
             if *cancelled > 0 || size < 2 {
@@ -1241,21 +1242,7 @@ impl Prover<'_> {
             }
             let mut sets = linear_sets(&[&self.num], &params, size - 1);
             sets.truncate(PENCIL_SETS);
-            let starts: Vec<(MultipleZeros, BTreeMap<String, Rat>)> = self
-                .witnesses
-                .iter()
-                .filter(|(t, _)| {
-                    t.resonances() == degree
-                        && root_signature(t, degree).as_ref() == Some(&(0, mults.clone()))
-                })
-                .filter_map(|(_, w)| {
-                    let n = self.num.subs_point(w);
-                    Some((root_coincidences(&n, &self.den.subs_point(w))?.1, w.clone()))
-                })
-                .filter(|(roots, _)| same_multiplicities(roots, mults))
-                .collect();
-            let steps: Vec<i32> = (-24..=24).filter(|k| *k != 0).collect();
-            'walk: for (roots, w) in starts {
+            'walk: for (roots, w) in self.walk_starts(mults, degree) {
                 let at: Vec<Rat> = roots.iter().map(|r| r.0.clone()).collect();
                 let moves: Vec<(MultipleZeros, Option<(String, Rat)>)> =
                     walk_moves(&at, &w, &params, &steps)
@@ -1300,18 +1287,8 @@ impl Prover<'_> {
             }
             let mut sets = linear_sets(&[&self.num], &params, size);
             sets.truncate(PENCIL_SETS);
-            let signature = Some((0, mults.clone()));
-            let starts: Vec<(MultipleZeros, BTreeMap<String, Rat>)> = self
-                .witnesses
-                .iter()
-                .filter(|(t, _)| root_signature(t, degree) == signature)
-                .filter_map(|(_, w)| {
-                    let n = self.num.subs_point(w);
-                    Some((root_coincidences(&n, &self.den.subs_point(w))?.1, w.clone()))
-                })
-                .filter(|(roots, _)| same_multiplicities(roots, mults))
-                .take(WALK_STARTS)
-                .collect();
+            let mut starts = self.walk_starts(mults, degree);
+            starts.truncate(WALK_STARTS);
             'walk: for (roots, w) in starts {
                 let at: Vec<Rat> = roots.iter().map(|r| r.0.clone()).collect();
                 for (at, moved) in walk_moves(&at, &w, &params, &steps) {
@@ -1324,20 +1301,30 @@ impl Prover<'_> {
                         if moved.as_ref().is_some_and(|(p, _)| vars.contains(p)) {
                             continue;
                         }
-                        let mut fixed: BTreeMap<String, Rat> = w
-                            .iter()
-                            .filter(|(p, _)| !vars.contains(p))
-                            .map(|(p, v)| (p.clone(), v.clone()))
-                            .collect();
-                        if let Some((p, v)) = &moved {
-                            fixed.insert(p.clone(), v.clone());
-                        }
+                        let fixed = kept_point(&w, moved.as_ref(), |p| !vars.contains(p));
                         self.solve_root_conditions(vars, fixed, &[], &multiple, &derivatives);
                     }
                 }
             }
         }
         self.witnessed(wanted)
+    }
+
+    /// The witnesses a walk starts from: those of types with the multiple
+    /// zeros `mults` and every pole, with their rational multiple zeros,
+    /// in the witnesses' order.
+    fn walk_starts(
+        &self,
+        mults: &[u32],
+        degree: u32,
+    ) -> Vec<(MultipleZeros, BTreeMap<String, Rat>)> {
+        let signature = Some((0, mults.to_vec()));
+        self.witnesses
+            .iter()
+            .filter(|(t, _)| root_signature(t, degree) == signature)
+            .filter_map(|(_, w)| Some((multiple_zeros(&self.num.subs_point(w))?, w.clone())))
+            .filter(|(roots, _)| same_multiplicities(roots, mults))
+            .collect()
     }
 
     /// One step of [`Self::variety_walk_search`] from the witness `w`: its
@@ -1356,14 +1343,7 @@ impl Prover<'_> {
         if moved.is_some_and(|(p, _)| vars.contains(p) || p == x) {
             return;
         }
-        let mut fixed: BTreeMap<String, Rat> = w
-            .iter()
-            .filter(|(p, _)| !vars.contains(p) && *p != x)
-            .map(|(p, v)| (p.clone(), v.clone()))
-            .collect();
-        if let Some((p, v)) = moved {
-            fixed.insert(p.clone(), v.clone());
-        }
+        let fixed = kept_point(w, moved, |p| !vars.contains(p) && p.as_str() != x);
         let equations = self.root_equations(&[], roots, derivatives);
         for point in pencil_points(&equations, vars, x, fixed) {
             self.record(point);
@@ -1832,30 +1812,42 @@ fn pencil_points(
 /// Multiple zeros, each with its multiplicity.
 type MultipleZeros = Vec<(Rat, u32)>;
 
-/// Of a numerator and denominator with rational coefficients in `Omega`:
-/// the positive rational cancelled poles (common zeros, simple in the
-/// numerator) and the positive rational multiple zeros of the numerator
-/// with their multiplicities, each in increasing order; `None` if they are
-/// not such polynomials or a cancelled pole is a multiple zero too.
-fn root_coincidences(num: &Poly, den: &Poly) -> Option<(Vec<Rat>, MultipleZeros)> {
-    let (_, n) = UPoly::from_poly(num, OMEGA)?;
-    let (_, d) = UPoly::from_poly(den, OMEGA)?;
-    let (mut cancel, mut multiple) = (Vec::new(), Vec::new());
-    for r in rational_roots(&n).into_iter().filter(|r| r.signum() > 0) {
+/// The positive rational multiple zeros of a numerator with rational
+/// coefficients in `Omega`, in increasing order, with their
+/// multiplicities; `None` if it is not such a polynomial.
+fn multiple_zeros(n: &Poly) -> Option<MultipleZeros> {
+    let (_, u) = UPoly::from_poly(n, OMEGA)?;
+    let mut out = Vec::new();
+    for r in rational_roots(&u).into_iter().filter(|r| r.signum() > 0) {
         let mut k = 0;
-        let mut nk = n.clone();
-        while !nk.is_zero() && nk.eval(&r).is_zero() {
+        let mut d = u.clone();
+        while !d.is_zero() && d.eval(&r).is_zero() {
             k += 1;
-            nk = nk.derivative();
+            d = d.derivative();
         }
-        match (d.eval(&r).is_zero(), k) {
-            (true, 1) => cancel.push(r),
-            (true, _) => return None,
-            (false, 1) => {}
-            (false, _) => multiple.push((r, k)),
+        if k > 1 {
+            out.push((r, k));
         }
     }
-    Some((cancel, multiple))
+    Some(out)
+}
+
+/// `w` without the parameters `keep` rejects, and with `moved` at its new
+/// value, if any: the fixed values of a walk's step.
+fn kept_point(
+    w: &BTreeMap<String, Rat>,
+    moved: Option<&(String, Rat)>,
+    keep: impl Fn(&String) -> bool,
+) -> BTreeMap<String, Rat> {
+    let mut fixed: BTreeMap<String, Rat> = w
+        .iter()
+        .filter(|(p, _)| keep(p))
+        .map(|(p, v)| (p.clone(), v.clone()))
+        .collect();
+    if let Some((p, v)) = moved {
+        fixed.insert(p.clone(), v.clone());
+    }
+    fixed
 }
 
 /// Whether `roots` have the multiplicities `mults`, in any order.
