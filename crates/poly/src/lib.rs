@@ -36,7 +36,7 @@ mod upoly;
 pub use crate::upoly::UPoly;
 mod matrix;
 pub use crate::matrix::{
-    adjugate, check_square, cofactor, det, det_bareiss, det_laplace, det_minors,
+    adjugate, check_square, cofactor, det, det_bareiss, det_laplace, det_minors, det_univariate,
     leading_principal_minors, mat_mul, minor, pivots, rank, try_adjugate, try_cofactor, try_det,
     MatrixError, LAPLACE_MAX, MINORS_AUTO_MAX, MINORS_MAX,
 };

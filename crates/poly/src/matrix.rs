@@ -18,7 +18,8 @@
 //!   0.1 s by minors against about a minute by Bareiss; a 10-mass chain
 //!   `C - Omega M`, 14 ms against 16 ms.)
 //! - [`det_laplace`]: plain recursive Laplace expansion along the first row,
-//!   `O(n!)`, an independent reference for tests.
+//!   `O(n!)`, an independent reference for tests;
+//! - [`det_univariate`]: Bareiss over `Z[x]` for matrices of [`UPoly`].
 //!
 //! The functions without a `try_` prefix panic on a non-square matrix (a
 //! programming error in `mms`); the `try_` variants return
@@ -26,6 +27,7 @@
 
 use crate::poly::Poly;
 use crate::rat::Rat;
+use crate::upoly::UPoly;
 use std::collections::BTreeMap;
 
 /// Error for malformed matrix arguments.
@@ -187,6 +189,74 @@ fn bareiss_unchecked(mut a: Vec<Vec<Poly>>, n: usize) -> Poly {
     } else {
         d
     }
+}
+
+/// Determinant of a square matrix of univariate integer polynomials
+/// ([`UPoly`], `Z[x]`), by Bareiss' fraction-free elimination with exact
+/// division in `Z[x]`. No rational number is formed, so the entries stay
+/// within the Hadamard bound of the minors; for small matrices whose
+/// entries are polynomials in one variable this is many times faster than
+/// [`det`] on the same entries as [`Poly`] with rational coefficients.
+/// Errors if `m` is not square.
+///
+/// ```
+/// use poly::{det_laplace, det_univariate, Poly, UPoly};
+/// // [[x, 2], [3, x + 1]]: x^2 + x - 6 = (x - 2)(x + 3).
+/// let m = vec![
+///     vec![UPoly::from_i64s(&[0, 1]), UPoly::from_i64s(&[2])],
+///     vec![UPoly::from_i64s(&[3]), UPoly::from_i64s(&[1, 1])],
+/// ];
+/// let d = det_univariate(&m).unwrap();
+/// assert_eq!(d, UPoly::from_i64s(&[-6, 1, 1]));
+/// // The same as the general determinant of the same matrix.
+/// let as_poly: Vec<Vec<Poly>> =
+///     m.iter().map(|r| r.iter().map(|u| u.to_poly("x")).collect()).collect();
+/// assert_eq!(d.to_poly("x"), det_laplace(&as_poly).unwrap());
+/// ```
+pub fn det_univariate(m: &[Vec<UPoly>]) -> Result<UPoly, MatrixError> {
+    let n = m.len();
+    for (row, r) in m.iter().enumerate() {
+        if r.len() != n {
+            return Err(MatrixError::NotSquare {
+                row,
+                len: r.len(),
+                expected: n,
+            });
+        }
+    }
+    if n == 0 {
+        return Ok(UPoly::one());
+    }
+    let mut a = m.to_vec();
+    let mut negate = false;
+    let mut prev = UPoly::one();
+    for k in 0..n {
+        // Pivot: the non-zero candidate of lowest degree (first on ties).
+        let Some(piv) = (k..n)
+            .filter(|&r| !a[r][k].is_zero())
+            .min_by_key(|&r| (a[r][k].degree(), r))
+        else {
+            return Ok(UPoly::zero());
+        };
+        if piv != k {
+            a.swap(piv, k);
+            negate = !negate;
+        }
+        let (top, rest) = a.split_at_mut(k + 1);
+        let pivot_row = &top[k];
+        for row in rest.iter_mut() {
+            let aik = std::mem::take(&mut row[k]);
+            for j in k + 1..n {
+                let num = &(&pivot_row[k] * &row[j]) - &(&aik * &pivot_row[j]);
+                row[j] = num
+                    .div_exact(&prev)
+                    .expect("Bareiss division is exact (Sylvester identity)");
+            }
+        }
+        prev = a[k][k].clone();
+    }
+    let d = a[n - 1][n - 1].clone();
+    Ok(if negate { -d } else { d })
 }
 
 /// Largest size for which [`det`] uses [`det_minors`] (larger matrices use
@@ -541,6 +611,56 @@ pub(crate) mod tests {
             }
         }
     }
+    /// Bareiss over `Z[x]` against Laplace's expansion of the same
+    /// matrices as polynomials over `Q`, a route that shares neither the
+    /// elimination nor the division; zero pivots and singular matrices
+    /// included (entries often zero, rows sometimes repeated).
+    #[test]
+    fn the_univariate_determinant_agrees_with_laplace() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |m: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % m) as i64
+        };
+        for n in 0..=5usize {
+            for trial in 0..30 {
+                let mut m: Vec<Vec<UPoly>> = (0..n)
+                    .map(|_| {
+                        (0..n)
+                            .map(|_| {
+                                if next(3) == 0 {
+                                    return UPoly::zero();
+                                }
+                                let deg = next(3) as usize;
+                                let c: Vec<i64> = (0..=deg).map(|_| next(41) - 20).collect();
+                                UPoly::from_i64s(&c)
+                            })
+                            .collect()
+                    })
+                    .collect();
+                if n > 1 && trial % 5 == 0 {
+                    m[n - 1] = m[0].clone();
+                }
+                let q: Vec<Vec<Poly>> = m
+                    .iter()
+                    .map(|r| r.iter().map(|u| u.to_poly("x")).collect())
+                    .collect();
+                let d = det_univariate(&m).unwrap();
+                assert_eq!(d.to_poly("x"), det_laplace(&q).unwrap(), "{m:?}");
+                if n > 1 && trial % 5 == 0 {
+                    assert!(d.is_zero());
+                }
+            }
+        }
+        let bad = vec![vec![UPoly::one(), UPoly::one()], vec![UPoly::one()]];
+        assert!(matches!(
+            det_univariate(&bad),
+            Err(MatrixError::NotSquare { row: 1, .. })
+        ));
+    }
+
     use super::*;
 
     fn p(s: &str) -> Poly {

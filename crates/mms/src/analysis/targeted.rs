@@ -1776,8 +1776,17 @@ fn pencil_points(
     {
         return Vec::new();
     }
-    let det = poly::det(&rows);
-    let Some((_, u)) = UPoly::from_poly(&det, x) else {
+    // Each row scaled to integer coefficients: the determinant changes by
+    // a non-zero factor only, so its roots stay; over Z[x] it is formed
+    // without the rational gcds that dominated this search's time.
+    let Some(rows) = rows
+        .iter()
+        .map(|row| integer_row(row, x))
+        .collect::<Option<Vec<Vec<UPoly>>>>()
+    else {
+        return Vec::new();
+    };
+    let Ok(u) = poly::det_univariate(&rows) else {
         return Vec::new();
     };
     let mut out = Vec::new();
@@ -1807,6 +1816,25 @@ fn pencil_points(
         }
     }
     out
+}
+
+/// The polynomials of `row`, in `x` alone, times one positive integer
+/// that clears every denominator; `None` if one has another variable.
+fn integer_row(row: &[Poly], x: &str) -> Option<Vec<UPoly>> {
+    let parts: Vec<(Rat, UPoly)> = row
+        .iter()
+        .map(|p| UPoly::from_poly(p, x))
+        .collect::<Option<_>>()?;
+    let mut den = Int::ONE;
+    for (c, _) in &parts {
+        den = den.lcm(c.denom());
+    }
+    Some(
+        parts
+            .iter()
+            .map(|(c, u)| u.scale(&(c.numer() * &den.div_exact(c.denom()))))
+            .collect(),
+    )
 }
 
 /// Multiple zeros, each with its multiplicity.
