@@ -72,7 +72,7 @@ pub enum MatrixError {
 /// let bad = vec![vec![Poly::int(1), Poly::int(2)], vec![Poly::int(3)]];
 /// assert!(matches!(check_square(&bad), Err(MatrixError::NotSquare { row: 1, .. })));
 /// ```
-pub fn check_square(m: &[Vec<Poly>]) -> Result<usize, MatrixError> {
+pub fn check_square<T>(m: &[Vec<T>]) -> Result<usize, MatrixError> {
     let n = m.len();
     for (row, r) in m.iter().enumerate() {
         if r.len() != n {
@@ -214,16 +214,7 @@ fn bareiss_unchecked(mut a: Vec<Vec<Poly>>, n: usize) -> Poly {
 /// assert_eq!(d.to_poly("x"), det_laplace(&as_poly).unwrap());
 /// ```
 pub fn det_univariate(m: &[Vec<UPoly>]) -> Result<UPoly, MatrixError> {
-    let n = m.len();
-    for (row, r) in m.iter().enumerate() {
-        if r.len() != n {
-            return Err(MatrixError::NotSquare {
-                row,
-                len: r.len(),
-                expected: n,
-            });
-        }
-    }
+    let n = check_square(m)?;
     if n == 0 {
         return Ok(UPoly::one());
     }
