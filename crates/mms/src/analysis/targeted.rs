@@ -2068,6 +2068,37 @@ mod tests {
     use super::*;
     use crate::Model;
 
+    /// The rows scaled to integers give the determinant over `Q` times a
+    /// positive constant (Laplace's expansion of the rational rows is the
+    /// other route), so the same rational roots; a row in another variable
+    /// is refused.
+    #[test]
+    fn integer_rows_keep_the_determinants_roots() {
+        let p = |s: &str| s.parse::<Poly>().unwrap();
+        let rows = vec![
+            vec![p("x/3 - 1/2"), p("2/7"), p("0")],
+            vec![p("5/4"), p("x - 3/5"), p("-1/6")],
+            vec![p("1"), p("0"), p("2*x/9 + 4/11")],
+        ];
+        let over_q = poly::det_laplace(&rows).unwrap();
+        let ints: Vec<Vec<UPoly>> = rows.iter().map(|r| integer_row(r, "x").unwrap()).collect();
+        let over_z = poly::det_univariate(&ints).unwrap().to_poly("x");
+        let (cq, uq) = UPoly::from_poly(&over_q, "x").unwrap();
+        let (cz, uz) = UPoly::from_poly(&over_z, "x").unwrap();
+        assert_eq!(uq, uz);
+        assert_eq!(cq.signum(), cz.signum());
+        assert_eq!(rational_roots(&uq), rational_roots(&uz));
+        // (x/3 - 1/2) * (5/4 - x): the roots 5/4 and 3/2, by hand.
+        let triangular = [vec![p("x/3 - 1/2"), p("2/7")], vec![p("0"), p("5/4 - x")]];
+        let ints: Vec<Vec<UPoly>> = triangular
+            .iter()
+            .map(|r| integer_row(r, "x").unwrap())
+            .collect();
+        let roots = rational_roots(&poly::det_univariate(&ints).unwrap());
+        assert_eq!(roots, vec!["5/4".parse().unwrap(), "3/2".parse().unwrap()]);
+        assert!(integer_row(&[p("x"), p("y")], "x").is_none());
+    }
+
     /// A parameter point written `"c1=25 m1=36 ..."`.
     fn point(text: &str) -> BTreeMap<String, Rat> {
         text.split_whitespace()
