@@ -1761,27 +1761,17 @@ fn pencil_points(
         return Vec::new();
     }
     let at_zero: BTreeMap<String, Rat> = vars.iter().map(|v| (v.clone(), Rat::ZERO)).collect();
-    let rows: Vec<Vec<Poly>> = equations
+    // Each row scaled to integer coefficients: the determinant changes by
+    // a non-zero factor only, so its roots stay; over Z[x] it is formed
+    // without the rational gcds that dominated this search's time. A row
+    // in another variable than `x` leaves no pencil in `x`.
+    let Some(rows) = equations
         .iter()
         .map(|e| {
             let mut row: Vec<Poly> = vars.iter().map(|v| e.derivative(v)).collect();
             row.push(e.subs_point(&at_zero));
-            row
+            integer_row(&row, x)
         })
-        .collect();
-    if rows
-        .iter()
-        .flatten()
-        .any(|p| p.vars().iter().any(|v| v != x))
-    {
-        return Vec::new();
-    }
-    // Each row scaled to integer coefficients: the determinant changes by
-    // a non-zero factor only, so its roots stay; over Z[x] it is formed
-    // without the rational gcds that dominated this search's time.
-    let Some(rows) = rows
-        .iter()
-        .map(|row| integer_row(row, x))
         .collect::<Option<Vec<Vec<UPoly>>>>()
     else {
         return Vec::new();
