@@ -59,3 +59,5 @@ mod homog;
 pub use crate::factor::{factor, Factorization};
 mod sqfree;
 pub use crate::sqfree::{is_square_free, square_free, square_free_part};
+mod numfield;
+pub use crate::numfield::{FieldElem, FieldError, FieldPoly, RealField};
