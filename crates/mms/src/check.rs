@@ -33,7 +33,14 @@
 //!    the type at `s = 1` shows met there (a simple pair gone off the
 //!    axis, or a simple zero and the double zero swapped), the same for
 //!    every such pair; for a pair, the first principal subresultant
-//!    coefficient of `m` and `m'` is not zero at the meeting;
+//!    coefficient of `m` and `m'` is not zero at the meeting; or its
+//!    algebraic witness ([`crate::analysis::AlgebraicWitness`]): the field
+//!    is rebuilt (the defining polynomial irreducible over Q, one root in
+//!    the interval), every parameter is positive at `theta`, the claimed
+//!    cancelled poles and multiple zeros divide the transfer function
+//!    exactly and are no roots of what remains, and the rest's positive
+//!    roots, isolated together by Descartes' rule over the field, are
+//!    simple, hold every pole, and give the type with the posed roots;
 //! 3. every *impossible* type: its certificate, a tree of proofs over
 //!    strata (see [`crate::analysis::Proof`] for the format): the stratum's
 //!    substitutions, the coverage of its critical polynomials (leading
@@ -87,8 +94,8 @@
 use crate::model::{Model, Port};
 use crate::table::{AnalysisTable, TableError};
 use poly::{
-    adjugate, count_roots_in, det, gcd, interleave_roots, psc, square_free, sylvester_matrix, Int,
-    Poly, Rat, UPoly,
+    adjugate, count_roots_in, det, gcd, interleave_roots, psc, square_free, sylvester_matrix,
+    FieldElem, FieldPoly, Int, Poly, Rat, RealField, UPoly,
 };
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
@@ -97,6 +104,8 @@ use std::rc::Rc;
 
 /// The frequency variable `Omega = omega^2` of the undamped transfer function.
 const OMEGA: &str = "Omega";
+/// The generator of an algebraic witness's field, as the table names it.
+const THETA: &str = "theta";
 
 /// Deepest nesting of `completed_square` definiteness arguments accepted.
 const MAX_DEFINITENESS_DEPTH: usize = 16;
@@ -548,6 +557,14 @@ fn bool_field(v: &Value, key: &str, path: &str) -> Result<bool, String> {
     field(v, key, path)?
         .as_bool()
         .ok_or_else(|| format!("{path}.{key}: expected true or false"))
+}
+
+fn rat_value(v: &Value, path: &str) -> Result<Rat, String> {
+    let s = v
+        .as_str()
+        .ok_or_else(|| format!("{path}: expected a rational as a string"))?;
+    s.parse::<Rat>()
+        .map_err(|e| format!("{path}: not a rational ({e}): {s:?}"))
 }
 
 fn poly_value(v: &Value, path: &str) -> Result<Poly, String> {
@@ -1409,9 +1426,15 @@ fn classify(num: &Poly, den: &Poly, point: &BTreeMap<String, Rat>) -> Result<Ty,
     let d = d
         .div_exact(&g)
         .ok_or("the gcd does not divide the denominator")?;
+    read_type(&interleave_roots(&[n.clone(), d]), n.degree().unwrap_or(0))
+}
+
+/// The type of a reduced TF from its numerator's and denominator's
+/// interleaved roots, `zeros` the numerator's degree.
+fn read_type(roots: &[poly::SharedRoot], zeros: usize) -> Result<Ty, String> {
     let mut toks = Vec::new();
     let mut positive_zeros = 0u32;
-    for r in interleave_roots(&[n.clone(), d.clone()]) {
+    for r in roots {
         if !r.is_positive() {
             continue;
         }
@@ -1431,8 +1454,165 @@ fn classify(num: &Poly, den: &Poly, point: &BTreeMap<String, Rat>) -> Result<Ty,
             _ => return Err("a root shared by the reduced numerator and denominator".into()),
         }
     }
-    let nm = n.degree().unwrap_or(0) as u64 > positive_zeros as u64;
+    let nm = zeros as u64 > positive_zeros as u64;
     Ok(Ty { toks, nm })
+}
+
+/// The type at a point over a real number field whose transfer function
+/// has the claimed cancelled poles and multiple zeros: each divided out
+/// exactly, then the rests' positive roots isolated together by Descartes'
+/// rule over the field, every one simple (so the rests share none), every
+/// pole among them, and no claimed root a root of the rests.
+fn classify_posed(
+    nf: &RealField,
+    num: &Poly,
+    den: &Poly,
+    point: &BTreeMap<String, FieldElem>,
+    cancelled: &[Rat],
+    multiple: &[(Rat, u32)],
+) -> Result<Ty, String> {
+    let at = |p: &Poly, what: &str| -> Result<FieldPoly, String> {
+        let u = nf
+            .univariate(p, OMEGA, point)
+            .map_err(|v| format!("the {what} still depends on {v}"))?;
+        if u.is_zero() {
+            return Err(format!("the {what} vanishes identically at the point"));
+        }
+        Ok(u)
+    };
+    let mut n = at(num, "numerator")?;
+    let mut d = at(den, "denominator")?;
+    let linear = |r: &Rat| FieldPoly::new(vec![nf.from_rat(&-r), nf.one()]);
+    for r in cancelled {
+        n = nf
+            .poly_div_exact(&n, &linear(r))
+            .ok_or_else(|| format!("the cancelled pole {r} is no root of the numerator"))?;
+        d = nf
+            .poly_div_exact(&d, &linear(r))
+            .ok_or_else(|| format!("the cancelled pole {r} is no root of the denominator"))?;
+    }
+    for (r, k) in multiple {
+        for _ in 0..*k {
+            n = nf
+                .poly_div_exact(&n, &linear(r))
+                .ok_or_else(|| format!("{r} is no zero of multiplicity {k}"))?;
+        }
+    }
+    for r in cancelled {
+        if nf.sign_at(&d, r) == 0 {
+            return Err(format!("the cancelled pole {r} is a multiple pole"));
+        }
+    }
+    for (r, k) in multiple {
+        if nf.sign_at(&n, r) == 0 {
+            return Err(format!("the zero at {r} has a multiplicity above {k}"));
+        }
+        if nf.sign_at(&d, r) == 0 {
+            return Err(format!("the zero at {r} is also a pole"));
+        }
+    }
+    let product = nf.poly_mul(&n, &d);
+    let roots = nf
+        .positive_simple_roots(&product)
+        .ok_or("the positive roots of the rest are not all simple")?;
+    // (lower end, upper end, token); the multiple zeros are points.
+    let mut found: Vec<(Rat, Rat, Tok)> = Vec::new();
+    let mut rest_zeros = 0usize;
+    for (lo, hi) in roots {
+        let zero = if lo == hi {
+            nf.sign_at(&n, &lo) == 0
+        } else {
+            nf.sign_at(&n, &lo) != nf.sign_at(&n, &hi)
+        };
+        rest_zeros += usize::from(zero);
+        found.push((lo, hi, Tok { zero, mult: 1 }));
+    }
+    let poles = found.iter().filter(|f| !f.2.zero).count();
+    if poles != d.degree().unwrap_or(0) {
+        return Err("a pole of the reduced transfer function is not positive real".into());
+    }
+    for (r, k) in multiple {
+        for f in found.iter_mut().filter(|f| &f.0 < r && r < &f.1) {
+            let left = nf.sign_at(&product, &f.0) != nf.sign_at(&product, r);
+            if left {
+                f.1 = r.clone();
+            } else {
+                f.0 = r.clone();
+            }
+        }
+        found.push((
+            r.clone(),
+            r.clone(),
+            Tok {
+                zero: true,
+                mult: *k,
+            },
+        ));
+    }
+    found.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
+    Ok(Ty {
+        toks: found.into_iter().map(|f| f.2).collect(),
+        nm: n.degree().unwrap_or(0) > rest_zeros,
+    })
+}
+
+/// The field and the point of an algebraic witness: `minimal` an
+/// irreducible polynomial in `theta` with one root in `interval`, and a
+/// polynomial in `theta` for exactly `params`, each positive at `theta`.
+fn parse_algebraic_point(
+    v: &Value,
+    params: &[String],
+) -> Result<(RealField, BTreeMap<String, FieldElem>), String> {
+    const PATH: &str = "algebraic";
+    let minimal = poly_field(v, "minimal", PATH)?;
+    if minimal.vars().iter().any(|x| x != THETA) {
+        return Err(format!(
+            "{PATH}.minimal: a polynomial in {THETA} alone is expected"
+        ));
+    }
+    let (_, minimal) = UPoly::from_poly(&minimal, THETA)
+        .ok_or_else(|| format!("{PATH}.minimal: not a polynomial in {THETA}"))?;
+    let ends = arr_field(v, "interval", PATH)?;
+    let end = |i: usize| -> Result<Rat, String> {
+        ends.get(i)
+            .and_then(Value::as_str)
+            .ok_or_else(|| format!("{PATH}.interval: expected two rationals as strings"))?
+            .parse()
+            .map_err(|e| format!("{PATH}.interval[{i}]: {e}"))
+    };
+    if ends.len() != 2 {
+        return Err(format!(
+            "{PATH}.interval: expected two rationals as strings"
+        ));
+    }
+    let nf = RealField::new(minimal, end(0)?, end(1)?).map_err(|e| format!("{PATH}: {e}"))?;
+    let obj = field(v, "parameters", PATH)?.as_object().ok_or_else(|| {
+        format!("{PATH}.parameters: expected an object of polynomials in {THETA}")
+    })?;
+    let mut point = BTreeMap::new();
+    for (k, x) in obj {
+        if !params.contains(k) {
+            return Err(format!(
+                "{PATH}.parameters: {k} is not an undamped parameter of the model"
+            ));
+        }
+        let p = poly_value(x, &format!("{PATH}.parameters.{k}"))?;
+        let e = nf.element_of(&p, THETA).ok_or_else(|| {
+            format!("{PATH}.parameters.{k}: a polynomial in {THETA} alone is expected")
+        })?;
+        if nf.sign(&e) <= 0 {
+            return Err(format!(
+                "{PATH}.parameters: {k} = {p} is not positive at {THETA}"
+            ));
+        }
+        point.insert(k.clone(), e);
+    }
+    for p in params {
+        if !point.contains_key(p) {
+            return Err(format!("{PATH}.parameters: no value for {p}"));
+        }
+    }
+    Ok((nf, point))
 }
 
 /// A point assigning a positive rational to exactly `params`.
@@ -1733,9 +1913,10 @@ fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, 
         let t = Ty::parse(name).map_err(type_err)?;
         match str_field(verdict, "status", &vpath).map_err(type_err)? {
             "possible" => {
-                match verdict.get("path") {
-                    Some(p) => checker.check_path(p, &t).map_err(type_err)?,
-                    None => {
+                match (verdict.get("path"), verdict.get("algebraic")) {
+                    (Some(p), _) => checker.check_path(p, &t).map_err(type_err)?,
+                    (None, Some(a)) => checker.check_algebraic(a, &t).map_err(type_err)?,
+                    (None, None) => {
                         let w = field(verdict, "witness", &vpath).map_err(type_err)?;
                         checker.check_witness(w, &t).map_err(type_err)?;
                     }
@@ -1912,6 +2093,48 @@ impl ModelChecker {
         let got = classify(&self.num, &self.den, &point).map_err(|e| format!("witness: {e}"))?;
         if &got != t {
             return Err(format!("witness: the type there is {got}, not {t}"));
+        }
+        Ok(())
+    }
+
+    /// A point over a real number field: see the module docs, item 2.
+    fn check_algebraic(&self, v: &Value, t: &Ty) -> Result<(), String> {
+        let (nf, point) = parse_algebraic_point(v, &self.params)?;
+        let cancelled: Vec<Rat> = match v.get("cancelled") {
+            None => Vec::new(),
+            Some(c) => c
+                .as_array()
+                .ok_or("algebraic.cancelled: expected an array of rationals")?
+                .iter()
+                .enumerate()
+                .map(|(i, r)| rat_value(r, &format!("algebraic.cancelled[{i}]")))
+                .collect::<Result<_, _>>()?,
+        };
+        let multiple: Vec<(Rat, u32)> = match v.get("multiple") {
+            None => Vec::new(),
+            Some(m) => m
+                .as_array()
+                .ok_or("algebraic.multiple: expected an array of [place, multiplicity]")?
+                .iter()
+                .enumerate()
+                .map(|(i, e)| {
+                    let path = format!("algebraic.multiple[{i}]");
+                    let pair = e
+                        .as_array()
+                        .filter(|a| a.len() == 2)
+                        .ok_or_else(|| format!("{path}: expected [place, multiplicity]"))?;
+                    let k = pair[1]
+                        .as_u64()
+                        .filter(|k| (2..=64).contains(k))
+                        .ok_or_else(|| format!("{path}: a multiplicity from 2 to 64 expected"))?;
+                    Ok((rat_value(&pair[0], &path)?, k as u32))
+                })
+                .collect::<Result<_, String>>()?,
+        };
+        let got = classify_posed(&nf, &self.num, &self.den, &point, &cancelled, &multiple)
+            .map_err(|e| format!("algebraic: {e}"))?;
+        if &got != t {
+            return Err(format!("algebraic: the type there is {got}, not {t}"));
         }
         Ok(())
     }

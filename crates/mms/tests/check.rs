@@ -213,6 +213,80 @@ fn wrong_witness_is_rejected() {
     assert!(e.to_string().contains("is not positive"), "{e}");
 }
 
+/// A2's type R at a point over Q(sqrt 2): c12 = m1 = sqrt 2, the rest 1,
+/// where the zero c23/m3 = 1 is a pole too (the wall c12*m3 = c23*m1).
+fn a2_algebraic_r() -> Value {
+    json!({
+        "minimal": "theta^2 - 2",
+        "interval": ["1", "2"],
+        "parameters": {"c12": "theta", "m1": "theta", "m2": "1", "c23": "1", "m3": "1"},
+        "cancelled": ["1"],
+    })
+}
+
+/// The paper file with A2's verdict on `t` replaced by an algebraic
+/// witness `w`, checked.
+fn with_algebraic(t: &str, w: Value) -> Result<CheckReport, CheckError> {
+    let mut v = paper_file().clone();
+    let verdict = v.pointer_mut(&verdict_ptr("A2", t)).unwrap();
+    let o = verdict.as_object_mut().unwrap();
+    o.remove("witness");
+    o.insert("algebraic".into(), w);
+    check(&v)
+}
+
+#[test]
+fn algebraic_witnesses_are_checked_over_their_field() {
+    // Accepted: the cancellation at 1 with the rest's poles read by exact
+    // signs over Q(sqrt 2).
+    with_algebraic("R", a2_algebraic_r()).unwrap_or_else(|e| panic!("{e}"));
+    // Also with nothing posed: RAR at m3 = sqrt 2 (the zero 72/sqrt 2,
+    // between the poles; the rational witness has m3 = 9/8).
+    let rar = json!({
+        "minimal": "theta^2 - 2", "interval": ["1", "2"],
+        "parameters": {"c12": "88", "c23": "72", "m1": "2", "m2": "32", "m3": "theta"},
+    });
+    with_algebraic("RAR", rar.clone()).unwrap_or_else(|e| panic!("{e}"));
+    let refused = |t: &str, w: Value, what: &str| {
+        let e = with_algebraic(t, w).expect_err(what);
+        let (model, ty, step) = type_step(&e);
+        assert_eq!((model, ty), ("A2", t));
+        assert!(step.starts_with("algebraic"), "{what}: {e}");
+        step.to_string()
+    };
+    // The same point claimed for another type.
+    let step = refused("ARR", rar.clone(), "another type");
+    assert!(step.contains("the type there is RAR"), "{step}");
+    // m1 off the wall: the posed pole no longer cancels.
+    let mut off = a2_algebraic_r();
+    off["parameters"]["m1"] = "theta + 1/10".into();
+    let step = refused("R", off, "off the wall");
+    assert!(step.contains("no root of the denominator"), "{step}");
+    // A cancellation claimed where there is none.
+    let mut elsewhere = a2_algebraic_r();
+    elsewhere["cancelled"] = json!(["2"]);
+    refused("R", elsewhere, "a cancellation elsewhere");
+    // A multiplicity that is not there.
+    let mut double = rar.clone();
+    double["multiple"] = json!([["72/100", 2]]);
+    refused("RAR", double, "a double zero that is not there");
+    // An interval without the root, a reducible polynomial, a parameter
+    // not positive at theta.
+    let mut no_root = a2_algebraic_r();
+    no_root["interval"] = json!(["2", "3"]);
+    let step = refused("R", no_root, "no root in the interval");
+    assert!(step.contains("does not isolate"), "{step}");
+    let mut reducible = a2_algebraic_r();
+    reducible["minimal"] = "theta^2 - 4".into();
+    reducible["interval"] = json!(["1", "3"]);
+    let step = refused("R", reducible, "reducible");
+    assert!(step.contains("not irreducible"), "{step}");
+    let mut negative = rar;
+    negative["parameters"]["m2"] = "1 - theta".into();
+    let step = refused("RAR", negative, "a negative mass");
+    assert!(step.contains("not positive"), "{step}");
+}
+
 #[test]
 fn flipped_multiplier_is_rejected() {
     let ptr = first_open("sign_conditions");

@@ -715,11 +715,6 @@ impl Prover<'_> {
         p
     }
 
-    /// True when `t` has a witness or a path.
-    fn shown(&self, t: &FrfType) -> bool {
-        self.witnesses.contains_key(t) || self.paths.contains_key(t)
-    }
-
     /// The number of poles of the reduced transfer function (its positive
     /// roots: the orthant's denominator without its roots at `Omega = 0`).
     fn kept_poles(&mut self) -> u32 {

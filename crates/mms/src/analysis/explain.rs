@@ -152,6 +152,43 @@ pub fn explain(analysis: &ModelAnalysis, t: &FrfType, format: ExplainFormat) -> 
         analysis.sensor[1],
     ));
     match v.status {
+        Status::Possible if v.algebraic.is_some() => {
+            let a = v.algebraic.as_ref()?;
+            let (k, point) = a.field_point()?;
+            let [lo, hi] = &a.interval;
+            let coords: Vec<String> = point
+                .iter()
+                .map(|(name, x)| {
+                    let text = w.poly(&a.parameters[name]);
+                    match x.as_rat() {
+                        Some(_) => format!("{name} = {text}"),
+                        None => format!("{name} = {text} (about {:.6})", k.to_f64(x)),
+                    }
+                })
+                .collect();
+            w.para(&format!(
+                "Verdict: **possible**. Witness (exact) over the real number field Q(theta), theta the root of {} in [{lo}, {hi}] (about {:.9}): {}.",
+                w.poly(&a.minimal),
+                k.theta_f64(),
+                coords.join(", ")
+            ));
+            let mut posed: Vec<String> = a
+                .cancelled
+                .iter()
+                .map(|r| format!("a pole cancelled at Omega = {r}"))
+                .collect();
+            posed.extend(
+                a.multiple
+                    .iter()
+                    .map(|(r, m)| format!("a zero of multiplicity {m} at Omega = {r}")),
+            );
+            if !posed.is_empty() {
+                w.para(&format!(
+                    "The point solves the root conditions of {} exactly; these roots divide out of num and den over the field, and every positive root of what remains is simple and isolated by Descartes' rule with exact signs in the field.",
+                    posed.join(" and ")
+                ));
+            }
+        }
         Status::Possible if v.witness.is_none() => {
             let path = v.path.as_ref()?;
             let (split, gone, event) =

@@ -2,7 +2,7 @@
 //! undamped transfer function, and the exact classification of a TF at a
 //! rational parameter point.
 
-use poly::{interleave_roots, Poly, Rat, UPoly};
+use poly::{interleave_roots, FieldElem, FieldPoly, Poly, Rat, RealField, SharedRoot, UPoly};
 use std::collections::BTreeMap;
 use std::fmt;
 use std::str::FromStr;
@@ -242,6 +242,12 @@ pub fn frf_type_of(num: &UPoly, den: &UPoly) -> Option<FrfType> {
     let n = num.div_exact(&g)?;
     let d = den.div_exact(&g)?;
     let roots = interleave_roots(&[n.clone(), d.clone()]);
+    Some(type_of_roots(&roots, n.degree().unwrap_or(0)))
+}
+
+/// The type read off the interleaved roots of a reduced `num/den` (no
+/// root shared), `zeros` the degree of the reduced numerator.
+fn type_of_roots(roots: &[SharedRoot], zeros: usize) -> FrfType {
     let mut tokens = Vec::new();
     let mut positive_zeros = 0usize;
     for r in roots.iter().filter(|r| r.is_positive()) {
@@ -257,11 +263,53 @@ pub fn frf_type_of(num: &UPoly, den: &UPoly) -> Option<FrfType> {
             multiplicity,
         });
     }
-    let nonminimum_phase = n.degree().unwrap_or(0) > positive_zeros;
-    Some(FrfType {
+    let nonminimum_phase = zeros > positive_zeros;
+    FrfType {
         tokens,
         nonminimum_phase,
-    })
+    }
+}
+
+/// The FRF type of `num/den` at a point whose coordinates lie in the real
+/// number field `field` (see [`frf_type_at`]): substitute, cancel the
+/// common factor over the field, isolate the real roots exactly and read
+/// off the order. `None` when the point leaves a parameter unset or makes
+/// `num` or `den` vanish identically.
+///
+/// ```
+/// use mms::analysis::frf_type_at_algebraic;
+/// use poly::{Poly, RealField, UPoly};
+/// use std::collections::BTreeMap;
+/// // m3 = sqrt(2): the zero c23/m3 = sqrt(2) between the poles 1 and 3.
+/// let k = &RealField::real_roots_of(&UPoly::from_i64s(&[-2, 0, 1]))[1];
+/// let num: Poly = "c23 - m3*Omega".parse().unwrap();
+/// let den: Poly = "(Omega - 1)*(Omega - 3)".parse().unwrap();
+/// let p = BTreeMap::from([("c23".into(), k.from_rat(&2.into())), ("m3".into(), k.generator())]);
+/// assert_eq!(frf_type_at_algebraic(&num, &den, "Omega", k, &p).unwrap().to_string(), "RAR");
+/// ```
+pub fn frf_type_at_algebraic(
+    num: &Poly,
+    den: &Poly,
+    var: &str,
+    field: &RealField,
+    point: &BTreeMap<String, FieldElem>,
+) -> Option<FrfType> {
+    let n = field.univariate(num, var, point).ok()?;
+    let d = field.univariate(den, var, point).ok()?;
+    frf_type_over(field, &n, &d)
+}
+
+/// The FRF type of a univariate `num/den` over a real number field (see
+/// [`frf_type_at_algebraic`]).
+pub fn frf_type_over(field: &RealField, num: &FieldPoly, den: &FieldPoly) -> Option<FrfType> {
+    if num.is_zero() || den.is_zero() {
+        return None;
+    }
+    let g = field.poly_gcd(num, den);
+    let n = field.poly_div_exact(num, &g)?;
+    let d = field.poly_div_exact(den, &g)?;
+    let roots = field.interleave_roots(&[n.clone(), d]);
+    Some(type_of_roots(&roots, n.degree().unwrap_or(0)))
 }
 
 /// Every FRF type a TF with a numerator of degree `a` and a denominator of

@@ -22,6 +22,7 @@
 //! # Ok::<(), mms::ModelError>(())
 //! ```
 
+mod algebraic;
 mod cancellations;
 mod configurations;
 mod continuity;
@@ -37,7 +38,8 @@ mod walls;
 pub use continuity::PATH_VARIABLE;
 pub use explain::{explain, ExplainFormat};
 pub use frf_type::{
-    candidate_types, frf_type_at, frf_type_of, Feature, FrfType, ParseFrfTypeError, Token,
+    candidate_types, frf_type_at, frf_type_at_algebraic, frf_type_of, frf_type_over, Feature,
+    FrfType, ParseFrfTypeError, Token,
 };
 pub use pole_signs::{BlockPoleSigns, BlockSign, PoleSigns, RemainderFactor};
 pub use prover::{
@@ -82,6 +84,84 @@ pub struct TypeVerdict {
     /// without a witness point).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub path: Option<MergePath>,
+    /// A point with algebraic coordinates where the type shows (possible
+    /// types with neither a rational witness nor a path).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub algebraic: Option<AlgebraicWitness>,
+}
+
+/// The name of the generator `theta` of an [`AlgebraicWitness`]'s field.
+pub const FIELD_GENERATOR: &str = "theta";
+
+/// A witness point whose coordinates lie in a real number field
+/// `Q(theta)`, where a root coincidence (a cancelled pole, a multiple
+/// zero) has no rational point nearby that one can pose: `theta` is the
+/// one root of the irreducible `minimal` in `interval`, and every
+/// parameter a polynomial in `theta` with rational coefficients, positive
+/// at `theta`. `mms check` rebuilds the field, re-derives the transfer
+/// function at the point over it and reads the type with exact signs.
+///
+/// ```
+/// use mms::analysis::AlgebraicWitness;
+/// let w: AlgebraicWitness = serde_json::from_str(
+///     r#"{"minimal": "theta^2 - 2", "interval": ["1", "2"], "parameters": {"m1": "theta + 1", "c1": "3/2"}}"#,
+/// ).unwrap();
+/// let (k, point) = w.field_point().unwrap();
+/// assert!((k.to_f64(&point["m1"]) - 2.414213562373095).abs() < 1e-12);
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AlgebraicWitness {
+    /// The defining polynomial of `theta`, in [`FIELD_GENERATOR`].
+    pub minimal: Poly,
+    /// An isolating interval of `theta`.
+    pub interval: [Rat; 2],
+    /// Each parameter as a polynomial in `theta`.
+    pub parameters: BTreeMap<String, Poly>,
+    /// The cancelled poles posed: each a root of the numerator and the
+    /// denominator at the point.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cancelled: Vec<Rat>,
+    /// The multiple zeros posed, with their multiplicities.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub multiple: Vec<(Rat, u32)>,
+}
+
+impl AlgebraicWitness {
+    /// The witness of `point` in `field`, with its posed cancelled poles
+    /// and multiple zeros.
+    pub fn new(
+        field: &poly::RealField,
+        point: &BTreeMap<String, poly::FieldElem>,
+        cancelled: &[Rat],
+        multiple: &[(Rat, u32)],
+    ) -> Self {
+        let (lo, hi) = field.isolating_interval();
+        AlgebraicWitness {
+            cancelled: cancelled.to_vec(),
+            multiple: multiple.to_vec(),
+            minimal: field.minimal().to_poly(FIELD_GENERATOR),
+            interval: [lo, hi],
+            parameters: point
+                .iter()
+                .map(|(k, v)| (k.clone(), field.to_poly(v, FIELD_GENERATOR)))
+                .collect(),
+        }
+    }
+
+    /// The field and the point over it; `None` if `minimal` is not an
+    /// irreducible polynomial in `theta` isolated by `interval`, or a
+    /// coordinate has another variable.
+    pub fn field_point(&self) -> Option<(poly::RealField, BTreeMap<String, poly::FieldElem>)> {
+        let (_, u) = poly::UPoly::from_poly(&self.minimal, FIELD_GENERATOR)?;
+        let [lo, hi] = self.interval.clone();
+        let field = poly::RealField::new(u, lo, hi).ok()?;
+        let point = self
+            .parameters
+            .iter()
+            .map(|(k, p)| Some((k.clone(), field.element_of(p, FIELD_GENERATOR)?)))
+            .collect::<Option<_>>()?;
+        Some((field, point))
+    }
 }
 
 /// A double or triple zero shown by continuity instead of at a rational
@@ -273,7 +353,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 28;
+pub const ENGINE_VERSION: u32 = 29;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
@@ -362,13 +442,74 @@ pub fn analysis_source(model: &Model) -> Model {
 
 /// The analysis of a model that is its own [`analysis_source`].
 fn analyze_source(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
-    let own = analyze_alone(model, limits);
+    let own = analyze_rational(model, limits);
     let mirror = model.mirrored();
+    let own = if mirror == *model || own.unknown().is_empty() {
+        own
+    } else {
+        let other = mirror_witnesses(&mirror, &own, limits);
+        completed(own, &other)
+    };
+    let own = algebraic_completion(model, own);
     if mirror == *model || own.unknown().is_empty() {
         return own;
     }
-    let other = mirror_witnesses(&mirror, &own, limits);
-    completed(own, &other)
+    // The mirror's draws go by its own parameter names, so they fall
+    // elsewhere.
+    let there = algebraic_completion(&mirror, own.mirrored(model));
+    let back = rename::Renaming::mirror(&mirror);
+    let found: Vec<TypeVerdict> = there
+        .types
+        .iter()
+        .filter(|v| v.algebraic.is_some())
+        .map(|v| back.verdict(v))
+        .collect();
+    completed(own, &found)
+}
+
+/// `a` (an analysis of `model`) with the types it leaves unknown searched
+/// at points over real number fields ([`Prover::algebraic_search`]),
+/// from its witnesses: last, after every search over the rationals, so
+/// that a type keeps a rational witness wherever one was found.
+fn algebraic_completion(model: &Model, a: ModelAnalysis) -> ModelAnalysis {
+    let open: Vec<FrfType> = a.unknown().into_iter().cloned().collect();
+    if open.is_empty() {
+        return a;
+    }
+    let tf = model.undamped_tf();
+    let mut prover = Prover::new(model, tf.num.clone(), tf.den.clone());
+    for v in &a.types {
+        if let Some(w) = &v.witness {
+            prover.witnesses.insert(v.frf_type.clone(), w.clone());
+        }
+        if let Some(p) = &v.path {
+            prover.paths.insert(v.frf_type.clone(), p.clone());
+        }
+        if let Some(w) = &v.algebraic {
+            prover.algebraic.insert(v.frf_type.clone(), w.clone());
+        }
+    }
+    prover.algebraic_search(&open, ALGEBRAIC_SEED);
+    let found: Vec<TypeVerdict> = open
+        .iter()
+        .filter_map(|t| {
+            // A field of degree one is a rational point.
+            let witness = prover.witnesses.get(t).cloned();
+            let algebraic = match witness {
+                Some(_) => None,
+                None => Some(prover.algebraic.get(t)?.clone()),
+            };
+            Some(TypeVerdict {
+                frf_type: t.clone(),
+                status: Status::Possible,
+                witness,
+                certificate: None,
+                path: None,
+                algebraic,
+            })
+        })
+        .collect();
+    completed(a, &found)
 }
 
 /// The witness searches of `mirror` (the other member of the class of
@@ -412,6 +553,7 @@ fn mirror_witnesses(
                 witness,
                 certificate: None,
                 path,
+                algebraic: None,
             }))
         })
         .collect()
@@ -464,6 +606,9 @@ fn search_unknown(prover: &mut Prover, unknown: &[FrfType], limits: &SearchLimit
         + prover.root_walk_search(unknown)
 }
 
+/// The seed of [`Prover::algebraic_search`]'s draws.
+const ALGEBRAIC_SEED: u64 = 0xA16E_B2A1;
+
 /// Possible types first, then unknown ones, then impossible ones.
 fn status_rank(s: Status) -> u8 {
     match s {
@@ -477,6 +622,11 @@ fn status_rank(s: Status) -> u8 {
 /// verdicts may then depend on which member of a class is analysed (the
 /// search's samples and walls are in the member's own parameters).
 pub fn analyze_alone(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
+    algebraic_completion(model, analyze_rational(model, limits))
+}
+
+/// [`analyze_alone`] without the search over number fields.
+fn analyze_rational(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
     let tf = model.undamped_tf();
     let mut prover = Prover::new(model, tf.num.clone(), tf.den.clone());
     prover.search(limits);
@@ -511,6 +661,7 @@ pub fn analyze_alone(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
                 None
             },
             path: None,
+            algebraic: None,
         });
     }
     // Rare generic types: a targeted search, then the verdicts it changes.

@@ -676,6 +676,8 @@ pub(crate) struct Prover<'a> {
     pub witnesses: BTreeMap<FrfType, BTreeMap<String, Rat>>,
     /// Types shown by continuity, with their paths.
     pub paths: BTreeMap<FrfType, super::MergePath>,
+    /// Types shown at points over a real number field.
+    pub algebraic: BTreeMap<FrfType, super::AlgebraicWitness>,
     memo: HashMap<(String, String), Option<Proof>>,
     /// The pole-sign premise, worked out when a stratum proof first fails
     /// (outer `None`: not yet; most models never need it).
@@ -775,6 +777,7 @@ impl<'a> Prover<'a> {
             strata: HashMap::new(),
             witnesses: BTreeMap::new(),
             paths: BTreeMap::new(),
+            algebraic: BTreeMap::new(),
             memo: HashMap::new(),
             pole_signs: None,
             block_pole_signs: None,
@@ -812,6 +815,14 @@ impl<'a> Prover<'a> {
     /// The type of the model at a full parameter point.
     pub(crate) fn type_at(&self, point: &BTreeMap<String, Rat>) -> Option<FrfType> {
         frf_type_at(&self.num, &self.den, OMEGA, point)
+    }
+
+    /// True when `t` has a witness of any kind: a rational point, a path,
+    /// or a point over a number field.
+    pub(crate) fn shown(&self, t: &FrfType) -> bool {
+        self.witnesses.contains_key(t)
+            || self.paths.contains_key(t)
+            || self.algebraic.contains_key(t)
     }
 
     /// Keeps the simplest witness of each type (fewest digits).

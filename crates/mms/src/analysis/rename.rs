@@ -5,8 +5,8 @@
 //! (the checker verifies every one it is given, as for any other).
 
 use super::{
-    BlockPoleSigns, BlockSign, Cancellation, ConditionRule, CriticalFactor, Definiteness,
-    FactorProof, MergePath, ModelAnalysis, OpenProof, PoleSigns, Proof, RegionSample,
+    AlgebraicWitness, BlockPoleSigns, BlockSign, Cancellation, ConditionRule, CriticalFactor,
+    Definiteness, FactorProof, MergePath, ModelAnalysis, OpenProof, PoleSigns, Proof, RegionSample,
     RemainderFactor, SignCase, SignCondition, Substitution, TypeVerdict,
 };
 use crate::model::Model;
@@ -81,6 +81,17 @@ impl Renaming {
             certificate: v.certificate.as_ref().map(|p| self.proof(p)),
             path: v.path.as_ref().map(|p| MergePath {
                 parameters: p
+                    .parameters
+                    .iter()
+                    .map(|(k, v)| (self.name(k), v.clone()))
+                    .collect(),
+            }),
+            algebraic: v.algebraic.as_ref().map(|a| AlgebraicWitness {
+                minimal: a.minimal.clone(),
+                interval: a.interval.clone(),
+                cancelled: a.cancelled.clone(),
+                multiple: a.multiple.clone(),
+                parameters: a
                     .parameters
                     .iter()
                     .map(|(k, v)| (self.name(k), v.clone()))

@@ -51,7 +51,7 @@ pub(super) fn tf_roots(tf: &UndampedCoefficients, x: &[f64]) -> Option<(Vec<f64>
 /// Positive real roots of `sum c[k] x^k` (simple ones; a double root shows
 /// once or not at all, which only matters on measure-zero sets), found by
 /// bracketing between the roots of the derivative.
-fn positive_roots(c: &[f64]) -> Option<Vec<f64>> {
+pub(super) fn positive_roots(c: &[f64]) -> Option<Vec<f64>> {
     let deg = c.iter().rposition(|v| *v != 0.0)?;
     if !c.iter().all(|v| v.is_finite()) {
         return None;
@@ -1142,14 +1142,14 @@ impl Prover<'_> {
     /// impossible, by root signature, and the numerator derivatives their
     /// multiple zeros need.
     #[allow(clippy::type_complexity)]
-    fn pencil_signatures(
+    pub(super) fn pencil_signatures(
         &self,
         wanted: &[FrfType],
     ) -> (BTreeMap<(u32, Vec<u32>), Vec<FrfType>>, Vec<Poly>) {
         let degree = self.den.degree(OMEGA);
         let mut signatures: BTreeMap<(u32, Vec<u32>), Vec<FrfType>> = BTreeMap::new();
         for t in wanted {
-            if self.witnesses.contains_key(t) || self.paths.contains_key(t) {
+            if self.shown(t) {
                 continue;
             }
             if let Some(s) = root_signature(t, degree) {
@@ -1409,7 +1409,7 @@ impl Prover<'_> {
 
     /// `num(r) = den(r) = 0` for every `r` of `cancel` and `num^(i)(r) =
     /// 0`, `i < k`, for every `(r, k)` of `multiple`.
-    fn root_equations(
+    pub(super) fn root_equations(
         &self,
         cancel: &[Rat],
         multiple: &[(Rat, u32)],
@@ -1810,7 +1810,7 @@ fn pencil_points(
 
 /// The polynomials of `row`, in `x` alone, times one positive integer
 /// that clears every denominator; `None` if one has another variable.
-fn integer_row(row: &[Poly], x: &str) -> Option<Vec<UPoly>> {
+pub(super) fn integer_row(row: &[Poly], x: &str) -> Option<Vec<UPoly>> {
     let parts: Vec<(Rat, UPoly)> = row
         .iter()
         .map(|p| UPoly::from_poly(p, x))

@@ -1,0 +1,765 @@
+//! Witnesses at algebraic points.
+//!
+//! A type with `c` root coincidences (cancelled poles, multiple zeros)
+//! lives on a variety of codimension `c`. With its roots at rational
+//! places, the conditions are polynomial in the parameters and linear in
+//! any set no two of which share a monomial; where such a set has `c`
+//! members, the root-condition searches solve it over Q. Where the
+//! largest has `c - 1` or `c - 2`, the one or two parameters short of it
+//! (`x`, `y`) are eliminated instead: the conditions are consistent where
+//! the augmented matrix of the linear set drops rank, a polynomial in `x`
+//! (one short) or two whose resultant in `y` is one (two short). Their
+//! positive real roots are seldom rational; each one, isolated exactly,
+//! is the generator `theta` of a real number field, over which `y` and
+//! the linear set are solved exactly and the type is read by exact signs
+//! ([`super::frf_type_at_algebraic`]). The point is the witness
+//! ([`super::AlgebraicWitness`]).
+
+use super::frf_type::FrfType;
+use super::frf_type::{Feature, Token};
+use super::prover::{Prover, Sampler};
+use super::targeted::{integer_row, linear_sets, positive_roots, short_rational, tf_roots};
+use super::AlgebraicWitness;
+use crate::tf::{UndampedCoefficients, OMEGA};
+use poly::{FieldElem, FieldPoly, Poly, Rat, RealField, UPoly};
+use std::collections::BTreeMap;
+
+/// Fields of higher degree than this are not tried: their arithmetic
+/// grows with the square of the degree, and a root of such a factor is
+/// met again at another draw of lower degree.
+const MAX_FIELD_DEGREE: usize = 16;
+/// Two short, a draw whose resultant may exceed this degree in `x`
+/// (Bezout's bound from the two minors) is not eliminated: its fields
+/// would be of about that degree, and its cost grows faster still.
+const MAX_ELIMINANT_DEGREE: u32 = 16;
+/// Random draws (linear set, parameters short of it, their fixed values,
+/// roots) per root signature and number of parameters short.
+const ALGEBRAIC_TRIALS: usize = 60;
+
+/// Linear sets tried per number short in the parent pass, at most.
+const PARENT_SETS: usize = 3;
+/// Draws of the parameters short of a set, per parent and set.
+const PARENT_SHORTS: usize = 2;
+/// Solves per wanted type in the parent pass, at most.
+const PARENT_TRIES: usize = 48;
+
+/// What a wanted type's coincidences are in a parent type: for each
+/// cancelled pole the indices of the zero and the pole that meet, for
+/// each multiple zero the indices of its zeros (in the parent's
+/// ascending positive zeros and poles).
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct MergePlan {
+    cancel: Vec<(usize, usize)>,
+    multiple: Vec<(usize, u32)>,
+}
+
+impl MergePlan {
+    /// The roots to pose at a parent's witness with these `zeros` and
+    /// `poles`: each pair's and group's geometric mean, to four digits.
+    #[allow(clippy::type_complexity)]
+    fn roots(&self, zeros: &[f64], poles: &[f64]) -> Option<(Vec<Rat>, Vec<(Rat, u32)>)> {
+        let cancel = self
+            .cancel
+            .iter()
+            .map(|&(z, p)| short_rational((zeros.get(z)? * poles.get(p)?).sqrt(), 4))
+            .collect::<Option<Vec<Rat>>>()?;
+        let multiple = self
+            .multiple
+            .iter()
+            .map(|&(first, k)| {
+                let group = zeros.get(first..first + k as usize)?;
+                let mean = group.iter().map(|z| z.ln()).sum::<f64>() / f64::from(k);
+                Some((short_rational(mean.exp(), 4)?, k))
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some((cancel, multiple))
+    }
+}
+
+/// One root of a parent type in the making: a zero or a pole, plain, of
+/// a multiple zero (its group), or of a cancelled pair (its pair).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Item {
+    Zero(Option<usize>, Option<usize>),
+    Pole(Option<usize>),
+}
+
+/// The parents of `t` with `cancelled` cancelled poles: `t` with each
+/// multiple zero split into simple ones and, for each cancelled pole, a
+/// zero and a pole inserted side by side (in either order, at any
+/// place), each with its [`MergePlan`]; at most two cancellations.
+fn parents(t: &FrfType, cancelled: u32) -> Vec<(FrfType, MergePlan)> {
+    if cancelled > 2 {
+        return Vec::new();
+    }
+    let mut base = Vec::new();
+    let mut group = 0;
+    for k in &t.tokens {
+        match k.feature {
+            Feature::Antiresonance if k.multiplicity > 1 => {
+                base.extend(std::iter::repeat_n(
+                    Item::Zero(Some(group), None),
+                    k.multiplicity as usize,
+                ));
+                group += 1;
+            }
+            Feature::Antiresonance => base.push(Item::Zero(None, None)),
+            Feature::Resonance => base.push(Item::Pole(None)),
+        }
+    }
+    let mut seqs = vec![base];
+    for pair in 0..cancelled as usize {
+        let mut next = Vec::new();
+        for s in &seqs {
+            for at in 0..=s.len() {
+                for zero_first in [true, false] {
+                    let (a, b) = if zero_first {
+                        (Item::Zero(None, Some(pair)), Item::Pole(Some(pair)))
+                    } else {
+                        (Item::Pole(Some(pair)), Item::Zero(None, Some(pair)))
+                    };
+                    let mut n = s.clone();
+                    n.splice(at..at, [a, b]);
+                    if !next.contains(&n) {
+                        next.push(n);
+                    }
+                }
+            }
+        }
+        seqs = next;
+    }
+    let mut out: Vec<(FrfType, MergePlan)> = Vec::new();
+    for s in seqs {
+        let mut tokens = Vec::new();
+        let (mut nz, mut np) = (0, 0);
+        let mut cancel = vec![(0, 0); cancelled as usize];
+        let mut multiple: Vec<(usize, u32)> = Vec::new();
+        for item in &s {
+            match *item {
+                Item::Zero(g, c) => {
+                    if let Some(g) = g {
+                        if multiple.len() <= g {
+                            multiple.push((nz, 0));
+                        }
+                        multiple[g].1 += 1;
+                    }
+                    if let Some(c) = c {
+                        cancel[c].0 = nz;
+                    }
+                    nz += 1;
+                    tokens.push(Token {
+                        feature: Feature::Antiresonance,
+                        multiplicity: 1,
+                    });
+                }
+                Item::Pole(c) => {
+                    if let Some(c) = c {
+                        cancel[c].1 = np;
+                    }
+                    np += 1;
+                    tokens.push(Token {
+                        feature: Feature::Resonance,
+                        multiplicity: 1,
+                    });
+                }
+            }
+        }
+        let parent = FrfType {
+            tokens,
+            nonminimum_phase: t.nonminimum_phase,
+        };
+        let plan = MergePlan { cancel, multiple };
+        if !out.contains(&(parent.clone(), plan.clone())) {
+            out.push((parent, plan));
+        }
+    }
+    out
+}
+
+/// A point over a real number field.
+pub(super) type FieldPoint = (RealField, BTreeMap<String, FieldElem>);
+
+impl Prover<'_> {
+    /// The root conditions of the unknown types of `wanted` solved over
+    /// real number fields, one or two parameters short of a linear set
+    /// (see the module docs), at random roots and parameters. Runs after
+    /// every other search, on what they leave. Returns how many of
+    /// `wanted` have a witness of any kind afterwards.
+    pub(crate) fn algebraic_search(&mut self, wanted: &[FrfType], seed: u64) -> usize {
+        self.algebraic_parent_search(wanted, seed);
+        self.algebraic_random_search(wanted, seed);
+        wanted.iter().filter(|t| self.shown(t)).count()
+    }
+
+    /// The first pass of [`Self::algebraic_search`]: from a witness of a
+    /// parent of each wanted type (its coincident roots apart: `AA` for
+    /// `A^2`, a zero and a pole side by side for a cancelled pole), the
+    /// roots to merge placed at their geometric mean and the other
+    /// parameters kept at the witness's values, so that the solutions
+    /// include the one near the witness, where the rest of the order holds.
+    fn algebraic_parent_search(&mut self, wanted: &[FrfType], seed: u64) {
+        let (signatures, derivatives) = self.pencil_signatures(wanted);
+        let tf = UndampedCoefficients::new(self.model);
+        let params = self.params.clone();
+        let mut rng = Sampler::new(seed ^ 0x009A_2E17);
+        for ((cancelled, mults), types) in signatures {
+            let size = 2 * cancelled as usize + mults.iter().sum::<u32>() as usize;
+            let (num, den) = (self.num.clone(), self.den.clone());
+            let polys: Vec<&Poly> = if cancelled == 0 {
+                vec![&num]
+            } else {
+                vec![&num, &den]
+            };
+            if size == 0 || !linear_sets(&polys, &params, size).is_empty() {
+                continue;
+            }
+            let sets: Vec<(usize, Vec<Vec<String>>)> = (1..=2usize.min(size))
+                .map(|short| {
+                    let mut s = linear_sets(&polys, &params, size - short);
+                    s.truncate(PARENT_SETS);
+                    (short, s)
+                })
+                .filter(|(_, s)| !s.is_empty())
+                .collect();
+            if sets.is_empty() {
+                continue;
+            }
+            for t in &types {
+                let mut tries = 0;
+                'parents: for (parent, plan) in parents(t, cancelled) {
+                    let Some(w) = self.witnesses.get(&parent).cloned() else {
+                        continue;
+                    };
+                    let x: Vec<f64> = params.iter().map(|p| w[p].to_f64()).collect();
+                    let Some((zeros, poles, _)) = tf_roots(&tf, &x) else {
+                        continue;
+                    };
+                    let Some((cancel, multiple)) = plan.roots(&zeros, &poles) else {
+                        continue;
+                    };
+                    let equations = self.root_equations(&cancel, &multiple, &derivatives);
+                    for (short, sets) in &sets {
+                        for vars in sets {
+                            let others: Vec<&String> =
+                                params.iter().filter(|p| !vars.contains(p)).collect();
+                            for _ in 0..PARENT_SHORTS {
+                                if self.shown(t) || tries >= PARENT_TRIES {
+                                    break 'parents;
+                                }
+                                tries += 1;
+                                let mut pool = others.clone();
+                                let mut xs = Vec::new();
+                                for _ in 0..*short {
+                                    xs.push(pool.remove(rng.index(pool.len())).clone());
+                                }
+                                let fixed: BTreeMap<String, Rat> =
+                                    pool.iter().map(|p| ((*p).clone(), w[*p].clone())).collect();
+                                let eqs: Vec<Poly> =
+                                    equations.iter().map(|e| e.subs_point(&fixed)).collect();
+                                for (field, point) in algebraic_points(&eqs, vars, &xs) {
+                                    self.record_algebraic(
+                                        &types,
+                                        &fixed,
+                                        (&cancel, &multiple),
+                                        field,
+                                        point,
+                                    );
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The second pass of [`Self::algebraic_search`]: random roots, sets
+    /// and parameters.
+    fn algebraic_random_search(&mut self, wanted: &[FrfType], seed: u64) {
+        let (signatures, derivatives) = self.pencil_signatures(wanted);
+        let mut rng = Sampler::new(seed);
+        for ((cancelled, mults), types) in signatures {
+            let size = 2 * cancelled as usize + mults.iter().sum::<u32>() as usize;
+            let (num, den) = (self.num.clone(), self.den.clone());
+            let polys: Vec<&Poly> = if cancelled == 0 {
+                vec![&num]
+            } else {
+                vec![&num, &den]
+            };
+            if size == 0 || !linear_sets(&polys, &self.params, size).is_empty() {
+                continue;
+            }
+            for short in 1..=2usize.min(size) {
+                let sets = linear_sets(&polys, &self.params, size - short);
+                if sets.is_empty() {
+                    continue;
+                }
+                for _ in 0..ALGEBRAIC_TRIALS {
+                    if types.iter().all(|t| self.shown(t)) {
+                        break;
+                    }
+                    let vars = sets[rng.index(sets.len())].clone();
+                    let mut others: Vec<String> = self
+                        .params
+                        .iter()
+                        .filter(|p| !vars.contains(p))
+                        .cloned()
+                        .collect();
+                    if others.len() < short {
+                        break;
+                    }
+                    let mut xs = Vec::new();
+                    for _ in 0..short {
+                        xs.push(others.remove(rng.index(others.len())));
+                    }
+                    let fixed: BTreeMap<String, Rat> =
+                        others.iter().map(|p| (p.clone(), rng.value())).collect();
+                    let cancel: Vec<Rat> = (0..cancelled).map(|_| rng.value()).collect();
+                    let multiple: Vec<(Rat, u32)> =
+                        mults.iter().map(|&k| (rng.value(), k)).collect();
+                    let equations: Vec<Poly> = self
+                        .root_equations(&cancel, &multiple, &derivatives)
+                        .iter()
+                        .map(|e| e.subs_point(&fixed))
+                        .collect();
+                    for (field, point) in algebraic_points(&equations, &vars, &xs) {
+                        self.record_algebraic(&types, &fixed, (&cancel, &multiple), field, point);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Classifies the point `fixed` and `point` over `field` exactly and
+    /// keeps it as the witness of its type if that is one of `types` and
+    /// has no witness yet. A point of degree one is a rational point.
+    /// The posed coincidences `(cancel, multiple)` are divided out exactly
+    /// first and the rest read in `f64`: only a point whose type so
+    /// predicted is wanted is classified exactly, which costs far more.
+    fn record_algebraic(
+        &mut self,
+        types: &[FrfType],
+        fixed: &BTreeMap<String, Rat>,
+        (cancel, multiple): (&[Rat], &[(Rat, u32)]),
+        field: RealField,
+        point: BTreeMap<String, FieldElem>,
+    ) {
+        if field.degree() == 1 {
+            let mut p = fixed.clone();
+            for (k, v) in &point {
+                match v.as_rat() {
+                    Some(r) => p.insert(k.clone(), r),
+                    None => return,
+                };
+            }
+            self.record(p);
+            return;
+        }
+        let num = self.num.subs_point(fixed);
+        let den = self.den.subs_point(fixed);
+        match predicted_type(&field, &num, &den, &point, cancel, multiple) {
+            Some(p) if types.contains(&p) && !self.shown(&p) => {}
+            _ => return,
+        }
+        let Some(t) = posed_type(&field, &num, &den, &point, cancel, multiple) else {
+            return;
+        };
+        if !types.contains(&t) || self.shown(&t) {
+            return;
+        }
+        let mut full = point;
+        for (k, v) in fixed {
+            full.insert(k.clone(), field.from_rat(v));
+        }
+        self.algebraic
+            .insert(t, AlgebraicWitness::new(&field, &full, cancel, multiple));
+    }
+}
+
+/// `f` divided by `(x - r)` for each `r` of `roots`, exactly; `None`
+/// where one does not divide.
+fn divided(field: &RealField, f: &FieldPoly, roots: &[&Rat]) -> Option<FieldPoly> {
+    let mut f = f.clone();
+    for r in roots {
+        let linear = FieldPoly::new(vec![field.from_rat(&-*r), field.one()]);
+        f = field.poly_div_exact(&f, &linear)?;
+    }
+    Some(f)
+}
+
+/// The posed roots of `cancel` and `multiple` divided out of `num` and
+/// `den` at `point` over `field`: the numerator's rest `Q` and the
+/// denominator's rest `P`.
+fn posed_rests(
+    field: &RealField,
+    num: &Poly,
+    den: &Poly,
+    point: &BTreeMap<String, FieldElem>,
+    cancel: &[Rat],
+    multiple: &[(Rat, u32)],
+) -> Option<(FieldPoly, FieldPoly)> {
+    let n = field.univariate(num, OMEGA, point).ok()?;
+    let d = field.univariate(den, OMEGA, point).ok()?;
+    let mut zeros: Vec<&Rat> = cancel.iter().collect();
+    for (r, k) in multiple {
+        zeros.extend(std::iter::repeat_n(r, *k as usize));
+    }
+    let poles: Vec<&Rat> = cancel.iter().collect();
+    Some((divided(field, &n, &zeros)?, divided(field, &d, &poles)?))
+}
+
+/// The exact type at `point` over `field` of `num/den` built with the
+/// cancelled poles `cancel` and the multiple zeros `multiple`: these
+/// divided out exactly, every positive root of the rests `Q` (of the
+/// numerator) and `P` (of the denominator) isolated together by
+/// Descartes' rule over the field, each simple, so that `Q` and `P` share
+/// none; the multiple zeros, roots of neither, put back in their places.
+/// `None` where the point does not have that structure: a posed root that
+/// does not divide, a multiple zero or a cancelled pole met again by the
+/// rests, a multiple root of `Q P`, or a pole off the positive axis.
+pub(super) fn posed_type(
+    field: &RealField,
+    num: &Poly,
+    den: &Poly,
+    point: &BTreeMap<String, FieldElem>,
+    cancel: &[Rat],
+    multiple: &[(Rat, u32)],
+) -> Option<FrfType> {
+    let (q, p) = posed_rests(field, num, den, point, cancel, multiple)?;
+    if cancel.iter().any(|r| field.sign_at(&p, r) == 0)
+        || multiple
+            .iter()
+            .any(|(r, _)| field.sign_at(&q, r) == 0 || field.sign_at(&p, r) == 0)
+    {
+        return None;
+    }
+    let product = field.poly_mul(&q, &p);
+    let mut roots: Vec<(Rat, Rat, Token)> = Vec::new();
+    let mut poles = 0;
+    let mut zeros = 0;
+    for (lo, hi) in field.positive_simple_roots(&product)? {
+        let of_q = if lo == hi {
+            field.sign_at(&q, &lo) == 0
+        } else {
+            field.sign_at(&q, &lo) * field.sign_at(&q, &hi) < 0
+        };
+        let feature = if of_q {
+            zeros += 1;
+            Feature::Antiresonance
+        } else {
+            poles += 1;
+            Feature::Resonance
+        };
+        roots.push((
+            lo,
+            hi,
+            Token {
+                feature,
+                multiplicity: 1,
+            },
+        ));
+    }
+    if poles != p.degree().unwrap_or(0) {
+        return None;
+    }
+    for (r, k) in multiple {
+        // Cut an interval holding the zero at it: the root is on the side
+        // where the product changes sign.
+        if let Some(i) = roots.iter().position(|(lo, hi, _)| lo < r && r < hi) {
+            let (lo, hi, tok) = roots[i].clone();
+            roots[i] = if field.sign_at(&product, &lo) * field.sign_at(&product, r) < 0 {
+                (lo, r.clone(), tok)
+            } else {
+                (r.clone(), hi, tok)
+            };
+        }
+        let tok = Token {
+            feature: Feature::Antiresonance,
+            multiplicity: *k,
+        };
+        roots.push((r.clone(), r.clone(), tok));
+    }
+    roots.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
+    Some(FrfType {
+        tokens: roots.into_iter().map(|r| r.2).collect(),
+        nonminimum_phase: zeros < q.degree().unwrap_or(0),
+    })
+}
+
+/// The type at `point` over `field` as floating point reads it once the
+/// posed coincidences are divided out exactly: each cancelled root `r`
+/// from numerator and denominator, each multiple zero `(r, k)` `k` times
+/// from the numerator; the rest read as simple roots in `f64`, with the
+/// posed zeros put back at their places. `None` where a posed root does
+/// not divide.
+fn predicted_type(
+    field: &RealField,
+    num: &Poly,
+    den: &Poly,
+    point: &BTreeMap<String, FieldElem>,
+    cancel: &[Rat],
+    multiple: &[(Rat, u32)],
+) -> Option<FrfType> {
+    let (n, d) = posed_rests(field, num, den, point, cancel, multiple)?;
+    let approx =
+        |f: &FieldPoly| -> Vec<f64> { f.coeffs().iter().map(|c| field.to_f64(c)).collect() };
+    let zeros = positive_roots(&approx(&n))?;
+    let poles = positive_roots(&approx(&d))?;
+    let mut roots: Vec<(f64, Token)> = Vec::new();
+    let simple = |feature| Token {
+        feature,
+        multiplicity: 1,
+    };
+    roots.extend(zeros.iter().map(|z| (*z, simple(Feature::Antiresonance))));
+    roots.extend(poles.iter().map(|p| (*p, simple(Feature::Resonance))));
+    roots.extend(multiple.iter().map(|(r, k)| {
+        (
+            r.to_f64(),
+            Token {
+                feature: Feature::Antiresonance,
+                multiplicity: *k,
+            },
+        )
+    }));
+    roots.sort_by(|a, b| a.0.total_cmp(&b.0));
+    Some(FrfType {
+        tokens: roots.into_iter().map(|r| r.1).collect(),
+        nonminimum_phase: zeros.len() < n.degree().unwrap_or(0),
+    })
+}
+
+/// The positive points where `equations` (polynomials in `vars` and `xs`
+/// only, jointly linear in `vars`; one or two `xs`, as many equations as
+/// `vars` and `xs` together) hold at once, each over the real number field
+/// of its `x`: see the module docs. A point whose `x` is rational comes in
+/// a field of degree one.
+pub(super) fn algebraic_points(
+    equations: &[Poly],
+    vars: &[String],
+    xs: &[String],
+) -> Vec<FieldPoint> {
+    if equations.len() != vars.len() + xs.len() || xs.is_empty() || xs.len() > 2 {
+        return Vec::new();
+    }
+    let at_zero: BTreeMap<String, Rat> = vars.iter().map(|v| (v.clone(), Rat::ZERO)).collect();
+    // Rows [d e / d v_1 .. d e / d v_n, e at v = 0], polynomials in `xs`.
+    let rows: Vec<Vec<Poly>> = equations
+        .iter()
+        .map(|e| {
+            let mut row: Vec<Poly> = vars.iter().map(|v| e.derivative(v)).collect();
+            row.push(e.subs_point(&at_zero));
+            row
+        })
+        .collect();
+    let x = &xs[0];
+    let eliminated: Option<UPoly> = if xs.len() == 1 {
+        let Some(int_rows) = rows
+            .iter()
+            .map(|r| integer_row(r, x))
+            .collect::<Option<Vec<_>>>()
+        else {
+            return Vec::new();
+        };
+        poly::det_univariate(&int_rows).ok()
+    } else {
+        // Two maximal minors (leaving out the last row, then the one
+        // before): both vanish at every solution.
+        let n = rows.len();
+        let minor = |skip: usize| -> Poly {
+            let m: Vec<Vec<Poly>> = rows
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| *i != skip)
+                .map(|(_, r)| r.clone())
+                .collect();
+            poly::det(&m)
+        };
+        let (a, b) = (minor(n - 1), minor(n - 2));
+        let (y, dx) = (&xs[1], |p: &Poly| p.degree(x));
+        if dx(&a) * b.degree(y) + a.degree(y) * dx(&b) > MAX_ELIMINANT_DEGREE {
+            return Vec::new();
+        }
+        let r = poly::resultant(&a, &b, y);
+        UPoly::from_poly(&r, x).map(|(_, u)| u)
+    };
+    let Some(u) = eliminated else {
+        return Vec::new();
+    };
+    if u.is_zero() {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    for field in RealField::real_roots_of(&u) {
+        let (lo, _) = field.interval();
+        if lo.signum() < 0
+            || field.degree() > MAX_FIELD_DEGREE
+            || field.sign(&field.generator()) <= 0
+        {
+            continue;
+        }
+        if let Some(point) = complete(&field, &rows, equations, vars, xs) {
+            out.push((field, point));
+        }
+    }
+    out
+}
+
+/// At `x = theta` of `field`: `y` (if any) from the gcd of the equations
+/// over the field, then the linear set from all but the last equations,
+/// kept if every equation holds exactly and every coordinate is positive.
+fn complete(
+    field: &RealField,
+    rows: &[Vec<Poly>],
+    equations: &[Poly],
+    vars: &[String],
+    xs: &[String],
+) -> Option<BTreeMap<String, FieldElem>> {
+    let mut at: BTreeMap<String, FieldElem> = BTreeMap::from([(xs[0].clone(), field.generator())]);
+    if let Some(y) = xs.get(1) {
+        // The two left-out minors' common root in y; one of them would do
+        // on its own only where it is linear.
+        let n = rows.len();
+        let minor = |skip: usize| -> Option<poly::FieldPoly> {
+            let m: Vec<Vec<Poly>> = rows
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| *i != skip)
+                .map(|(_, r)| r.clone())
+                .collect();
+            field.univariate(&poly::det(&m), y, &at).ok()
+        };
+        let g = field.poly_gcd(&minor(n - 1)?, &minor(n - 2)?);
+        if g.degree() != Some(1) {
+            return None;
+        }
+        let y0 = field.neg(&g.coeffs()[0]);
+        if field.sign(&y0) <= 0 {
+            return None;
+        }
+        at.insert(y.clone(), y0);
+    }
+    let k = vars.len();
+    let value = |p: &Poly| field.eval(p, &at).ok();
+    let mut a: Vec<Vec<FieldElem>> = Vec::with_capacity(k);
+    let mut b: Vec<FieldElem> = Vec::with_capacity(k);
+    for row in rows.iter().take(k) {
+        let mut r = Vec::with_capacity(k);
+        for p in &row[..k] {
+            r.push(value(p)?);
+        }
+        a.push(r);
+        b.push(field.neg(&value(&row[k])?));
+    }
+    let solution = if k == 0 {
+        Vec::new()
+    } else {
+        field.solve(&a, &b)?
+    };
+    for (v, s) in vars.iter().zip(solution) {
+        if field.sign(&s) <= 0 {
+            return None;
+        }
+        at.insert(v.clone(), s);
+    }
+    for e in equations {
+        if !field.eval(e, &at).ok()?.is_zero() {
+            return None;
+        }
+    }
+    Some(at)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_short_points_solve_every_equation() {
+        // x*y - 2 = 0 and y - x = 0 in the linear set {y} with x short:
+        // x = y = sqrt(2), a point no rational draw reaches.
+        let e: Vec<Poly> = ["x*y - 2", "y - x"]
+            .iter()
+            .map(|s| s.parse().unwrap())
+            .collect();
+        let points = algebraic_points(&e, &["y".to_string()], &["x".to_string()]);
+        assert_eq!(points.len(), 1);
+        let (k, p) = &points[0];
+        assert_eq!(k.degree(), 2);
+        assert!((k.to_f64(&p["x"]) - 2f64.sqrt()).abs() < 1e-12);
+        assert_eq!(p["x"], p["y"]);
+    }
+
+    /// The quadruple zeros of N5-g2-a3.2-s4.2 at 544/625, the draw of
+    /// the 5-mass table (engine 29): its numerator is jointly linear in
+    /// pairs only, so `m3` and `m5` are eliminated and `theta` is of degree
+    /// four. A point's type is read by two routes (Descartes' rule with
+    /// the posed zero divided out, and the general gcd and Sturm reading
+    /// over the field), and at each the fifth derivative condition fails,
+    /// so the zero is of multiplicity four exactly.
+    #[test]
+    fn quadruple_zeros_two_parameters_short() {
+        let model = crate::Model::from_id("N5-g2-a3.2-s4.2").unwrap();
+        let tf = model.undamped_tf();
+        let q = |s: &str| -> Rat { s.parse().unwrap() };
+        let sigma = q("544/625");
+        let fixed: BTreeMap<String, Rat> = [
+            ("c12", "133/5"),
+            ("c34", "21/1000"),
+            ("c45", "14/625"),
+            ("m2", "421/10"),
+            ("m4", "223/100"),
+        ]
+        .iter()
+        .map(|(k, v)| (k.to_string(), q(v)))
+        .collect();
+        let mut derivatives = vec![tf.num.clone()];
+        for _ in 0..4 {
+            let d = derivatives[derivatives.len() - 1].derivative(OMEGA);
+            derivatives.push(d);
+        }
+        let at = |p: &Poly| p.subs(OMEGA, &sigma).subs_point(&fixed);
+        let equations: Vec<Poly> = derivatives[..4].iter().map(at).collect();
+        let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let points = algebraic_points(&equations, &names(&["c1", "m1"]), &names(&["m3", "m5"]));
+        let num = tf.num.subs_point(&fixed);
+        let den = tf.den.subs_point(&fixed);
+        let mut types = Vec::new();
+        for (k, p) in &points {
+            assert!(k.degree() > 1);
+            let posed = posed_type(k, &num, &den, p, &[], &[(sigma.clone(), 4)]).unwrap();
+            // The general reading costs seconds per point: once is enough.
+            if types.is_empty() {
+                let general = super::super::frf_type_at_algebraic(&num, &den, OMEGA, k, p).unwrap();
+                assert_eq!(posed, general);
+            }
+            let fifth = k.eval(&at(&derivatives[4]), p).unwrap();
+            assert_ne!(k.sign(&fifth), 0);
+            types.push(posed.to_string());
+        }
+        types.sort();
+        assert!(types.contains(&"RRA^4RR".to_string()), "{types:?}");
+        assert!(types.contains(&"RRRA^4R".to_string()), "{types:?}");
+    }
+
+    #[test]
+    fn two_short_points_solve_every_equation() {
+        // Three equations, linear in v alone, with x and y short:
+        // v = x + y, x*y = 1, v^2 = 5: x + y = sqrt 5 and x y = 1, so x and y
+        // are (sqrt 5 +- 1)/2. Every positive solution is found and holds.
+        let e: Vec<Poly> = ["v - x - y", "x*y - 1", "v*x + v*y - 5"]
+            .iter()
+            .map(|s| s.parse().unwrap())
+            .collect();
+        let points = algebraic_points(&e, &["v".to_string()], &["x".to_string(), "y".to_string()]);
+        assert_eq!(points.len(), 2);
+        let golden = (5f64.sqrt() + 1.0) / 2.0;
+        for (k, p) in &points {
+            let (x, y, v) = (k.to_f64(&p["x"]), k.to_f64(&p["y"]), k.to_f64(&p["v"]));
+            assert!((x * y - 1.0).abs() < 1e-12 && (v - 5f64.sqrt()).abs() < 1e-12);
+            assert!((x - golden).abs() < 1e-12 || (y - golden).abs() < 1e-12);
+            for q in &e {
+                assert!(k.eval(q, p).unwrap().is_zero());
+            }
+        }
+    }
+}
