@@ -242,6 +242,9 @@ impl Prover<'_> {
                         for vars in sets {
                             let others: Vec<&String> =
                                 params.iter().filter(|p| !vars.contains(p)).collect();
+                            if others.len() < *short {
+                                continue;
+                            }
                             for _ in 0..PARENT_SHORTS {
                                 if self.shown(t) || tries >= PARENT_TRIES {
                                     break 'parents;
