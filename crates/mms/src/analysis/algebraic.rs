@@ -18,7 +18,9 @@
 use super::frf_type::FrfType;
 use super::frf_type::{Feature, Token};
 use super::prover::{Prover, Sampler};
-use super::targeted::{integer_row, linear_sets, positive_roots, short_rational, tf_roots};
+use super::targeted::{
+    integer_row, linear_sets, positive_roots, short_rational, solve_linear, tf_roots,
+};
 use super::AlgebraicWitness;
 use crate::tf::{UndampedCoefficients, OMEGA};
 use poly::{FieldElem, FieldPoly, Poly, Rat, RealField, UPoly};
@@ -42,6 +44,11 @@ const PARENT_SETS: usize = 3;
 const PARENT_SHORTS: usize = 2;
 /// Solves per wanted type in the parent pass, at most.
 const PARENT_TRIES: usize = 48;
+/// Mechanism choices per wanted type in the mechanisms' parent pass, at
+/// most (each tried with every number short and the first linear sets).
+const MECHANISM_TRIES: usize = 64;
+/// Parameters short in the mechanisms' parent pass, at most.
+const MECHANISM_SHORTS: usize = 1;
 
 /// What a wanted type's coincidences are in a parent type: for each
 /// cancelled pole the indices of the zero and the pole that meet, for
@@ -182,16 +189,134 @@ pub(super) type FieldPoint = (RealField, BTreeMap<String, FieldElem>);
 impl Prover<'_> {
     /// The root conditions of the unknown types of `wanted` solved over
     /// real number fields, one or two parameters short of a linear set
-    /// (see the module docs), at random roots and parameters. Runs after
-    /// every other search, on what they leave. Returns how many of
-    /// `wanted` have a witness of any kind afterwards.
+    /// (see the module docs), in three passes: from the parents' witnesses
+    /// with cancellations posed by the chain's mechanisms, then by
+    /// numerator and denominator, then at random roots and parameters.
+    /// Runs after every other search, on what they leave. Returns how many
+    /// of `wanted` have a witness of any kind afterwards.
     pub(crate) fn algebraic_search(&mut self, wanted: &[FrfType], seed: u64) -> usize {
+        self.mechanism_parent_search(wanted, seed);
         self.algebraic_parent_search(wanted, seed);
         self.algebraic_random_search(wanted, seed);
         wanted.iter().filter(|t| self.shown(t)).count()
     }
 
-    /// The first pass of [`Self::algebraic_search`]: from a witness of a
+    /// The first pass of [`Self::algebraic_search`], for types with one or
+    /// two cancelled poles: as the second, but each cancellation posed by a
+    /// mechanism of the chain ([`Self::cancellation_mechanisms`]: a run's
+    /// determinant and its block's, or two blocks') at the pole instead of
+    /// by numerator and denominator. The determinants of sub-chains share
+    /// few monomials, so with the multiple zeros' conditions they are
+    /// jointly linear in more parameters than the denominator allows: at
+    /// times in all of them (solved over Q), else one short (a field of
+    /// degree at most the eliminant's). It runs first: its points are
+    /// cheap, and each type it shows spares the other two passes. Two
+    /// parameters short showed 3 more types at 5 masses for a third more
+    /// time, so the pass stops at one.
+    fn mechanism_parent_search(&mut self, wanted: &[FrfType], seed: u64) {
+        let (signatures, derivatives) = self.pencil_signatures(wanted);
+        let mechanisms = self.cancellation_mechanisms();
+        if mechanisms.is_empty() {
+            return;
+        }
+        let tf = UndampedCoefficients::new(self.model);
+        let params = self.params.clone();
+        let num = self.num.clone();
+        let mut rng = Sampler::new(seed ^ 0x00E0_C4A2);
+        for ((cancelled, _), types) in signatures {
+            if !(1..=2).contains(&cancelled) {
+                continue;
+            }
+            // The mechanisms of each cancelled pole, in turn.
+            let choices: Vec<Vec<usize>> = if cancelled == 1 {
+                (0..mechanisms.len()).map(|i| vec![i]).collect()
+            } else {
+                (0..mechanisms.len())
+                    .flat_map(|i| (0..mechanisms.len()).map(move |j| vec![i, j]))
+                    .collect()
+            };
+            for t in &types {
+                let mut tries = 0;
+                'parents: for (parent, plan) in parents(t, cancelled) {
+                    let Some(w) = self.witnesses.get(&parent).cloned() else {
+                        continue;
+                    };
+                    let x: Vec<f64> = params.iter().map(|p| w[p].to_f64()).collect();
+                    let Some((zeros, poles, _)) = tf_roots(&tf, &x) else {
+                        continue;
+                    };
+                    let Some((cancel, multiple)) = plan.roots(&zeros, &poles) else {
+                        continue;
+                    };
+                    for choice in &choices {
+                        if self.shown(t) || tries >= MECHANISM_TRIES {
+                            break 'parents;
+                        }
+                        let mut equations = Vec::new();
+                        let mut polys = vec![num.clone()];
+                        for (r, &i) in cancel.iter().zip(choice) {
+                            let (d1, _, d2, _) = &mechanisms[i];
+                            equations.push(d1.subs(OMEGA, r));
+                            equations.push(d2.subs(OMEGA, r));
+                            polys.extend([d1.clone(), d2.clone()]);
+                        }
+                        for (r, k) in &multiple {
+                            equations.extend(
+                                derivatives[..*k as usize].iter().map(|d| d.subs(OMEGA, r)),
+                            );
+                        }
+                        let refs: Vec<&Poly> = polys.iter().collect();
+                        let size = equations.len();
+                        tries += 1;
+                        for short in 0..=MECHANISM_SHORTS.min(size) {
+                            let mut sets = linear_sets(&refs, &params, size - short);
+                            sets.truncate(PARENT_SETS);
+                            for vars in &sets {
+                                let others: Vec<&String> =
+                                    params.iter().filter(|p| !vars.contains(p)).collect();
+                                if others.len() < short {
+                                    continue;
+                                }
+                                let mut pool = others.clone();
+                                let mut xs = Vec::new();
+                                for _ in 0..short {
+                                    xs.push(pool.remove(rng.index(pool.len())).clone());
+                                }
+                                let fixed: BTreeMap<String, Rat> =
+                                    pool.iter().map(|p| ((*p).clone(), w[*p].clone())).collect();
+                                let eqs: Vec<Poly> =
+                                    equations.iter().map(|e| e.subs_point(&fixed)).collect();
+                                if short == 0 {
+                                    if let Some(sol) = solve_linear(&eqs, vars) {
+                                        if sol.iter().all(|v| v.signum() > 0) {
+                                            let mut point = fixed.clone();
+                                            point.extend(vars.iter().cloned().zip(sol));
+                                            self.record(point);
+                                        }
+                                    }
+                                    continue;
+                                }
+                                for (field, point) in algebraic_points(&eqs, vars, &xs) {
+                                    self.record_algebraic(
+                                        &types,
+                                        &fixed,
+                                        (&cancel, &multiple),
+                                        field,
+                                        point,
+                                    );
+                                }
+                            }
+                            if self.shown(t) {
+                                break;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The second pass of [`Self::algebraic_search`]: from a witness of a
     /// parent of each wanted type (its coincident roots apart: `AA` for
     /// `A^2`, a zero and a pole side by side for a cancelled pole), the
     /// roots to merge placed at their geometric mean and the other
@@ -276,7 +401,7 @@ impl Prover<'_> {
         }
     }
 
-    /// The second pass of [`Self::algebraic_search`]: random roots, sets
+    /// The third pass of [`Self::algebraic_search`]: random roots, sets
     /// and parameters.
     fn algebraic_random_search(&mut self, wanted: &[FrfType], seed: u64) {
         let (signatures, derivatives) = self.pencil_signatures(wanted);
@@ -764,5 +889,94 @@ mod tests {
                 assert!(k.eval(q, p).unwrap().is_zero());
             }
         }
+    }
+
+    /// The mechanisms' pass on N5-g2-a3.1-s5.2: from the table's witness
+    /// of `RRAARRA`, posing a cancellation by a mechanism of the chain
+    /// (not by numerator and denominator) solves it over Q in all the
+    /// parameters it needs and shows `RRAAR`, which no earlier search
+    /// reached. Checked by another route: the rational roots of the
+    /// numerator and of the denominator at the point (the rational root
+    /// test) share exactly one, `rho`; divided out, the quadratic's zeros
+    /// (its formula) and the cubic's poles (bisection on its f64 values)
+    /// are in the order R R A A with the last pole above them.
+    #[test]
+    fn a_mechanism_poses_a_cancelled_pole() {
+        let model = crate::Model::from_id("N5-g2-a3.1-s5.2").unwrap();
+        let tf = model.undamped_tf();
+        let mut prover = Prover::new(&model, tf.num.clone(), tf.den.clone());
+        let q = |s: &str| -> Rat { s.parse().unwrap() };
+        let parent: BTreeMap<String, Rat> = [
+            ("c1", "13/2"),
+            ("c12", "5/256"),
+            ("c34", "3/128"),
+            ("c45", "4"),
+            ("m1", "4"),
+            ("m2", "9/4"),
+            ("m3", "6"),
+            ("m4", "16"),
+            ("m5", "11/64"),
+        ]
+        .iter()
+        .map(|(k, v)| (k.to_string(), q(v)))
+        .collect();
+        let parent_type: FrfType = "RRAARRA".parse().unwrap();
+        assert_eq!(prover.type_at(&parent), Some(parent_type.clone()));
+        prover.witnesses.insert(parent_type, parent);
+        let wanted: FrfType = "RRAAR".parse().unwrap();
+        prover.mechanism_parent_search(std::slice::from_ref(&wanted), 7);
+        let w = prover.witnesses[&wanted].clone();
+        let upoly = |p: &Poly| UPoly::from_poly(&p.subs_point(&w), OMEGA).unwrap().1;
+        let (n, d) = (upoly(&tf.num), upoly(&tf.den));
+        let zeros = poly::rational_roots(&n);
+        let shared: Vec<Rat> = poly::rational_roots(&d)
+            .into_iter()
+            .filter(|r| zeros.contains(r))
+            .collect();
+        assert_eq!(shared.len(), 1);
+        let rho = shared[0].to_f64();
+        assert!(rho > 0.0);
+        // The rest, in f64: n / (x - rho) and d / (x - rho) by synthetic
+        // division, from the top coefficient down.
+        let deflate = |p: &UPoly| -> Vec<f64> {
+            let c: Vec<f64> = p.coeffs().iter().map(|c| c.to_f64()).collect();
+            let mut out = vec![0.0; c.len() - 1];
+            let mut carry = 0.0;
+            for k in (1..c.len()).rev() {
+                carry = c[k] + carry * rho;
+                out[k - 1] = carry;
+            }
+            out
+        };
+        let (nr, dr) = (deflate(&n), deflate(&d));
+        assert_eq!((nr.len(), dr.len()), (3, 4));
+        let disc = nr[1] * nr[1] - 4.0 * nr[2] * nr[0];
+        assert!(disc > 0.0);
+        let mut z = [
+            (-nr[1] - disc.sqrt()) / (2.0 * nr[2]),
+            (-nr[1] + disc.sqrt()) / (2.0 * nr[2]),
+        ];
+        z.sort_by(f64::total_cmp);
+        let f = |x: f64| dr[0] + x * (dr[1] + x * (dr[2] + x * dr[3]));
+        let mut poles = Vec::new();
+        let grid: Vec<f64> = (0..=4000)
+            .map(|i| 10f64.powf(-10.0 + i as f64 * 0.005))
+            .collect();
+        for g in grid.windows(2) {
+            let (mut a, mut b) = (g[0], g[1]);
+            if f(a).signum() != f(b).signum() {
+                for _ in 0..200 {
+                    let m = 0.5 * (a + b);
+                    if f(m).signum() == f(a).signum() {
+                        a = m;
+                    } else {
+                        b = m;
+                    }
+                }
+                poles.push(a);
+            }
+        }
+        assert_eq!(poles.len(), 3);
+        assert!(z[0] > 0.0 && poles[1] < z[0] && z[1] < poles[2]);
     }
 }
