@@ -19,7 +19,8 @@ use super::frf_type::FrfType;
 use super::frf_type::{Feature, Token};
 use super::prover::{Prover, Sampler};
 use super::targeted::{
-    integer_row, linear_sets, positive_roots, short_rational, solve_linear, tf_roots,
+    integer_row, linear_sets, positive_roots, root_signature, short_rational, solve_linear,
+    tf_roots, Mechanism,
 };
 use super::AlgebraicWitness;
 use crate::tf::{UndampedCoefficients, OMEGA};
@@ -81,6 +82,128 @@ impl MergePlan {
             .collect::<Option<Vec<_>>>()?;
         Some((cancel, multiple))
     }
+}
+
+/// Which jointly linear sets the mechanisms' pass solves in: those
+/// linear in the numerator as well as the determinants, those linear in
+/// the determinants alone (not the former), or both.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LinearSets {
+    WithNumerator,
+    DeterminantsOnly,
+    Both,
+}
+
+/// A start of the mechanisms' pass: a parent's witness, its own
+/// cancelled poles with the mechanism kept for each, and the roots to
+/// pose from it (the new cancelled poles and multiple zeros).
+struct MechanismStart {
+    witness: BTreeMap<String, Rat>,
+    kept: Vec<(Rat, usize)>,
+    fresh: Vec<Rat>,
+    multiple: Vec<(Rat, u32)>,
+}
+
+/// Every choice of one of `count` mechanisms for each of `poles` poles.
+fn mechanism_choices(count: usize, poles: usize) -> Vec<Vec<usize>> {
+    let mut out = vec![Vec::new()];
+    for _ in 0..poles {
+        out = out
+            .into_iter()
+            .flat_map(|c| {
+                (0..count).map(move |i| {
+                    let mut n = c.clone();
+                    n.push(i);
+                    n
+                })
+            })
+            .collect();
+    }
+    out
+}
+
+/// The index of the root of `roots` nearest to `r` (relatively).
+fn nearest(roots: &[f64], r: f64) -> Option<usize> {
+    roots
+        .iter()
+        .enumerate()
+        .min_by(|a, b| ((a.1 - r) / r).abs().total_cmp(&((b.1 - r) / r).abs()))
+        .map(|(k, _)| k)
+}
+
+/// Where the mechanisms' pass starts for `t`, from `witnesses`: each parent with `fresh`
+/// cancellations fewer ([`parents`]) that has a rational witness, the
+/// roots to pose from it, and the parent's own cancelled poles (its
+/// shared rational roots, as many as `t` has cancellations beyond
+/// `fresh`), each with a mechanism whose determinants vanish there.
+fn mechanism_starts(
+    prover: &Prover<'_>,
+    witnesses: &BTreeMap<FrfType, BTreeMap<String, Rat>>,
+    t: &FrfType,
+    fresh: u32,
+    tf: &UndampedCoefficients,
+    mechanisms: &[Mechanism],
+) -> Vec<MechanismStart> {
+    let Some((total, _)) = root_signature(t, prover.den.degree(OMEGA)) else {
+        return Vec::new();
+    };
+    if fresh > total {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    for (parent, plan) in parents(t, fresh) {
+        let Some(w) = witnesses.get(&parent) else {
+            continue;
+        };
+        let x: Vec<f64> = prover.params.iter().map(|p| w[p].to_f64()).collect();
+        let Some((mut zeros, mut poles, _)) = tf_roots(tf, &x) else {
+            continue;
+        };
+        let mut kept = Vec::new();
+        if total > fresh {
+            let at = |p: &Poly| UPoly::from_poly(&p.subs_point(w), OMEGA).map(|(_, u)| u);
+            let (Some(n), Some(d)) = (at(&prover.num), at(&prover.den)) else {
+                continue;
+            };
+            let shared: Vec<Rat> = poly::rational_roots(&n.gcd(&d))
+                .into_iter()
+                .filter(|r| r.signum() > 0)
+                .collect();
+            if shared.len() != (total - fresh) as usize {
+                continue;
+            }
+            for r in shared {
+                let holds = |q: &Poly| q.subs(OMEGA, &r).subs_point(w).is_zero();
+                let Some(i) = mechanisms
+                    .iter()
+                    .position(|(d1, _, d2, _)| holds(d1) && holds(d2))
+                else {
+                    break;
+                };
+                // The kept root is not one of the parent type's tokens.
+                let rf = r.to_f64();
+                for roots in [&mut zeros, &mut poles] {
+                    if let Some(k) = nearest(roots, rf) {
+                        roots.remove(k);
+                    }
+                }
+                kept.push((r, i));
+            }
+            if kept.len() != (total - fresh) as usize {
+                continue;
+            }
+        }
+        let Some((fresh_roots, multiple)) = plan.roots(&zeros, &poles) else {
+            continue;
+        };
+        out.push(MechanismStart {
+            witness: w.clone(),
+            kept,
+            fresh: fresh_roots,
+            multiple,
+        });
+    }
+    out
 }
 
 /// One root of a parent type in the making: a zero or a pole, plain, of
@@ -201,8 +324,8 @@ impl Prover<'_> {
         wanted.iter().filter(|t| self.shown(t)).count()
     }
 
-    /// The first pass of [`Self::algebraic_search`], for types with one or
-    /// two cancelled poles: as the second, but each cancellation posed by a
+    /// The first pass of [`Self::algebraic_search`], for types with one to
+    /// three cancelled poles: as the second, but each cancellation posed by a
     /// mechanism of the chain ([`Self::cancellation_mechanisms`]: a run's
     /// determinant and its block's, or two blocks') at the pole instead of
     /// by numerator and denominator. The determinants of sub-chains share
@@ -223,95 +346,144 @@ impl Prover<'_> {
         let params = self.params.clone();
         let num = self.num.clone();
         let mut rng = Sampler::new(seed ^ 0x00E0_C4A2);
-        for ((cancelled, _), types) in signatures {
-            if !(1..=2).contains(&cancelled) {
-                continue;
-            }
-            // The mechanisms of each cancelled pole, in turn.
-            let choices: Vec<Vec<usize>> = if cancelled == 1 {
-                (0..mechanisms.len()).map(|i| vec![i]).collect()
-            } else {
-                (0..mechanisms.len())
-                    .flat_map(|i| (0..mechanisms.len()).map(move |j| vec![i, j]))
-                    .collect()
-            };
-            for t in &types {
-                let mut tries = 0;
-                'parents: for (parent, plan) in parents(t, cancelled) {
-                    let Some(w) = self.witnesses.get(&parent).cloned() else {
-                        continue;
-                    };
-                    let x: Vec<f64> = params.iter().map(|p| w[p].to_f64()).collect();
-                    let Some((zeros, poles, _)) = tf_roots(&tf, &x) else {
-                        continue;
-                    };
-                    let Some((cancel, multiple)) = plan.roots(&zeros, &poles) else {
-                        continue;
-                    };
-                    for choice in &choices {
-                        if self.shown(t) || tries >= MECHANISM_TRIES {
-                            break 'parents;
-                        }
-                        let mut equations = Vec::new();
-                        let mut polys = vec![num.clone()];
-                        for (r, &i) in cancel.iter().zip(choice) {
-                            let (d1, _, d2, _) = &mechanisms[i];
-                            equations.push(d1.subs(OMEGA, r));
-                            equations.push(d2.subs(OMEGA, r));
-                            polys.extend([d1.clone(), d2.clone()]);
-                        }
-                        for (r, k) in &multiple {
-                            equations.extend(
-                                derivatives[..*k as usize].iter().map(|d| d.subs(OMEGA, r)),
-                            );
-                        }
-                        let refs: Vec<&Poly> = polys.iter().collect();
-                        let size = equations.len();
-                        tries += 1;
-                        for short in 0..=MECHANISM_SHORTS.min(size) {
-                            let mut sets = linear_sets(&refs, &params, size - short);
-                            sets.truncate(PARENT_SETS);
-                            for vars in &sets {
-                                let others: Vec<&String> =
-                                    params.iter().filter(|p| !vars.contains(p)).collect();
-                                if others.len() < short {
-                                    continue;
+        // Round one: parents without cancellations, sets linear in the
+        // numerator too. Round two, on what is left: parents with one
+        // cancellation fewer (theirs kept), and the sets linear in the
+        // determinants alone. Each round takes its starts from the
+        // witnesses as it found them.
+        for round in 0..2 {
+            let witnesses = self.witnesses.clone();
+            for ((cancelled, _), types) in &signatures {
+                let cancelled = *cancelled;
+                if !(1..=3).contains(&cancelled) {
+                    continue;
+                }
+                for t in types {
+                    let mut groups = Vec::new();
+                    if round == 0 && cancelled <= 2 {
+                        let starts =
+                            mechanism_starts(self, &witnesses, t, cancelled, &tf, &mechanisms);
+                        groups.push((starts, LinearSets::WithNumerator));
+                    }
+                    if round == 1 && cancelled >= 2 {
+                        let starts = mechanism_starts(self, &witnesses, t, 1, &tf, &mechanisms);
+                        groups.push((starts, LinearSets::Both));
+                    }
+                    if round == 1 && cancelled <= 2 {
+                        let starts =
+                            mechanism_starts(self, &witnesses, t, cancelled, &tf, &mechanisms);
+                        groups.push((starts, LinearSets::DeterminantsOnly));
+                    }
+                    for (starts, kind) in groups {
+                        let mut tries = 0;
+                        'starts: for start in starts {
+                            if kind == LinearSets::DeterminantsOnly && !start.multiple.is_empty() {
+                                continue;
+                            }
+                            for choice in mechanism_choices(mechanisms.len(), start.fresh.len()) {
+                                if self.shown(t) || tries >= MECHANISM_TRIES {
+                                    break 'starts;
                                 }
-                                let mut pool = others.clone();
-                                let mut xs = Vec::new();
-                                for _ in 0..short {
-                                    xs.push(pool.remove(rng.index(pool.len())).clone());
+                                tries += 1;
+                                let mut equations = Vec::new();
+                                let mut polys = vec![num.clone()];
+                                let posed =
+                                    start.kept.iter().cloned().chain(
+                                        start.fresh.iter().cloned().zip(choice.iter().copied()),
+                                    );
+                                let mut cancel = Vec::new();
+                                for (r, i) in posed {
+                                    let (d1, _, d2, _) = &mechanisms[i];
+                                    equations.push(d1.subs(OMEGA, &r));
+                                    equations.push(d2.subs(OMEGA, &r));
+                                    polys.extend([d1.clone(), d2.clone()]);
+                                    cancel.push(r);
                                 }
-                                let fixed: BTreeMap<String, Rat> =
-                                    pool.iter().map(|p| ((*p).clone(), w[*p].clone())).collect();
-                                let eqs: Vec<Poly> =
-                                    equations.iter().map(|e| e.subs_point(&fixed)).collect();
-                                if short == 0 {
-                                    if let Some(sol) = solve_linear(&eqs, vars) {
-                                        if sol.iter().all(|v| v.signum() > 0) {
-                                            let mut point = fixed.clone();
-                                            point.extend(vars.iter().cloned().zip(sol));
-                                            self.record(point);
-                                        }
-                                    }
-                                    continue;
-                                }
-                                for (field, point) in algebraic_points(&eqs, vars, &xs) {
-                                    self.record_algebraic(
-                                        &types,
-                                        &fixed,
-                                        (&cancel, &multiple),
-                                        field,
-                                        point,
+                                for (r, k) in &start.multiple {
+                                    equations.extend(
+                                        derivatives[..*k as usize].iter().map(|d| d.subs(OMEGA, r)),
                                     );
                                 }
-                            }
-                            if self.shown(t) {
-                                break;
+                                self.solve_posed(
+                                    t,
+                                    types,
+                                    &start.witness,
+                                    (&equations, &polys, kind),
+                                    (&cancel, &start.multiple),
+                                    &params,
+                                    &mut rng,
+                                );
                             }
                         }
                     }
                 }
+            }
+        }
+    }
+
+    /// Solves `equations` (built of `polys`, the numerator first) in the
+    /// first jointly linear sets, the other parameters at `witness`: over Q in as many
+    /// parameters as equations, or one short over a number field, and
+    /// records what the points show.
+    #[allow(clippy::too_many_arguments)]
+    fn solve_posed(
+        &mut self,
+        t: &FrfType,
+        types: &[FrfType],
+        witness: &BTreeMap<String, Rat>,
+        (equations, polys, kind): (&[Poly], &[Poly], LinearSets),
+        (cancel, multiple): (&[Rat], &[(Rat, u32)]),
+        params: &[String],
+        rng: &mut Sampler,
+    ) {
+        let refs: Vec<&Poly> = polys.iter().collect();
+        let size = equations.len();
+        for short in 0..=MECHANISM_SHORTS.min(size) {
+            let mut sets = linear_sets(&refs, params, size - short);
+            sets.truncate(PARENT_SETS);
+            // Without multiple zeros no condition is the numerator's, so
+            // the sets linear in the determinants alone (often larger)
+            // hold the conditions as well.
+            if kind != LinearSets::WithNumerator && multiple.is_empty() {
+                let mut more = linear_sets(&refs[1..], params, size - short);
+                more.retain(|v| !sets.contains(v));
+                more.truncate(PARENT_SETS);
+                if kind == LinearSets::DeterminantsOnly {
+                    sets.clear();
+                }
+                sets.extend(more);
+            }
+            for vars in &sets {
+                let others: Vec<&String> = params.iter().filter(|p| !vars.contains(p)).collect();
+                if others.len() < short {
+                    continue;
+                }
+                let mut pool = others.clone();
+                let mut xs = Vec::new();
+                for _ in 0..short {
+                    xs.push(pool.remove(rng.index(pool.len())).clone());
+                }
+                let fixed: BTreeMap<String, Rat> = pool
+                    .iter()
+                    .map(|p| ((*p).clone(), witness[*p].clone()))
+                    .collect();
+                let eqs: Vec<Poly> = equations.iter().map(|e| e.subs_point(&fixed)).collect();
+                if short == 0 {
+                    if let Some(sol) = solve_linear(&eqs, vars) {
+                        if sol.iter().all(|v| v.signum() > 0) {
+                            let mut point = fixed.clone();
+                            point.extend(vars.iter().cloned().zip(sol));
+                            self.record(point);
+                        }
+                    }
+                    continue;
+                }
+                for (field, point) in algebraic_points(&eqs, vars, &xs) {
+                    self.record_algebraic(types, &fixed, (cancel, multiple), field, point);
+                }
+            }
+            if self.shown(t) {
+                break;
             }
         }
     }
@@ -978,5 +1150,90 @@ mod tests {
         }
         assert_eq!(poles.len(), 3);
         assert!(z[0] > 0.0 && poles[1] < z[0] && z[1] < poles[2]);
+    }
+
+    /// The shared positive rational roots of numerator and denominator of
+    /// `tf` at `w` by the rational root test on each (not their gcd), and
+    /// the rest of each in f64 with those roots divided out, lowest
+    /// coefficient first.
+    fn shared_and_rest(
+        tf: &crate::tf::UndampedTf,
+        w: &BTreeMap<String, Rat>,
+    ) -> (Vec<Rat>, Vec<f64>, Vec<f64>) {
+        let upoly = |p: &Poly| UPoly::from_poly(&p.subs_point(w), OMEGA).unwrap().1;
+        let (n, d) = (upoly(&tf.num), upoly(&tf.den));
+        let zeros = poly::rational_roots(&n);
+        let shared: Vec<Rat> = poly::rational_roots(&d)
+            .into_iter()
+            .filter(|r| r.signum() > 0 && zeros.contains(r))
+            .collect();
+        let deflate = |p: &UPoly| -> Vec<f64> {
+            let mut c: Vec<f64> = p.coeffs().iter().map(|c| c.to_f64()).collect();
+            for r in &shared {
+                let r = r.to_f64();
+                let mut out = vec![0.0; c.len() - 1];
+                let mut carry = 0.0;
+                for k in (1..c.len()).rev() {
+                    carry = c[k] + carry * r;
+                    out[k - 1] = carry;
+                }
+                c = out;
+            }
+            c
+        };
+        let (nr, dr) = (deflate(&n), deflate(&d));
+        (shared, nr, dr)
+    }
+
+    /// The mechanisms' second round on N5-g2-a3.1-s5.2: from the table's
+    /// witness of `RAARR`, which has a cancelled pole of its own, that pole
+    /// is kept by the mechanism that holds it and a second one posed by
+    /// another, one parameter short (the draw of seed 3; a field of degree
+    /// one), which shows `RAR` (two cancelled poles). Checked by another
+    /// route: numerator and denominator at the point share exactly two
+    /// positive rational roots (the rational root test on each), one of
+    /// them the parent's; divided out, the zero left (linear) lies between
+    /// the two poles left (the quadratic formula).
+    #[test]
+    fn a_mechanism_keeps_a_cancelled_pole_and_poses_another() {
+        let model = crate::Model::from_id("N5-g2-a3.1-s5.2").unwrap();
+        let tf = model.undamped_tf();
+        let mut prover = Prover::new(&model, tf.num.clone(), tf.den.clone());
+        let q = |s: &str| -> Rat { s.parse().unwrap() };
+        let parent: BTreeMap<String, Rat> = [
+            ("c1", "9/2"),
+            ("c12", "15"),
+            ("c34", "64"),
+            ("c45", "1"),
+            ("m1", "6/185"),
+            ("m2", "11/4"),
+            ("m3", "5/8"),
+            ("m4", "1"),
+            ("m5", "13212/8423"),
+        ]
+        .iter()
+        .map(|(k, v)| (k.to_string(), q(v)))
+        .collect();
+        let parent_type: FrfType = "RAARR".parse().unwrap();
+        assert_eq!(prover.type_at(&parent), Some(parent_type.clone()));
+        let (kept, _, _) = shared_and_rest(&tf, &parent);
+        assert_eq!(kept.len(), 1);
+        prover.witnesses.insert(parent_type, parent);
+        let wanted: FrfType = "RAR".parse().unwrap();
+        prover.mechanism_parent_search(std::slice::from_ref(&wanted), 3);
+        let w = prover.witnesses[&wanted].clone();
+        let (shared, nr, dr) = shared_and_rest(&tf, &w);
+        assert_eq!(shared.len(), 2);
+        assert!(shared.contains(&kept[0]));
+        assert_eq!((nr.len(), dr.len()), (2, 3));
+        let zero = -nr[0] / nr[1];
+        let disc = dr[1] * dr[1] - 4.0 * dr[2] * dr[0];
+        assert!(disc > 0.0);
+        let mut poles = [
+            (-dr[1] - disc.sqrt()) / (2.0 * dr[2]),
+            (-dr[1] + disc.sqrt()) / (2.0 * dr[2]),
+        ];
+        poles.sort_by(f64::total_cmp);
+        assert!(poles[0] > 0.0 && poles[0] < zero && zero < poles[1]);
     }
 }

@@ -1731,7 +1731,7 @@ pub(super) fn split_type(t: &FrfType) -> FrfType {
 /// The root coincidences a type of a model with `degree` poles needs: its
 /// number of cancelled poles and the multiplicities of its multiple
 /// antiresonances; `None` for a type with none, or with a multiple pole.
-fn root_signature(t: &FrfType, degree: u32) -> Option<(u32, Vec<u32>)> {
+pub(super) fn root_signature(t: &FrfType, degree: u32) -> Option<(u32, Vec<u32>)> {
     let simple_poles = t
         .tokens
         .iter()
