@@ -1074,53 +1074,24 @@ mod tests {
     /// are in the order R R A A with the last pole above them.
     #[test]
     fn a_mechanism_poses_a_cancelled_pole() {
-        let model = crate::Model::from_id("N5-g2-a3.1-s5.2").unwrap();
-        let tf = model.undamped_tf();
-        let mut prover = Prover::new(&model, tf.num.clone(), tf.den.clone());
-        let q = |s: &str| -> Rat { s.parse().unwrap() };
-        let parent: BTreeMap<String, Rat> = [
-            ("c1", "13/2"),
-            ("c12", "5/256"),
-            ("c34", "3/128"),
-            ("c45", "4"),
-            ("m1", "4"),
-            ("m2", "9/4"),
-            ("m3", "6"),
-            ("m4", "16"),
-            ("m5", "11/64"),
-        ]
-        .iter()
-        .map(|(k, v)| (k.to_string(), q(v)))
-        .collect();
-        let parent_type: FrfType = "RRAARRA".parse().unwrap();
-        assert_eq!(prover.type_at(&parent), Some(parent_type.clone()));
-        prover.witnesses.insert(parent_type, parent);
-        let wanted: FrfType = "RRAAR".parse().unwrap();
-        prover.mechanism_parent_search(std::slice::from_ref(&wanted), 7);
-        let w = prover.witnesses[&wanted].clone();
-        let upoly = |p: &Poly| UPoly::from_poly(&p.subs_point(&w), OMEGA).unwrap().1;
-        let (n, d) = (upoly(&tf.num), upoly(&tf.den));
-        let zeros = poly::rational_roots(&n);
-        let shared: Vec<Rat> = poly::rational_roots(&d)
-            .into_iter()
-            .filter(|r| zeros.contains(r))
-            .collect();
+        let (tf, w) = mechanism_pass_from(
+            "RRAARRA",
+            &[
+                ("c1", "13/2"),
+                ("c12", "5/256"),
+                ("c34", "3/128"),
+                ("c45", "4"),
+                ("m1", "4"),
+                ("m2", "9/4"),
+                ("m3", "6"),
+                ("m4", "16"),
+                ("m5", "11/64"),
+            ],
+            "RRAAR",
+            7,
+        );
+        let (shared, nr, dr) = shared_and_rest(&tf, &w);
         assert_eq!(shared.len(), 1);
-        let rho = shared[0].to_f64();
-        assert!(rho > 0.0);
-        // The rest, in f64: n / (x - rho) and d / (x - rho) by synthetic
-        // division, from the top coefficient down.
-        let deflate = |p: &UPoly| -> Vec<f64> {
-            let c: Vec<f64> = p.coeffs().iter().map(|c| c.to_f64()).collect();
-            let mut out = vec![0.0; c.len() - 1];
-            let mut carry = 0.0;
-            for k in (1..c.len()).rev() {
-                carry = c[k] + carry * rho;
-                out[k - 1] = carry;
-            }
-            out
-        };
-        let (nr, dr) = (deflate(&n), deflate(&d));
         assert_eq!((nr.len(), dr.len()), (3, 4));
         let disc = nr[1] * nr[1] - 4.0 * nr[2] * nr[0];
         assert!(disc > 0.0);
@@ -1150,6 +1121,31 @@ mod tests {
         }
         assert_eq!(poles.len(), 3);
         assert!(z[0] > 0.0 && poles[1] < z[0] && z[1] < poles[2]);
+    }
+
+    /// The mechanisms' pass on N5-g2-a3.1-s5.2 for `wanted` with `parent`'s
+    /// witness `at` (checked to show it) as the only witness: the transfer
+    /// function and the witness found.
+    fn mechanism_pass_from(
+        parent: &str,
+        at: &[(&str, &str)],
+        wanted: &str,
+        seed: u64,
+    ) -> (crate::tf::UndampedTf, BTreeMap<String, Rat>) {
+        let model = crate::Model::from_id("N5-g2-a3.1-s5.2").unwrap();
+        let tf = model.undamped_tf();
+        let mut prover = Prover::new(&model, tf.num.clone(), tf.den.clone());
+        let point: BTreeMap<String, Rat> = at
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.parse().unwrap()))
+            .collect();
+        let parent: FrfType = parent.parse().unwrap();
+        assert_eq!(prover.type_at(&point), Some(parent.clone()));
+        prover.witnesses.insert(parent, point);
+        let wanted: FrfType = wanted.parse().unwrap();
+        prover.mechanism_parent_search(std::slice::from_ref(&wanted), seed);
+        let w = prover.witnesses[&wanted].clone();
+        (tf, w)
     }
 
     /// The shared positive rational roots of numerator and denominator of
@@ -1196,11 +1192,7 @@ mod tests {
     /// the two poles left (the quadratic formula).
     #[test]
     fn a_mechanism_keeps_a_cancelled_pole_and_poses_another() {
-        let model = crate::Model::from_id("N5-g2-a3.1-s5.2").unwrap();
-        let tf = model.undamped_tf();
-        let mut prover = Prover::new(&model, tf.num.clone(), tf.den.clone());
-        let q = |s: &str| -> Rat { s.parse().unwrap() };
-        let parent: BTreeMap<String, Rat> = [
+        let parent = [
             ("c1", "9/2"),
             ("c12", "15"),
             ("c34", "64"),
@@ -1210,18 +1202,14 @@ mod tests {
             ("m3", "5/8"),
             ("m4", "1"),
             ("m5", "13212/8423"),
-        ]
-        .iter()
-        .map(|(k, v)| (k.to_string(), q(v)))
-        .collect();
-        let parent_type: FrfType = "RAARR".parse().unwrap();
-        assert_eq!(prover.type_at(&parent), Some(parent_type.clone()));
-        let (kept, _, _) = shared_and_rest(&tf, &parent);
+        ];
+        let (tf, w) = mechanism_pass_from("RAARR", &parent, "RAR", 3);
+        let at: BTreeMap<String, Rat> = parent
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.parse().unwrap()))
+            .collect();
+        let (kept, _, _) = shared_and_rest(&tf, &at);
         assert_eq!(kept.len(), 1);
-        prover.witnesses.insert(parent_type, parent);
-        let wanted: FrfType = "RAR".parse().unwrap();
-        prover.mechanism_parent_search(std::slice::from_ref(&wanted), 3);
-        let w = prover.witnesses[&wanted].clone();
         let (shared, nr, dr) = shared_and_rest(&tf, &w);
         assert_eq!(shared.len(), 2);
         assert!(shared.contains(&kept[0]));
