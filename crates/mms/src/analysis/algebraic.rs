@@ -45,8 +45,9 @@ const PARENT_SETS: usize = 3;
 const PARENT_SHORTS: usize = 2;
 /// Solves per wanted type in the parent pass, at most.
 const PARENT_TRIES: usize = 48;
-/// Mechanism choices per wanted type in the mechanisms' parent pass, at
-/// most (each tried with every number short and the first linear sets).
+/// Mechanism choices per wanted type and kind of start in the mechanisms'
+/// pass, at most (each tried with every number short and the first
+/// linear sets).
 const MECHANISM_TRIES: usize = 64;
 /// Parameters short in the mechanisms' parent pass, at most.
 const MECHANISM_SHORTS: usize = 1;
@@ -131,8 +132,9 @@ fn nearest(roots: &[f64], r: f64) -> Option<usize> {
         .map(|(k, _)| k)
 }
 
-/// Where the mechanisms' pass starts for `t`, from `witnesses`: each parent with `fresh`
-/// cancellations fewer ([`parents`]) that has a rational witness, the
+/// Where the mechanisms' pass starts for `t`, from `witnesses`: each
+/// parent with `fresh` cancellations fewer ([`parents`]) that has a
+/// rational witness, the
 /// roots to pose from it, and the parent's own cancelled poles (its
 /// shared rational roots, as many as `t` has cancellations beyond
 /// `fresh`), each with a mechanism whose determinants vanish there.
@@ -422,9 +424,9 @@ impl Prover<'_> {
     }
 
     /// Solves `equations` (built of `polys`, the numerator first) in the
-    /// first jointly linear sets, the other parameters at `witness`: over Q in as many
-    /// parameters as equations, or one short over a number field, and
-    /// records what the points show.
+    /// first jointly linear sets (of the kind asked for), the other
+    /// parameters at `witness`: over Q in as many parameters as equations,
+    /// or one short over a number field, and records what the points show.
     #[allow(clippy::too_many_arguments)]
     fn solve_posed(
         &mut self,
