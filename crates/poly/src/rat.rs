@@ -174,6 +174,34 @@ impl Rat {
         })
     }
 
+    /// A dyadic rational `q / 2^e` at or below `self`, within a relative
+    /// `2^(2 - bits)` of it (`q` has about `bits` bits): a short stand-in
+    /// for a long rational. An integer of at most `bits` bits is kept.
+    ///
+    /// ```
+    /// use poly::Rat;
+    /// let third: Rat = "1/3".parse().unwrap();
+    /// assert_eq!(third.round_to_bits(4).to_string(), "5/16"); // 0.0101b
+    /// assert_eq!(Rat::from(5).round_to_bits(2).to_string(), "4");
+    /// assert_eq!(Rat::from(-5).round_to_bits(2).to_string(), "-6");
+    /// assert_eq!(Rat::from(5).round_to_bits(3).to_string(), "5");
+    /// ```
+    pub fn round_to_bits(&self, bits: u32) -> Rat {
+        if self.is_zero() || (self.den.is_one() && self.num.bits() <= u64::from(bits)) {
+            return self.clone();
+        }
+        // |self| * 2^e has about `bits` bits before the point.
+        let e = i64::from(bits) - (self.num.bits() as i64 - self.den.bits() as i64) - 1;
+        let power = Rat::from_int(Int::from(2).pow(e.unsigned_abs() as u32));
+        let scaled = if e >= 0 { self * &power } else { self / &power };
+        let q = Rat::from_int(scaled.floor());
+        if e >= 0 {
+            &q / &power
+        } else {
+            &q * &power
+        }
+    }
+
     /// Floor as an integer.
     pub fn floor(&self) -> Int {
         self.num.div_mod_floor(&self.den).0
