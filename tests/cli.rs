@@ -695,3 +695,80 @@ fn whole_file(dir: &std::path::Path, text: &str) -> String {
     std::fs::write(&file, text).unwrap();
     file.to_string_lossy().into_owned()
 }
+
+#[test]
+fn sample_reads_a_type_left_open_and_resumes_from_its_cache() {
+    // The 3-mass table with A2's R (a cancelled pole, possible by the
+    // paper's Tab. 3) left unknown: points on the variety of one
+    // cancellation read R, and no point reads a type the table certifies
+    // impossible.
+    let dir = std::env::temp_dir().join(format!("mms-sample-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut v = json(&["analyze", "--masses", "3", "--format", "json"]);
+    let a2 = v["models"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|m| m["id"] == "A2")
+        .unwrap();
+    let r = a2["types"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|t| t["type"] == "R")
+        .unwrap();
+    let o = r.as_object_mut().unwrap();
+    o.remove("witness");
+    o.insert("status".into(), "unknown".into());
+    let file = dir.join("open.json");
+    std::fs::write(&file, v.to_string()).unwrap();
+    let cache = dir.join("cache");
+    let args = |jobs: &str| {
+        vec![
+            "sample".to_string(),
+            file.to_str().unwrap().to_string(),
+            "--starts".into(),
+            "3000".into(),
+            "--format".into(),
+            "json".into(),
+            "--jobs".into(),
+            jobs.into(),
+            "--cache".into(),
+            cache.to_str().unwrap().to_string(),
+        ]
+    };
+    let run = |jobs: &str| {
+        let a = args(jobs);
+        let refs: Vec<&str> = a.iter().map(String::as_str).collect();
+        let (code, out, err) = mms(&refs);
+        assert_eq!(code, 0, "{err}");
+        out
+    };
+    let first = run("1");
+    let s: serde_json::Value = serde_json::from_str(&first).unwrap();
+    assert_eq!(s.as_array().unwrap().len(), 1, "{first}");
+    assert_eq!(s[0]["id"], "A2");
+    let cell = &s[0]["cells"][0];
+    assert_eq!(
+        (cell["cell"]["cancelled"].as_u64(), cell["starts"].as_u64()),
+        (Some(1), Some(3000))
+    );
+    assert!(cell["seen"]["R"].as_u64().unwrap() > 100, "{cell}");
+    assert_eq!(s[0]["impossible_read"], serde_json::json!({}));
+    // From the cache, and with two jobs: the same bytes.
+    assert!(std::fs::read_dir(&cache).unwrap().count() == 1);
+    assert_eq!(run("2"), first);
+    // Bad input: no starts, a file that is no table.
+    for bad in [
+        vec!["sample", file.to_str().unwrap(), "--starts", "0"],
+        vec!["sample", "/nonexistent/table.json"],
+    ] {
+        let (code, out, err) = mms(&bad);
+        assert_eq!(code, 2, "{bad:?}: {err}");
+        assert!(
+            out.is_empty() && err.trim_end().lines().count() == 1,
+            "{err}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

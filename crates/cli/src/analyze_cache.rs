@@ -40,7 +40,7 @@ const FORMAT: &str = "mms-analyze-cache";
 /// The layout of [`Summary`] and [`Entry`]. Bump it whenever either changes,
 /// or the analysis changes its results without a change of the crate
 /// version, so that old files are recomputed rather than misread.
-const LAYOUT_VERSION: u32 = 6;
+const LAYOUT_VERSION: u32 = 7;
 
 /// One cache file.
 #[derive(Serialize, Deserialize)]
@@ -149,10 +149,13 @@ impl Cache {
 
 fn checksum(v: &serde_json::Value) -> Result<String, String> {
     let text = serde_json::to_string(v).map_err(|e| e.to_string())?;
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in text.bytes() {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0100_0000_01b3);
-    }
-    Ok(format!("fnv1a64:{h:016x}"))
+    Ok(format!("fnv1a64:{:016x}", fnv1a(text.as_bytes())))
+}
+
+/// FNV-1a, 64 bits: a checksum that stays the same across versions of
+/// Rust and platforms (unlike `std`'s hashers).
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
 }

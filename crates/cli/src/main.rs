@@ -14,6 +14,7 @@ mod notes;
 mod output;
 mod recording;
 mod report;
+mod sample;
 mod sensors;
 mod study;
 mod tables;
@@ -168,6 +169,35 @@ enum Command {
         /// same for every N.
         #[arg(long, value_name = "N", default_value_t = 1)]
         jobs: usize,
+    },
+    /// Sample every unknown type of an analysis table on its own region
+    /// (the variety of its cancelled poles and multiple zeros): how often
+    /// points there show it, and whether any shows a type the table
+    /// certifies impossible. Evidence for the open cells, not a verdict.
+    ///
+    /// Long runs show progress on stderr when it is a terminal; with
+    /// --cache an interrupted run resumes.
+    Sample {
+        /// The JSON file written by `mms analyze --format json`.
+        #[arg(value_name = "FILE")]
+        file: PathBuf,
+        /// Starts per cell (coincidence structure of a model's unknown
+        /// types).
+        #[arg(long, value_name = "N", default_value_t = 100_000)]
+        starts: u64,
+        /// Sample N cells at a time (0: one per core). The output is the
+        /// same for every N.
+        #[arg(long, value_name = "N", default_value_t = 1)]
+        jobs: usize,
+        /// Keep every finished cell's counts in DIR and reuse them when
+        /// rerun with the same DIR, starts and version.
+        #[arg(long, value_name = "DIR")]
+        cache: Option<PathBuf>,
+        #[arg(long, value_enum, default_value_t = sample::SampleFormat::Md)]
+        format: sample::SampleFormat,
+        /// Write to this file (atomically) instead of stdout.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
     },
     /// Estimate or convert the FRF of a recording (H1 with Welch averaging
     /// for time-domain data) and write it as CSV or UFF58.
@@ -455,6 +485,22 @@ fn run(cli: Cli) -> Result<(), String> {
             output::emit(None, &text)
         }
         Command::Check { file, jobs } => output::emit(None, &check::run(&file, jobs)?),
+        Command::Sample {
+            file,
+            starts,
+            jobs,
+            cache,
+            format,
+            out,
+        } => {
+            let opts = sample::Options {
+                starts,
+                jobs,
+                cache,
+                format,
+            };
+            output::emit(out.as_deref(), &sample::run(&file, &opts)?)
+        }
         Command::Algebra { masses, format } => output::emit(None, &algebra::run(masses, format)?),
         Command::Frf {
             recording,

@@ -40,7 +40,16 @@
 //!    cancelled poles and multiple zeros divide the transfer function
 //!    exactly and are no roots of what remains, and the rest's positive
 //!    roots, isolated together by Descartes' rule over the field, are
-//!    simple, hold every pole, and give the type with the posed roots;
+//!    simple, hold every pole, and give the type with the posed roots; or
+//!    its isolated witness ([`crate::analysis::IsolatedWitness`], read by
+//!    its own code in `check/isolated.rs`): the posed conditions, with the
+//!    fixed parameters substituted, are a square system in the free ones
+//!    with exactly one solution in the box by Krawczyk's test in exact
+//!    interval arithmetic (a pose's factors replacing numerator and
+//!    denominator where its cofactors multiply out to both), and the rests
+//!    left by the posed roots have, on the whole box, one sign at the
+//!    partition's points and at most one sign variation (Descartes' rule)
+//!    on each piece, not one for both, every pole placed;
 //! 3. every *impossible* type: its certificate, a tree of proofs over
 //!    strata (see [`crate::analysis::Proof`] for the format): the stratum's
 //!    substitutions, the coverage of its critical polynomials (leading
@@ -90,6 +99,8 @@
 //! assert!(err.to_string().starts_with("model A2, type R: witness"), "{err}");
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+
+mod isolated;
 
 use crate::model::{Model, Port};
 use crate::table::{AnalysisTable, TableError};
@@ -1913,10 +1924,15 @@ fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, 
         let t = Ty::parse(name).map_err(type_err)?;
         match str_field(verdict, "status", &vpath).map_err(type_err)? {
             "possible" => {
-                match (verdict.get("path"), verdict.get("algebraic")) {
-                    (Some(p), _) => checker.check_path(p, &t).map_err(type_err)?,
-                    (None, Some(a)) => checker.check_algebraic(a, &t).map_err(type_err)?,
-                    (None, None) => {
+                match (
+                    verdict.get("path"),
+                    verdict.get("algebraic"),
+                    verdict.get("isolated"),
+                ) {
+                    (Some(p), _, _) => checker.check_path(p, &t).map_err(type_err)?,
+                    (None, Some(a), _) => checker.check_algebraic(a, &t).map_err(type_err)?,
+                    (None, None, Some(b)) => checker.check_isolated(b, &t).map_err(type_err)?,
+                    (None, None, None) => {
                         let w = field(verdict, "witness", &vpath).map_err(type_err)?;
                         checker.check_witness(w, &t).map_err(type_err)?;
                     }
@@ -2135,6 +2151,15 @@ impl ModelChecker {
             .map_err(|e| format!("algebraic: {e}"))?;
         if &got != t {
             return Err(format!("algebraic: the type there is {got}, not {t}"));
+        }
+        Ok(())
+    }
+
+    /// A point isolated in a box: see the module docs, item 2.
+    fn check_isolated(&self, v: &Value, t: &Ty) -> Result<(), String> {
+        let got = isolated::read_isolated(&self.num, &self.den, &self.params, v)?;
+        if &got != t {
+            return Err(format!("isolated: the type there is {got}, not {t}"));
         }
         Ok(())
     }

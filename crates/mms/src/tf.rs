@@ -503,6 +503,16 @@ pub struct UndampedCoefficients {
     den: Vec<Compiled>,
 }
 
+/// Numerator and denominator coefficients (ascending) at a point, with
+/// their derivatives in the logarithms of the parameters.
+#[derive(Clone, Debug)]
+pub(crate) struct CoefficientsWithGradients {
+    pub num: Vec<f64>,
+    pub den: Vec<f64>,
+    pub num_gradient: Vec<Vec<f64>>,
+    pub den_gradient: Vec<Vec<f64>>,
+}
+
 /// A polynomial in the parameters: `(coefficient, [(parameter, power)])`.
 #[derive(Clone, Debug)]
 pub(crate) struct Compiled(Vec<(f64, Vec<(usize, i32)>)>);
@@ -538,6 +548,20 @@ impl Compiled {
 
     pub(crate) fn eval(&self, x: &[f64]) -> f64 {
         self.terms(x).sum()
+    }
+
+    /// The value at `x` and, added into `grad`, its derivatives in the
+    /// logarithms of the parameters (each term's value times its power).
+    pub(crate) fn eval_with_log_gradient(&self, x: &[f64], grad: &mut [f64]) -> f64 {
+        let mut sum = 0.0;
+        for (c, powers) in &self.0 {
+            let t = powers.iter().fold(*c, |acc, &(i, e)| acc * x[i].powi(e));
+            sum += t;
+            for &(i, e) in powers {
+                grad[i] += f64::from(e) * t;
+            }
+        }
+        sum
     }
 
     /// Each term's value at `x`.
@@ -587,5 +611,26 @@ impl UndampedCoefficients {
             self.num.iter().map(|c| c.eval(x)).collect(),
             self.den.iter().map(|c| c.eval(x)).collect(),
         )
+    }
+
+    /// As [`Self::eval`], with each coefficient's derivatives in the
+    /// logarithms of the parameters (`[coefficient][parameter]`).
+    pub(crate) fn eval_with_log_gradients(&self, x: &[f64]) -> CoefficientsWithGradients {
+        let with = |cs: &[Compiled]| -> (Vec<f64>, Vec<Vec<f64>>) {
+            cs.iter()
+                .map(|c| {
+                    let mut g = vec![0.0; x.len()];
+                    (c.eval_with_log_gradient(x, &mut g), g)
+                })
+                .unzip()
+        };
+        let (num, num_gradient) = with(&self.num);
+        let (den, den_gradient) = with(&self.den);
+        CoefficientsWithGradients {
+            num,
+            den,
+            num_gradient,
+            den_gradient,
+        }
     }
 }

@@ -287,6 +287,90 @@ fn algebraic_witnesses_are_checked_over_their_field() {
     assert!(step.contains("not positive"), "{step}");
 }
 
+/// A2's type R isolated in a box: with c12 = c23 = m2 = 1 fixed and the
+/// pole at 1 cancelled, the conditions `c23 - m3 = 0` and `1 - m1 m3 = 0`
+/// have the one solution m1 = m3 = 1, where the denominator is
+/// `(Omega - 1)(Omega - 3)` (by hand, from the paper's Den of A2).
+fn a2_isolated_r() -> Value {
+    json!({
+        "fixed": {"c12": "1", "c23": "1", "m2": "1"},
+        "free": {"m1": ["1023/1024", "1025/1024"], "m3": ["1023/1024", "1025/1024"]},
+        "cancelled": ["1"],
+        "partition": ["2", "4"],
+    })
+}
+
+/// The paper file with A2's verdict on `t` replaced by an isolated
+/// witness `w`, checked.
+fn with_isolated(t: &str, w: Value) -> Result<CheckReport, CheckError> {
+    let mut v = paper_file().clone();
+    let verdict = v.pointer_mut(&verdict_ptr("A2", t)).unwrap();
+    let o = verdict.as_object_mut().unwrap();
+    o.remove("witness");
+    o.insert("isolated".into(), w);
+    check(&v)
+}
+
+#[test]
+fn isolated_witnesses_are_checked_in_their_box() {
+    with_isolated("R", a2_isolated_r()).unwrap_or_else(|e| panic!("{e}"));
+    // With no partition point at all: the one pole is alone in (0, inf).
+    let mut bare = a2_isolated_r();
+    bare["partition"] = json!([]);
+    with_isolated("R", bare).unwrap_or_else(|e| panic!("{e}"));
+    // Posed by the numerator and the denominator themselves as factors,
+    // with the trivial cofactors: accepted.
+    let a2 = paper_file().pointer(&model_ptr("A2")).unwrap();
+    let (num, den) = (a2["numerator"].clone(), a2["denominator"].clone());
+    let mut posed = a2_isolated_r();
+    posed["poses"] = json!([{
+        "pole": 0, "factors": [num, den], "numerator": ["1", "0"], "denominator": ["0", "1"],
+    }]);
+    with_isolated("R", posed.clone()).unwrap_or_else(|e| panic!("{e}"));
+    let refused = |t: &str, w: Value, what: &str| {
+        let e = with_isolated(t, w).expect_err(what);
+        let (model, ty, step) = type_step(&e);
+        assert_eq!((model, ty), ("A2", t));
+        assert!(step.starts_with("isolated"), "{what}: {e}");
+        step.to_string()
+    };
+    let step = refused("ARR", a2_isolated_r(), "another type");
+    assert!(step.contains("the type there is R"), "{step}");
+    // A box beside the solution: Krawczyk's operator leaves it.
+    let mut beside = a2_isolated_r();
+    beside["free"]["m1"] = json!(["9/8", "5/4"]);
+    let step = refused("R", beside, "a box without the solution");
+    assert!(step.contains("Krawczyk"), "{step}");
+    // A partition point on the other pole, 3.
+    let mut on_pole = a2_isolated_r();
+    on_pole["partition"] = json!(["3"]);
+    let step = refused("R", on_pole, "a point on a root");
+    assert!(step.contains("no one sign"), "{step}");
+    // Cofactors that do not multiply out to the numerator.
+    let mut forged = posed;
+    forged["poses"][0]["numerator"] = json!(["2", "0"]);
+    let step = refused("R", forged, "forged cofactors");
+    assert!(step.contains("numerator is not"), "{step}");
+    // A double zero claimed as well: more conditions than free parameters.
+    let mut double = a2_isolated_r();
+    double["multiple"] = json!([["2", 2]]);
+    let step = refused("R", double, "a double zero that is not posed right");
+    assert!(step.contains("conditions posed"), "{step}");
+    // A parameter both fixed and free, one with neither, a box not positive.
+    let mut both = a2_isolated_r();
+    both["fixed"]["m1"] = "1".into();
+    let step = refused("R", both, "fixed and free");
+    assert!(step.contains("both fixed and free"), "{step}");
+    let mut neither = a2_isolated_r();
+    neither["fixed"].as_object_mut().unwrap().remove("m2");
+    let step = refused("R", neither, "no value");
+    assert!(step.contains("no value or range for m2"), "{step}");
+    let mut negative = a2_isolated_r();
+    negative["free"]["m3"] = json!(["-1", "2"]);
+    let step = refused("R", negative, "a box not positive");
+    assert!(step.contains("not positive"), "{step}");
+}
+
 #[test]
 fn flipped_multiplier_is_rejected() {
     let ptr = first_open("sign_conditions");

@@ -28,11 +28,14 @@ mod configurations;
 mod continuity;
 mod explain;
 mod frf_type;
+mod isolated;
 mod lp;
 mod pole_signs;
 mod prover;
 mod rename;
+mod sampling;
 mod targeted;
+mod variety;
 mod walls;
 
 pub use continuity::PATH_VARIABLE;
@@ -46,6 +49,7 @@ pub use prover::{
     ConditionRule, Definiteness, FactorProof, OpenProof, Proof, RegionSample, SearchLimits,
     SignCase, SignCondition, Substitution, UnlistedRole,
 };
+pub use sampling::{cells, sample_cell, Cell, CellSample, SAMPLING_RANGE};
 
 use crate::model::Model;
 use crate::tf::OMEGA;
@@ -88,6 +92,10 @@ pub struct TypeVerdict {
     /// types with neither a rational witness nor a path).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub algebraic: Option<AlgebraicWitness>,
+    /// A box holding exactly one point where the type shows (possible
+    /// types with none of the witnesses above).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub isolated: Option<IsolatedWitness>,
 }
 
 /// The name of the generator `theta` of an [`AlgebraicWitness`]'s field.
@@ -162,6 +170,69 @@ impl AlgebraicWitness {
             .collect::<Option<_>>()?;
         Some((field, point))
     }
+}
+
+/// A witness point enclosed in a box of rationals, where a root
+/// coincidence (a cancelled pole, a multiple zero) has no point one can
+/// compute exactly: the posed roots and the `fixed` parameters are
+/// rationals, and the root conditions (the numerator and the denominator
+/// zero at each cancelled pole, the numerator and its first `mu - 1`
+/// derivatives zero at each multiple zero of multiplicity `mu`) are a
+/// square system in the `free` parameters with exactly one solution in
+/// their box, by Krawczyk's test in exact interval arithmetic. At that
+/// solution the posed roots divide the transfer function exactly, and the
+/// rest's roots are placed by the `partition` of `(0, inf)`: at its
+/// points neither rest vanishes, and in each piece Descartes' rule, the
+/// same for every point of the box, allows at most one root of each and
+/// not one of both. `mms check` repeats every step with its own code.
+///
+/// ```
+/// use mms::analysis::IsolatedWitness;
+/// let w: IsolatedWitness = serde_json::from_str(
+///     r#"{"fixed": {"m1": "1"}, "free": {"c1": ["1999/1000", "2001/1000"]},
+///         "cancelled": ["2"], "partition": ["1", "3"]}"#,
+/// ).unwrap();
+/// assert_eq!(w.free["c1"][0].to_string(), "1999/1000");
+/// assert!(w.multiple.is_empty() && w.poses.is_empty());
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct IsolatedWitness {
+    /// The parameters held at rationals.
+    pub fixed: BTreeMap<String, Rat>,
+    /// The box of the other parameters: each `[lower, upper]`.
+    pub free: BTreeMap<String, [Rat; 2]>,
+    /// The cancelled poles posed: each a root of the numerator and the
+    /// denominator at the point.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cancelled: Vec<Rat>,
+    /// The multiple zeros posed, with their multiplicities.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub multiple: Vec<(Rat, u32)>,
+    /// The cancelled poles posed by two other polynomials than the
+    /// numerator and the denominator (where those two meet tangentially,
+    /// as when the chain's two blocks share an eigenvalue).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub poses: Vec<PolePose>,
+    /// Points of `(0, inf)`, increasing, that part the roots of what
+    /// remains; every multiple zero is one of them.
+    pub partition: Vec<Rat>,
+}
+
+/// A cancelled pole of an [`IsolatedWitness`] posed as the common root of
+/// two `factors` (polynomials in the parameters and `Omega`) instead of
+/// the numerator's and the denominator's: the cofactors show that both
+/// of these vanish wherever the factors do,
+/// `numerator = n0 f0 + n1 f1` and `denominator = d0 f0 + d1 f1`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PolePose {
+    /// The index of the pole in the witness's `cancelled`.
+    pub pole: usize,
+    /// `[f0, f1]`.
+    pub factors: [Poly; 2],
+    /// `[n0, n1]`.
+    pub numerator: [Poly; 2],
+    /// `[d0, d1]`.
+    pub denominator: [Poly; 2],
 }
 
 /// A double or triple zero shown by continuity instead of at a rational
@@ -353,7 +424,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 31;
+pub const ENGINE_VERSION: u32 = 32;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
@@ -450,28 +521,41 @@ fn analyze_source(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
         let other = mirror_witnesses(&mirror, &own, limits);
         completed(own, &other)
     };
-    let own = algebraic_completion(model, own);
-    if mirror == *model || own.unknown().is_empty() {
-        return own;
-    }
-    // The mirror's draws go by its own parameter names, so they fall
-    // elsewhere.
-    let there = algebraic_completion(&mirror, own.mirrored(model));
-    let back = rename::Renaming::mirror(&mirror);
-    let found: Vec<TypeVerdict> = there
-        .types
-        .iter()
-        .filter(|v| v.algebraic.is_some())
-        .map(|v| back.verdict(v))
-        .collect();
-    completed(own, &found)
+    let own = completion(model, own, Completion::Algebraic);
+    let own = if mirror == *model || own.unknown().is_empty() {
+        own
+    } else {
+        // The mirror's draws go by its own parameter names, so they fall
+        // elsewhere.
+        let there = completion(&mirror, own.mirrored(model), Completion::Algebraic);
+        let back = rename::Renaming::mirror(&mirror);
+        let found: Vec<TypeVerdict> = there
+            .types
+            .iter()
+            .filter(|v| v.algebraic.is_some())
+            .map(|v| back.verdict(v))
+            .collect();
+        completed(own, &found)
+    };
+    // Once, not for the mirror too: its variety is the same under other
+    // names, so its sampler would only repeat this one's.
+    completion(model, own, Completion::Isolated)
+}
+
+/// The searches that complete an analysis, last of all.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Completion {
+    /// At points over real number fields ([`Prover::algebraic_search`]).
+    Algebraic,
+    /// At points isolated in a box ([`Prover::isolated_search`]).
+    Isolated,
 }
 
 /// `a` (an analysis of `model`) with the types it leaves unknown searched
-/// at points over real number fields ([`Prover::algebraic_search`]),
-/// from its witnesses: last, after every search over the rationals, so
-/// that a type keeps a rational witness wherever one was found.
-fn algebraic_completion(model: &Model, a: ModelAnalysis) -> ModelAnalysis {
+/// by `search`, from its witnesses: after every search over the
+/// rationals, so that a type keeps a rational witness wherever one was
+/// found, and one over a number field before a box.
+fn completion(model: &Model, a: ModelAnalysis, search: Completion) -> ModelAnalysis {
     let open: Vec<FrfType> = a.unknown().into_iter().cloned().collect();
     if open.is_empty() {
         return a;
@@ -488,24 +572,34 @@ fn algebraic_completion(model: &Model, a: ModelAnalysis) -> ModelAnalysis {
         if let Some(w) = &v.algebraic {
             prover.algebraic.insert(v.frf_type.clone(), w.clone());
         }
+        if let Some(w) = &v.isolated {
+            prover.isolated.insert(v.frf_type.clone(), w.clone());
+        }
     }
-    prover.algebraic_search(&open, ALGEBRAIC_SEED);
+    match search {
+        Completion::Algebraic => prover.algebraic_search(&open, ALGEBRAIC_SEED),
+        Completion::Isolated => prover.isolated_search(&open, ISOLATED_SEED),
+    };
     let found: Vec<TypeVerdict> = open
         .iter()
         .filter_map(|t| {
             // A field of degree one is a rational point.
             let witness = prover.witnesses.get(t).cloned();
-            let algebraic = match witness {
-                Some(_) => None,
-                None => Some(prover.algebraic.get(t)?.clone()),
-            };
-            Some(TypeVerdict {
+            let algebraic = witness
+                .is_none()
+                .then(|| prover.algebraic.get(t).cloned())
+                .flatten();
+            let isolated = (witness.is_none() && algebraic.is_none())
+                .then(|| prover.isolated.get(t).cloned())
+                .flatten();
+            (witness.is_some() || algebraic.is_some() || isolated.is_some()).then(|| TypeVerdict {
                 frf_type: t.clone(),
                 status: Status::Possible,
                 witness,
                 certificate: None,
                 path: None,
                 algebraic,
+                isolated,
             })
         })
         .collect();
@@ -554,6 +648,7 @@ fn mirror_witnesses(
                 certificate: None,
                 path,
                 algebraic: None,
+                isolated: None,
             }))
         })
         .collect()
@@ -608,6 +703,8 @@ fn search_unknown(prover: &mut Prover, unknown: &[FrfType], limits: &SearchLimit
 
 /// The seed of [`Prover::algebraic_search`]'s draws.
 const ALGEBRAIC_SEED: u64 = 0xA16E_B2A1;
+/// The seed of [`Prover::isolated_search`]'s sampler.
+const ISOLATED_SEED: u64 = 0x150_1A7E;
 
 /// Possible types first, then unknown ones, then impossible ones.
 fn status_rank(s: Status) -> u8 {
@@ -622,7 +719,12 @@ fn status_rank(s: Status) -> u8 {
 /// verdicts may then depend on which member of a class is analysed (the
 /// search's samples and walls are in the member's own parameters).
 pub fn analyze_alone(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
-    algebraic_completion(model, analyze_rational(model, limits))
+    let a = completion(
+        model,
+        analyze_rational(model, limits),
+        Completion::Algebraic,
+    );
+    completion(model, a, Completion::Isolated)
 }
 
 /// [`analyze_alone`] without the search over number fields.
@@ -662,6 +764,7 @@ fn analyze_rational(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
             },
             path: None,
             algebraic: None,
+            isolated: None,
         });
     }
     // Rare generic types: a targeted search, then the verdicts it changes.

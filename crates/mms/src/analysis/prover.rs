@@ -678,6 +678,8 @@ pub(crate) struct Prover<'a> {
     pub paths: BTreeMap<FrfType, super::MergePath>,
     /// Types shown at points over a real number field.
     pub algebraic: BTreeMap<FrfType, super::AlgebraicWitness>,
+    /// Witnesses isolated in a box, for types with none of the above.
+    pub isolated: BTreeMap<FrfType, super::IsolatedWitness>,
     memo: HashMap<(String, String), Option<Proof>>,
     /// The pole-sign premise, worked out when a stratum proof first fails
     /// (outer `None`: not yet; most models never need it).
@@ -778,6 +780,7 @@ impl<'a> Prover<'a> {
             witnesses: BTreeMap::new(),
             paths: BTreeMap::new(),
             algebraic: BTreeMap::new(),
+            isolated: BTreeMap::new(),
             memo: HashMap::new(),
             pole_signs: None,
             block_pole_signs: None,
@@ -818,11 +821,12 @@ impl<'a> Prover<'a> {
     }
 
     /// True when `t` has a witness of any kind: a rational point, a path,
-    /// or a point over a number field.
+    /// a point over a number field or one isolated in a box.
     pub(crate) fn shown(&self, t: &FrfType) -> bool {
         self.witnesses.contains_key(t)
             || self.paths.contains_key(t)
             || self.algebraic.contains_key(t)
+            || self.isolated.contains_key(t)
     }
 
     /// Keeps the simplest witness of each type (fewest digits).

@@ -6,8 +6,9 @@
 
 use super::{
     AlgebraicWitness, BlockPoleSigns, BlockSign, Cancellation, ConditionRule, CriticalFactor,
-    Definiteness, FactorProof, MergePath, ModelAnalysis, OpenProof, PoleSigns, Proof, RegionSample,
-    RemainderFactor, SignCase, SignCondition, Substitution, TypeVerdict,
+    Definiteness, FactorProof, IsolatedWitness, MergePath, ModelAnalysis, OpenProof, PolePose,
+    PoleSigns, Proof, RegionSample, RemainderFactor, SignCase, SignCondition, Substitution,
+    TypeVerdict,
 };
 use crate::model::Model;
 use poly::{Poly, Rat};
@@ -96,6 +97,27 @@ impl Renaming {
                     .iter()
                     .map(|(k, v)| (self.name(k), v.clone()))
                     .collect(),
+            }),
+            isolated: v.isolated.as_ref().map(|w| IsolatedWitness {
+                fixed: self.point(&w.fixed),
+                free: w
+                    .free
+                    .iter()
+                    .map(|(k, v)| (self.name(k), v.clone()))
+                    .collect(),
+                cancelled: w.cancelled.clone(),
+                multiple: w.multiple.clone(),
+                poses: w
+                    .poses
+                    .iter()
+                    .map(|p| PolePose {
+                        pole: p.pole,
+                        factors: p.factors.clone().map(|f| self.poly(&f)),
+                        numerator: p.numerator.clone().map(|f| self.poly(&f)),
+                        denominator: p.denominator.clone().map(|f| self.poly(&f)),
+                    })
+                    .collect(),
+                partition: w.partition.clone(),
             }),
         }
     }

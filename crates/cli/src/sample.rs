@@ -1,0 +1,333 @@
+//! `mms sample FILE.json`: the variety sampler on every unknown type of an
+//! analysis table ([`mms::analysis::sample_cell`]): how often points on
+//! each type's own region show it, and whether any shows a type the table
+//! certifies impossible. Evidence for the cells the analysis leaves open,
+//! never a verdict.
+
+use crate::output::write_atomic;
+use indicatif::{ProgressBar, ProgressStyle};
+use mms::analysis::{analysis_source, cells, sample_cell, CellSample, FrfType, Status};
+use mms::table::AnalysisTable;
+use mms::Model;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// Output formats of `mms sample`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SampleFormat {
+    /// A Markdown report.
+    Md,
+    /// JSON: one entry per model with its cells' counts.
+    Json,
+}
+
+/// The options of one run.
+pub struct Options {
+    pub starts: u64,
+    pub jobs: usize,
+    pub cache: Option<PathBuf>,
+    pub format: SampleFormat,
+}
+
+/// Mixed with each cell's name into its sampler's seed: the same counts
+/// on every run.
+const SEED: u64 = 0x5A3F_1E00;
+
+/// One model's counts, as written.
+#[derive(Serialize)]
+struct ModelSamples {
+    id: String,
+    /// The cells of its unknown types.
+    cells: Vec<CellSample>,
+    /// Types the table certifies impossible that a cell's sampler read,
+    /// with how often.
+    impossible_read: BTreeMap<FrfType, u64>,
+}
+
+/// A cache file: one cell's counts with what they were made from.
+#[derive(Serialize, Deserialize)]
+struct Entry {
+    fingerprint: String,
+    sample: CellSample,
+}
+
+/// The report (see the module docs) on the table in `path`.
+pub fn run(path: &Path, opts: &Options) -> Result<String, String> {
+    if opts.starts == 0 || opts.starts > 1_000_000_000 {
+        return Err(format!(
+            "--starts {}: give from 1 to 10^9 starts per cell",
+            opts.starts
+        ));
+    }
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    let table = AnalysisTable::from_json(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    if let Some(dir) = &opts.cache {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| format!("{}: cannot create cache directory: {e}", dir.display()))?;
+    }
+    // One job per cell of each analysis source with unknown types: models
+    // that share a source (reciprocal twins) have the same variety.
+    let mut models: Vec<(String, Model, Vec<FrfType>, Vec<FrfType>)> = Vec::new();
+    for m in &table.models {
+        let a = &m.analysis;
+        let model = Model::from_id(&a.generic_id)
+            .map_err(|e| format!("{}: model {}: {e}", path.display(), a.generic_id))?;
+        let with = |s: Status| -> Vec<FrfType> {
+            a.types
+                .iter()
+                .filter(|v| v.status == s)
+                .map(|v| v.frf_type.clone())
+                .collect()
+        };
+        let unknown = with(Status::Unknown);
+        if !unknown.is_empty() {
+            models.push((a.id.clone(), model, unknown, with(Status::Impossible)));
+        }
+    }
+    let mut jobs: Vec<(Model, mms::analysis::Cell)> = Vec::new();
+    let mut of_model: Vec<Vec<usize>> = Vec::new();
+    for (_, model, unknown, _) in &models {
+        let source = analysis_source(model);
+        let mut mine = Vec::new();
+        for cell in cells(model, unknown) {
+            // The source's names make the cell the same for its twins.
+            let k = match jobs.iter().position(|(s, c)| *s == source && *c == cell) {
+                Some(k) => k,
+                None => {
+                    jobs.push((source, cell));
+                    jobs.len() - 1
+                }
+            };
+            mine.push(k);
+        }
+        of_model.push(mine);
+    }
+    let samples = sample_all(&jobs, opts)?;
+    let out: Vec<ModelSamples> = models
+        .iter()
+        .zip(&of_model)
+        .map(|((id, _, _, impossible), mine)| {
+            let cells: Vec<CellSample> = mine.iter().map(|&k| samples[k].clone()).collect();
+            let mut impossible_read = BTreeMap::new();
+            for c in &cells {
+                for (t, n) in &c.seen {
+                    if impossible.contains(t) {
+                        *impossible_read.entry(t.clone()).or_default() += n;
+                    }
+                }
+            }
+            ModelSamples {
+                id: id.clone(),
+                cells,
+                impossible_read,
+            }
+        })
+        .collect();
+    Ok(match opts.format {
+        SampleFormat::Json => {
+            let mut s = serde_json::to_string_pretty(&out).expect("the counts serialize");
+            s.push('\n');
+            s
+        }
+        SampleFormat::Md => markdown(&out, opts.starts, path),
+    })
+}
+
+/// Every job's counts, `opts.jobs` at a time, from the cache where it
+/// holds them; in the order of `jobs`.
+fn sample_all(
+    jobs: &[(Model, mms::analysis::Cell)],
+    opts: &Options,
+) -> Result<Vec<CellSample>, String> {
+    let total = jobs.len() as u64 * opts.starts;
+    let progress = ProgressBar::new(total);
+    progress.set_style(
+        ProgressStyle::with_template(
+            "{prefix} [{bar:30}] {percent}% of {len} starts, {elapsed} (eta {eta}) {msg}",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
+    );
+    progress.set_prefix("sample");
+    progress.enable_steady_tick(std::time::Duration::from_secs(1));
+    let fingerprint = format!(
+        "mms {} engine {}; starts {}; seed {SEED:#x}",
+        env!("CARGO_PKG_VERSION"),
+        mms::analysis::ENGINE_VERSION,
+        opts.starts
+    );
+    let one = |k: usize| -> Result<CellSample, String> {
+        let job = &jobs[k];
+        let name = cell_name(job);
+        let file = opts.cache.as_ref().map(|d| d.join(format!("{name}.json")));
+        if let Some(f) = &file {
+            if let Ok(text) = std::fs::read_to_string(f) {
+                match serde_json::from_str::<Entry>(&text) {
+                    Ok(e) if e.fingerprint == fingerprint && e.sample.cell == job.1 => {
+                        progress.inc(opts.starts);
+                        return Ok(e.sample);
+                    }
+                    Ok(_) => {}
+                    Err(e) => progress.suspend(|| {
+                        eprintln!("mms: warning: {}: {e}; sampling again", f.display())
+                    }),
+                }
+            }
+        }
+        // The seed depends on the cell alone, not on which other cells the
+        // table has open, so a cached cell is the cell sampled afresh.
+        let seed = SEED ^ crate::analyze_cache::fnv1a(name.as_bytes());
+        let mut done = 0;
+        let sample = sample_cell(&job.0, &job.1, opts.starts, seed, |i| {
+            progress.inc(i - done);
+            done = i;
+        });
+        if let Some(f) = &file {
+            let entry = Entry {
+                fingerprint: fingerprint.clone(),
+                sample: sample.clone(),
+            };
+            let text = serde_json::to_string(&entry).expect("a cache entry serializes");
+            write_atomic(f, &text)?;
+        }
+        Ok(sample)
+    };
+    let threads = match opts.jobs {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    }
+    .clamp(1, jobs.len().max(1));
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<Result<CellSample, String>>>> =
+        Mutex::new((0..jobs.len()).map(|_| None).collect());
+    let work = || loop {
+        let k = next.fetch_add(1, Ordering::Relaxed);
+        if k >= jobs.len() {
+            break;
+        }
+        let r = one(k);
+        results.lock().unwrap_or_else(|e| e.into_inner())[k] = Some(r);
+    };
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            scope.spawn(work);
+        }
+    });
+    progress.finish_and_clear();
+    results
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+        .into_iter()
+        .map(|r| r.expect("every job ran"))
+        .collect()
+}
+
+/// A cell's name: the source model, its cancelled poles and multiple
+/// zeros (also its cache file's name).
+fn cell_name((model, cell): &(Model, mms::analysis::Cell)) -> String {
+    let mults: Vec<String> = cell.multiple.iter().map(u32::to_string).collect();
+    format!("{}-c{}-m{}", model.id(), cell.cancelled, mults.join("_"))
+}
+
+fn markdown(models: &[ModelSamples], starts: u64, path: &Path) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# The unknown types of {} on their own regions\n",
+        path.display()
+    );
+    let types: usize = models
+        .iter()
+        .flat_map(|m| &m.cells)
+        .map(|c| c.cell.types.len())
+        .sum();
+    let read: usize = models
+        .iter()
+        .flat_map(|m| &m.cells)
+        .map(|c| {
+            c.cell
+                .types
+                .iter()
+                .filter(|t| c.seen.contains_key(*t))
+                .count()
+        })
+        .sum();
+    let _ = writeln!(
+        s,
+        "`mms sample` (mms {}, engine {}), {starts} starts per cell (coincidence \
+         structure of a model's unknown types), log-uniform parameters within \
+         e^-3 .. e^3, projected onto the cell's variety and read in f64 with the \
+         posed roots divided out (points where the conditions' Jacobian drops \
+         rank, or with two roots within a relative 1e-6, not read). Evidence, not proof: a type read is possible in all \
+         likelihood; one never read lies, if anywhere, in a region thinner than \
+         the sampler reaches.\n",
+        env!("CARGO_PKG_VERSION"),
+        mms::analysis::ENGINE_VERSION
+    );
+    let _ = writeln!(
+        s,
+        "{read} of the {types} unknown types were read at least once; {} never.\n",
+        types - read
+    );
+    let flagged: Vec<String> = models
+        .iter()
+        .filter(|m| !m.impossible_read.is_empty())
+        .map(|m| {
+            let list: Vec<String> = m
+                .impossible_read
+                .iter()
+                .map(|(t, n)| format!("`{t}` {n}"))
+                .collect();
+            format!("- {}: {}", m.id, list.join(", "))
+        })
+        .collect();
+    if flagged.is_empty() {
+        let _ = writeln!(
+            s,
+            "No point was read as a type the table certifies impossible.\n"
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "Points read as types the table certifies impossible (an f64 misreading \
+             or a wrong certificate; worth a look):\n\n{}\n",
+            flagged.join("\n")
+        );
+    }
+    let _ = writeln!(
+        s,
+        "| model | cancelled | multiple zeros | converged | read | unknown types (times read) |"
+    );
+    let _ = writeln!(s, "|---|---:|---|---:|---:|---|");
+    for m in models {
+        for c in &m.cells {
+            let mults: Vec<String> = c.cell.multiple.iter().map(u32::to_string).collect();
+            let list: Vec<String> = c
+                .cell
+                .types
+                .iter()
+                .map(|t| format!("`{t}` {}", c.seen.get(t).copied().unwrap_or(0)))
+                .collect();
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} |",
+                m.id,
+                c.cell.cancelled,
+                if mults.is_empty() {
+                    "-".to_string()
+                } else {
+                    mults.join(", ")
+                },
+                c.converged,
+                c.read,
+                list.join(", ")
+            );
+        }
+    }
+    s
+}

@@ -1,0 +1,842 @@
+//! Witnesses isolated in a box.
+//!
+//! A type with root coincidences (cancelled poles, multiple zeros) lives on
+//! a variety. Where no jointly linear set of parameters poses its
+//! conditions, its points are seldom rational, and eliminating down to one
+//! unknown (as the number-field witnesses do) meets degrees too high to
+//! handle. So the point is not computed but enclosed: the posed roots
+//! (`rho` for each cancelled pole, `sigma` of multiplicity `mu` for each
+//! multiple zero) and all but as many parameters as there are conditions
+//! are fixed at short rationals; the conditions
+//!
+//! ```text
+//! N(rho) = D(rho) = 0,   N^(k)(sigma) = 0 for k < mu
+//! ```
+//!
+//! are then a square polynomial system in the free parameters, and a box
+//! around an approximate solution holds exactly one solution if Krawczyk's
+//! operator maps the box into its interior:
+//!
+//! ```text
+//! K(X) = c - Y F(c) + (I - Y J(X)) (X - c)  ⊂  int X
+//! ```
+//!
+//! (`c` the box's centre, `Y` any matrix, here a rounded inverse of the
+//! Jacobian at `c`, `J(X)` an enclosure of the Jacobian over the box). At
+//! that solution `N = (Omega - rho) prod (Omega - sigma)^mu Q` and
+//! `D = (Omega - rho) R` exactly, so the type is read from `Q` and `R`,
+//! whose coefficients are polynomials in the free parameters, enclosed
+//! over the box: a partition of `(0, inf)` at rational points where
+//! neither vanishes, each piece holding at most one root of each by
+//! Descartes' rule (its sign variations under the Moebius map of the piece
+//! to `(0, inf)`, the same for every point of the box), every root of `R`
+//! and each `sigma` placed. Every step is exact rational interval
+//! arithmetic ([`poly::RatInterval`]), so the reading holds at the one
+//! solution in the box, whichever it is: that point is the witness.
+//!
+//! The approximate points come from the variety sampler
+//! ([`super::variety`]): a sampled point whose `f64` reading is a wanted
+//! type chooses the free parameters (the best conditioned columns of the
+//! conditions' Jacobian), is moved onto the system with the others
+//! rounded by Newton's iteration in exact arithmetic, and is kept only if
+//! the box's reading is that type.
+
+use super::frf_type::{Feature, FrfType, Token};
+use super::prover::Prover;
+use super::targeted::{positive_roots, short_rational};
+use super::variety::{Variety, VarietyPoint};
+use super::{IsolatedWitness, PolePose};
+use crate::model::Model;
+use crate::tf::{UndampedCoefficients, OMEGA};
+use crate::xorshift::XorShift;
+use poly::{Poly, Rat, RatInterval};
+use std::collections::BTreeMap;
+
+/// Starts of the variety sampler per coincidence structure, at most; it
+/// stops after `PATIENCE` starts in a row that show no new type.
+const STARTS: usize = 4000;
+const PATIENCE: usize = 1000;
+/// The sampler's start box, as `mms sample`'s.
+const RANGE: f64 = super::SAMPLING_RANGE;
+/// Sampled points per type that are tried.
+const POINTS: usize = 12;
+/// Significant digits of the fixed parameters and the posed roots.
+const DIGITS: i32 = 6;
+/// Bits kept of the coordinates after each Newton step.
+const NEWTON_BITS: u32 = 160;
+/// Newton steps at most; they stop once a step is below
+/// `2^-STEP_BITS` of the coordinates.
+const NEWTON_STEPS: usize = 8;
+const STEP_BITS: i32 = 120;
+/// Bits of the box's centre, and its half-width relative to each
+/// coordinate, `2^-RADIUS_BITS`: the centre's rounding is far inside.
+const CENTRE_BITS: u32 = 96;
+const RADIUS_BITS: i32 = 64;
+/// Bits of the entries of Krawczyk's preconditioner.
+const PRECONDITIONER_BITS: u32 = 64;
+/// Pieces of the partition split at most, one at a time, before a reading
+/// is given up.
+const SPLITS: usize = 48;
+/// A cancelled pole is taken for the blocks' shared eigenvalue where both
+/// blocks' determinants are below this there, relative to their terms.
+const SHARED: f64 = 1e-4;
+/// The farthest a solution may move from its sampled point (relative).
+const DRIFT: f64 = 1e-2;
+
+/// Why a box's reading failed.
+#[derive(Debug, PartialEq, Eq)]
+pub(super) enum Unread {
+    /// Piece `i` of the partition (`(t_i, t_{i+1})`, `t_0 = 0`) has more
+    /// than one sign variation or an unsettled sign: a finer partition
+    /// may settle it.
+    Piece(usize),
+    /// Anything else: no point of this box is a witness as posed.
+    Refused,
+}
+
+impl Prover<'_> {
+    /// Witnesses isolated in a box (see the module docs) for the types of
+    /// `wanted` with root coincidences that are still without a witness,
+    /// from points sampled on each coincidence structure's variety.
+    /// Returns how many of `wanted` are shown afterwards.
+    pub(crate) fn isolated_search(&mut self, wanted: &[FrfType], seed: u64) -> usize {
+        let (signatures, derivatives) = self.pencil_signatures(wanted);
+        let tf = UndampedCoefficients::new(self.model);
+        let blocks = block_pose(self.model, &self.num, &self.den);
+        let mut rng = XorShift::new(seed);
+        for ((cancelled, mults), types) in &signatures {
+            let variety = Variety::new(&tf, self.params.len(), *cancelled as usize, mults);
+            let mut tries: BTreeMap<FrfType, usize> = BTreeMap::new();
+            let mut barren = 0;
+            for _ in 0..STARTS {
+                if types.iter().all(|t| self.shown(t)) || barren >= PATIENCE {
+                    break;
+                }
+                barren += 1;
+                let Some(mut x) = variety.start(&mut rng, RANGE) else {
+                    continue;
+                };
+                if !variety.project(&mut x, RANGE) {
+                    continue;
+                }
+                let p = variety.point(&x);
+                let Some(t) = variety.read(&p) else {
+                    continue;
+                };
+                if !types.contains(&t) || self.shown(&t) {
+                    continue;
+                }
+                // A point where the conditions' Jacobian drops rank lies
+                // on a thinner stratum (two posed roots about to meet): it
+                // is passed over without spending the type's tries.
+                let Some(chosen) = variety.free_parameters(&x) else {
+                    continue;
+                };
+                let n = tries.entry(t.clone()).or_default();
+                if *n >= POINTS {
+                    continue;
+                }
+                *n += 1;
+                if let Some(w) = self.isolate(&p, &chosen, (&derivatives, blocks.as_ref()), &t) {
+                    self.isolated.insert(t, w);
+                    barren = 0;
+                }
+            }
+        }
+        wanted.iter().filter(|t| self.shown(t)).count()
+    }
+
+    /// An isolated witness of `t` next to the sampled point `p`, with the
+    /// parameters of index `chosen` free; `None` where none is found
+    /// there.
+    fn isolate(
+        &self,
+        p: &VarietyPoint,
+        chosen: &[usize],
+        (derivatives, blocks): (&[Poly], Option<&PolePose>),
+        t: &FrfType,
+    ) -> Option<IsolatedWitness> {
+        let mut fixed = BTreeMap::new();
+        let mut free = Vec::new();
+        let mut start = Vec::new();
+        for (i, (name, &v)) in self.params.iter().zip(&p.params).enumerate() {
+            if chosen.contains(&i) {
+                free.push(name.clone());
+                start.push(Rat::from_f64(v)?.round_to_bits(53));
+            } else {
+                fixed.insert(name.clone(), short_rational(v, DIGITS)?);
+            }
+        }
+        let cancelled: Vec<Rat> = p
+            .cancelled
+            .iter()
+            .map(|&r| short_rational(r, DIGITS))
+            .collect::<Option<_>>()?;
+        let multiple: Vec<(Rat, u32)> = p
+            .multiple
+            .iter()
+            .map(|&(s, mu)| Some((short_rational(s, DIGITS)?, mu)))
+            .collect::<Option<_>>()?;
+        // A pole cancelled where the blocks share an eigenvalue: the
+        // numerator and the denominator meet tangentially there, so it is
+        // posed by the blocks' determinants.
+        let sampled: BTreeMap<String, f64> = self
+            .params
+            .iter()
+            .cloned()
+            .zip(p.params.iter().copied())
+            .collect();
+        let poses: Vec<PolePose> = blocks
+            .map(|b| {
+                p.cancelled
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, &rho)| {
+                        b.factors.iter().all(|f| {
+                            relative_at(f, &sampled, rho).is_some_and(|v| v.abs() < SHARED)
+                        })
+                    })
+                    .map(|(i, _)| PolePose {
+                        pole: i,
+                        ..b.clone()
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let mut conditions = Vec::new();
+        for (i, rho) in cancelled.iter().enumerate() {
+            match poses.iter().find(|q| q.pole == i) {
+                Some(q) => conditions.extend(q.factors.iter().map(|f| f.subs(OMEGA, rho))),
+                None => conditions.extend([self.num.subs(OMEGA, rho), self.den.subs(OMEGA, rho)]),
+            }
+        }
+        for (sigma, mu) in &multiple {
+            conditions.extend(
+                derivatives[..*mu as usize]
+                    .iter()
+                    .map(|d| d.subs(OMEGA, sigma)),
+            );
+        }
+        let conditions: Vec<Poly> = conditions.iter().map(|e| e.subs_point(&fixed)).collect();
+        let system = System::new(conditions, free.clone());
+        let centre = system.newton(start.clone())?;
+        let near = centre.iter().zip(&start).all(|(c, s)| {
+            let (c, s) = (c.to_f64(), s.to_f64());
+            c > 0.0 && ((c - s) / s).abs() < DRIFT
+        });
+        if !near {
+            return None;
+        }
+        let centre: Vec<Rat> = centre
+            .iter()
+            .map(|c| c.round_to_bits(CENTRE_BITS))
+            .collect();
+        let ranges: Vec<RatInterval> = centre.iter().map(|c| around(c, RADIUS_BITS)).collect();
+        if !system.krawczyk_holds(&centre, &ranges) {
+            return None;
+        }
+        let mut w = IsolatedWitness {
+            fixed,
+            free: free
+                .iter()
+                .zip(&ranges)
+                .map(|(n, r)| (n.clone(), [r.lo().clone(), r.hi().clone()]))
+                .collect(),
+            cancelled,
+            multiple,
+            poses,
+            partition: Vec::new(),
+        };
+        let rests = Rests::new(&self.num, &self.den, &w)?;
+        w.partition = rests.first_partition(&centre_point(&free, &centre), &w.multiple)?;
+        for _ in 0..=SPLITS {
+            match rests.read(&w.partition, &w.multiple) {
+                Ok(found) => return (found == *t).then_some(w),
+                Err(Unread::Piece(i)) => split(&mut w.partition, i),
+                Err(Unread::Refused) => return None,
+            }
+        }
+        None
+    }
+}
+
+/// The value of `f` at the parameters `point` and `Omega = omega`, over
+/// the sum of its terms' moduli there.
+fn relative_at(f: &Poly, point: &BTreeMap<String, f64>, omega: f64) -> Option<f64> {
+    let x: Vec<f64> = f
+        .vars()
+        .iter()
+        .map(|v| {
+            if v == OMEGA {
+                Some(omega)
+            } else {
+                point.get(v).copied()
+            }
+        })
+        .collect::<Option<_>>()?;
+    let (mut value, mut scale) = (0.0, 0.0);
+    for t in f.terms() {
+        let term = t
+            .exps
+            .iter()
+            .zip(&x)
+            .fold(t.coef.to_f64(), |acc, (&e, v)| acc * v.powi(e as i32));
+        value += term;
+        scale += term.abs();
+    }
+    (scale > 0.0 && value.is_finite()).then(|| value / scale)
+}
+
+/// The cancellations by the blocks' shared eigenvalue, for a chain whose
+/// gap splits it into a grounded block `A` (masses `1..=g`) and a free
+/// block `B`: `K - Omega M` is block diagonal, so the receptance's
+/// numerator is `p = n_A det(B) + n_B det(A)` (`n_X` the block's own
+/// `c^T adj(X) b`), and with `det(B) = Omega q_B` the normalised
+/// `num = -k p`, `den = k q` give `num = (-k n_B) det(A) + (-k Omega n_A)
+/// q_B` and `den = (k q_B) det(A)`. The pose's `pole` is left at 0;
+/// `None` without a gap, or if the identities do not come out.
+fn block_pose(model: &Model, num: &Poly, den: &Poly) -> Option<PolePose> {
+    let g = model.gap();
+    let n = model.n_masses();
+    if g == 0 || g >= n {
+        return None;
+    }
+    let omega = Poly::var(OMEGA);
+    let (mass, stiff) = (model.mass_matrix(), model.stiffness_matrix());
+    let (input, output) = (model.input_vector(), model.output_vector());
+    let block = |lo: usize, hi: usize| -> (Poly, Poly) {
+        let m: Vec<Vec<Poly>> = (lo..hi)
+            .map(|i| {
+                (lo..hi)
+                    .map(|j| &stiff[i][j] - &(&omega * &mass[i][j]))
+                    .collect()
+            })
+            .collect();
+        let adj = poly::adjugate(&m);
+        let mut own = Poly::zero();
+        for (i, row) in adj.iter().enumerate() {
+            for (j, a) in row.iter().enumerate() {
+                let w = output[lo + i] * input[lo + j];
+                if w != 0 {
+                    own = &own + &a.scale(&Rat::from(w));
+                }
+            }
+        }
+        (poly::det(&m), own)
+    };
+    let (det_a, n_a) = block(0, g);
+    let (det_b, n_b) = block(g, n);
+    let q_b = det_b.div_exact(&omega)?;
+    let p = &(&n_a * &det_b) + &(&n_b * &det_a);
+    let k = &num.leading_coef() / &(-&p).leading_coef();
+    let k_neg = -&k;
+    if (-&p).scale(&k) != *num || (&det_a * &q_b).scale(&k) != *den {
+        return None;
+    }
+    Some(PolePose {
+        pole: 0,
+        numerator: [n_b.scale(&k_neg), (&omega * &n_a).scale(&k_neg)],
+        denominator: [q_b.scale(&k), Poly::zero()],
+        factors: [det_a, q_b],
+    })
+}
+
+/// `c` with each coordinate as a map from the free parameters' names.
+fn centre_point(free: &[String], centre: &[Rat]) -> BTreeMap<String, Rat> {
+    free.iter().cloned().zip(centre.iter().cloned()).collect()
+}
+
+/// `[c - |c| 2^-bits, c + |c| 2^-bits]`.
+fn around(c: &Rat, bits: i32) -> RatInterval {
+    let r = &c.abs() * &Rat::from(2).pow(-bits);
+    RatInterval::around(c, &r).expect("a radius is not negative")
+}
+
+/// Inserts a point into piece `i` of `partition` (`(t_i, t_{i+1})`,
+/// `t_0 = 0`, the last piece unbounded): its middle, half the first end,
+/// twice the last.
+fn split(partition: &mut Vec<Rat>, i: usize) {
+    let point = match (i.checked_sub(1).map(|k| &partition[k]), partition.get(i)) {
+        (Some(a), Some(b)) => &(a + b) / &Rat::from(2),
+        (None, Some(b)) => b / &Rat::from(2),
+        (Some(a), None) => a * &Rat::from(2),
+        (None, None) => Rat::ONE,
+    };
+    partition.insert(i, point);
+}
+
+/// The posed conditions as a square system in the free parameters.
+struct System {
+    conditions: Vec<Poly>,
+    jacobian: Vec<Vec<Poly>>,
+    free: Vec<String>,
+}
+
+impl System {
+    fn new(conditions: Vec<Poly>, free: Vec<String>) -> System {
+        let jacobian = conditions
+            .iter()
+            .map(|c| free.iter().map(|v| c.derivative(v)).collect())
+            .collect();
+        System {
+            conditions,
+            jacobian,
+            free,
+        }
+    }
+
+    fn values(&self, x: &[Rat]) -> Option<(Vec<Rat>, Vec<Vec<Rat>>)> {
+        let at = centre_point(&self.free, x);
+        let f = self
+            .conditions
+            .iter()
+            .map(|c| c.eval(&at).ok())
+            .collect::<Option<Vec<Rat>>>()?;
+        let j = self
+            .jacobian
+            .iter()
+            .map(|row| row.iter().map(|d| d.eval(&at).ok()).collect())
+            .collect::<Option<Vec<Vec<Rat>>>>()?;
+        Some((f, j))
+    }
+
+    /// Newton's iteration in exact arithmetic from `x`, each iterate
+    /// rounded to [`NEWTON_BITS`] bits; `None` if the system is not square,
+    /// its Jacobian singular, or the steps do not shrink below
+    /// `2^-STEP_BITS` of the coordinates.
+    fn newton(&self, mut x: Vec<Rat>) -> Option<Vec<Rat>> {
+        if self.conditions.len() != self.free.len() || x.len() != self.free.len() {
+            return None;
+        }
+        let tiny = Rat::from(2).pow(-STEP_BITS);
+        for _ in 0..NEWTON_STEPS {
+            let (f, j) = self.values(&x)?;
+            let step = poly::solve_rat(&j, &f)?;
+
+            let small = step
+                .iter()
+                .zip(&x)
+                .all(|(s, v)| s.abs() <= &tiny * &v.abs());
+            x = x
+                .iter()
+                .zip(&step)
+                .map(|(v, s)| (v - s).round_to_bits(NEWTON_BITS))
+                .collect();
+            if small {
+                return Some(x);
+            }
+        }
+        None
+    }
+
+    /// Krawczyk's test: the box `ranges` (around `centre`, in the
+    /// positive orthant) holds exactly one solution if
+    /// `c - Y F(c) + (I - Y J(X)) (X - c)` lies in its interior.
+    fn krawczyk_holds(&self, centre: &[Rat], ranges: &[RatInterval]) -> bool {
+        if ranges.iter().any(|r| r.lo().signum() <= 0) {
+            return false;
+        }
+        let Some((f, j)) = self.values(centre) else {
+            return false;
+        };
+        let Some(inverse) = poly::inverse_rat(&j) else {
+            return false;
+        };
+        let y: Vec<Vec<Rat>> = inverse
+            .iter()
+            .map(|row| {
+                row.iter()
+                    .map(|v| v.round_to_bits(PRECONDITIONER_BITS))
+                    .collect()
+            })
+            .collect();
+        let boxed: BTreeMap<String, RatInterval> = self
+            .free
+            .iter()
+            .cloned()
+            .zip(ranges.iter().cloned())
+            .collect();
+        let Some(enclosed) = self
+            .jacobian
+            .iter()
+            .map(|row| row.iter().map(|d| d.enclose(&boxed).ok()).collect())
+            .collect::<Option<Vec<Vec<RatInterval>>>>()
+        else {
+            return false;
+        };
+        let n = centre.len();
+        let offsets: Vec<RatInterval> = ranges
+            .iter()
+            .zip(centre)
+            .map(|(r, c)| r - &RatInterval::point(c.clone()))
+            .collect();
+        (0..n).all(|i| {
+            let mut k = RatInterval::point(centre[i].clone());
+            for (yk, fk) in y[i].iter().zip(&f) {
+                k = &k - &RatInterval::point(yk * fk);
+            }
+            for (jj, offset) in offsets.iter().enumerate() {
+                let mut m = RatInterval::point(if i == jj { Rat::ONE } else { Rat::ZERO });
+                for (kk, yk) in y[i].iter().enumerate() {
+                    m = &m - &enclosed[kk][jj].scale(yk);
+                }
+                k = &k + &(&m * offset);
+            }
+            k.inside(&ranges[i])
+        })
+    }
+}
+
+/// The numerator and denominator at an isolated witness with the posed
+/// roots divided out, each coefficient a polynomial in the free
+/// parameters, and those coefficients enclosed over the box.
+struct Rests {
+    q: Vec<Poly>,
+    r: Vec<Poly>,
+    q_ranges: Vec<RatInterval>,
+    r_ranges: Vec<RatInterval>,
+}
+
+impl Rests {
+    fn new(num: &Poly, den: &Poly, w: &IsolatedWitness) -> Option<Rests> {
+        let boxed: BTreeMap<String, RatInterval> = w
+            .free
+            .iter()
+            .map(|(k, [lo, hi])| Some((k.clone(), RatInterval::new(lo.clone(), hi.clone())?)))
+            .collect::<Option<_>>()?;
+        let mut q = num.subs_point(&w.fixed).coeffs_in(OMEGA);
+        let mut r = den.subs_point(&w.fixed).coeffs_in(OMEGA);
+        for rho in &w.cancelled {
+            q = divided(&q, rho);
+            r = divided(&r, rho);
+        }
+        for (sigma, mu) in &w.multiple {
+            for _ in 0..*mu {
+                q = divided(&q, sigma);
+            }
+        }
+        let enclose = |cs: &[Poly]| -> Option<Vec<RatInterval>> {
+            cs.iter().map(|c| c.enclose(&boxed).ok()).collect()
+        };
+        let q_ranges = enclose(&q)?;
+        let r_ranges = enclose(&r)?;
+        Some(Rests {
+            q,
+            r,
+            q_ranges,
+            r_ranges,
+        })
+    }
+
+    /// Points between the positive roots of the rests at `centre` (in
+    /// `f64`), and the multiple zeros: a first partition.
+    fn first_partition(
+        &self,
+        centre: &BTreeMap<String, Rat>,
+        multiple: &[(Rat, u32)],
+    ) -> Option<Vec<Rat>> {
+        let at = |cs: &[Poly]| -> Option<Vec<f64>> {
+            cs.iter()
+                .map(|c| Some(c.eval(centre).ok()?.to_f64()))
+                .collect()
+        };
+        let mut marks: Vec<(f64, Option<Rat>)> = Vec::new();
+        marks.extend(
+            positive_roots(&at(&self.q)?)?
+                .into_iter()
+                .map(|z| (z, None)),
+        );
+        marks.extend(
+            positive_roots(&at(&self.r)?)?
+                .into_iter()
+                .map(|z| (z, None)),
+        );
+        marks.extend(multiple.iter().map(|(s, _)| (s.to_f64(), Some(s.clone()))));
+        marks.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut partition = Vec::new();
+        for pair in marks.windows(2) {
+            match (&pair[0].1, &pair[1].1) {
+                (Some(s), _) => partition.push(s.clone()),
+                (None, Some(_)) => {}
+                (None, None) => {
+                    let (a, b) = (pair[0].0, pair[1].0);
+                    let between = short_rational((a * b).sqrt(), 12)?;
+                    let v = between.to_f64();
+                    if !(a < v && v < b) {
+                        return None;
+                    }
+                    partition.push(between);
+                }
+            }
+        }
+        if let Some((_, Some(s))) = marks.last() {
+            partition.push(s.clone());
+        }
+        Some(partition)
+    }
+
+    /// The type at the solution in the box, read with `partition` (see the
+    /// module docs): each piece holds at most one root of each rest and
+    /// not one of both, no point is a root, every root of the
+    /// denominator's rest is placed, and the multiple zeros are points of
+    /// the partition.
+    fn read(&self, partition: &[Rat], multiple: &[(Rat, u32)]) -> Result<FrfType, Unread> {
+        let positive = partition.iter().all(|t| t.signum() > 0);
+        let increasing = partition.windows(2).all(|w| w[0] < w[1]);
+        let placed = multiple.iter().all(|(s, _)| partition.contains(s));
+        let lead = |c: &[RatInterval]| c.last().and_then(RatInterval::sign).is_some();
+        if !positive || !increasing || !placed || !lead(&self.q_ranges) || !lead(&self.r_ranges) {
+            return Err(Unread::Refused);
+        }
+        for t in partition {
+            if value_at(&self.q_ranges, t).sign().is_none()
+                || value_at(&self.r_ranges, t).sign().is_none()
+            {
+                return Err(Unread::Refused);
+            }
+        }
+        let mut tokens = Vec::new();
+        let (mut zeros, mut poles) = (0usize, 0usize);
+        for i in 0..=partition.len() {
+            let a = if i == 0 {
+                Rat::ZERO
+            } else {
+                partition[i - 1].clone()
+            };
+            let b = partition.get(i);
+            let vq = variations(&moebius(&self.q_ranges, &a, b)).ok_or(Unread::Piece(i))?;
+            let vr = variations(&moebius(&self.r_ranges, &a, b)).ok_or(Unread::Piece(i))?;
+            match (vq, vr) {
+                (0, 0) => {}
+                (1, 0) => {
+                    zeros += 1;
+                    tokens.push(simple(Feature::Antiresonance));
+                }
+                (0, 1) => {
+                    poles += 1;
+                    tokens.push(simple(Feature::Resonance));
+                }
+                _ => return Err(Unread::Piece(i)),
+            }
+            if let Some((_, mu)) = b.and_then(|b| multiple.iter().find(|(s, _)| s == b)) {
+                tokens.push(Token {
+                    feature: Feature::Antiresonance,
+                    multiplicity: *mu,
+                });
+            }
+        }
+        if poles + 1 != self.r_ranges.len() {
+            return Err(Unread::Refused);
+        }
+        Ok(FrfType {
+            tokens,
+            nonminimum_phase: zeros + 1 < self.q_ranges.len(),
+        })
+    }
+}
+
+fn simple(feature: Feature) -> Token {
+    Token {
+        feature,
+        multiplicity: 1,
+    }
+}
+
+/// The quotient of `sum c[i] x^i` by `x - r` (ascending coefficients), the
+/// remainder dropped.
+fn divided(c: &[Poly], r: &Rat) -> Vec<Poly> {
+    let mut q = vec![Poly::zero(); c.len().saturating_sub(1)];
+    let mut carry = Poly::zero();
+    for i in (1..c.len()).rev() {
+        carry = &c[i] + &carry.scale(r);
+        q[i - 1] = carry.clone();
+    }
+    q
+}
+
+/// `sum c[i] t^i` in interval arithmetic.
+fn value_at(c: &[RatInterval], t: &Rat) -> RatInterval {
+    c.iter()
+        .rev()
+        .fold(RatInterval::point(Rat::ZERO), |acc, ci| &acc.scale(t) + ci)
+}
+
+/// The coefficients of `(1 + y)^d P((a + b y) / (1 + y))` for a piece
+/// `(a, b)`, or of `P(a + y)` for `(a, inf)`: the roots of `P` in the
+/// piece are the positive roots of the result.
+fn moebius(p: &[RatInterval], a: &Rat, b: Option<&Rat>) -> Vec<RatInterval> {
+    let d = p.len().saturating_sub(1);
+    let mut out = vec![RatInterval::point(Rat::ZERO); p.len()];
+    for (i, pi) in p.iter().enumerate() {
+        // (a + b y)^i (1 + y)^(d - i), or (a + y)^i.
+        let mut w = vec![Rat::ONE];
+        let lead = b.cloned().unwrap_or(Rat::ONE);
+        for _ in 0..i {
+            w = times_linear(&w, a, &lead);
+        }
+        if b.is_some() {
+            for _ in i..d {
+                w = times_linear(&w, &Rat::ONE, &Rat::ONE);
+            }
+        }
+        for (k, wk) in w.iter().enumerate() {
+            out[k] = &out[k] + &pi.scale(wk);
+        }
+    }
+    out
+}
+
+/// `w (c0 + c1 y)`, ascending coefficients.
+fn times_linear(w: &[Rat], c0: &Rat, c1: &Rat) -> Vec<Rat> {
+    let mut out = vec![Rat::ZERO; w.len() + 1];
+    for (k, wk) in w.iter().enumerate() {
+        out[k] = &out[k] + &(wk * c0);
+        out[k + 1] = &out[k + 1] + &(wk * c1);
+    }
+    out
+}
+
+/// Sign variations of a sequence of intervals, exact zeros skipped;
+/// `None` if one holds zero without being zero.
+fn variations(c: &[RatInterval]) -> Option<usize> {
+    let mut last = 0;
+    let mut count = 0;
+    for ci in c {
+        let s = match ci.sign() {
+            Some(s) => s,
+            None if ci.lo().is_zero() && ci.hi().is_zero() => continue,
+            None => return None,
+        };
+        if last != 0 && s != last {
+            count += 1;
+        }
+        last = s;
+    }
+    Some(count)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::frf_type::frf_type_at_algebraic;
+    use poly::{RealField, UPoly};
+
+    fn p(s: &str) -> Poly {
+        s.parse().unwrap()
+    }
+
+    fn r(s: &str) -> Rat {
+        s.parse().unwrap()
+    }
+
+    #[test]
+    fn krawczyk_isolates_the_one_root_and_refuses_a_box_without_it() {
+        // x^2 + y^2 = 4, x = y: the positive root (sqrt 2, sqrt 2).
+        let system = System::new(
+            vec![p("x^2 + y^2 - 4"), p("x - y")],
+            vec!["x".into(), "y".into()],
+        );
+        let centre = system.newton(vec![r("7/5"), r("3/2")]).unwrap();
+        // Newton's iterate agrees with sqrt 2 far below the box's width.
+        let error = (&(&centre[0] * &centre[0]) - &Rat::from(2)).abs();
+        assert!(error < Rat::from(2).pow(-110), "{}", error.to_f64());
+        let ranges: Vec<RatInterval> = centre.iter().map(|c| around(c, RADIUS_BITS)).collect();
+        assert!(system.krawczyk_holds(&centre, &ranges));
+        // The box holds sqrt 2: its ends' squares straddle 2.
+        assert!((ranges[0].lo() * ranges[0].lo()) < Rat::from(2));
+        assert!((ranges[0].hi() * ranges[0].hi()) > Rat::from(2));
+        // Beside the root, and around it but reaching zero.
+        let beside = vec![r("3/2"), r("3/2")];
+        let small: Vec<RatInterval> = beside.iter().map(|c| around(c, 10)).collect();
+        assert!(!system.krawczyk_holds(&beside, &small));
+        let wide: Vec<RatInterval> = centre.iter().map(|c| around(c, 0)).collect();
+        assert!(!system.krawczyk_holds(&centre, &wide));
+    }
+
+    /// B2's numerator `m2 m3 W^2 - c23 (m1 + m2 + m3) W + c1 c23` has a
+    /// double zero at 1 for c1 = 2, c23 = 1/2, m1 = 1 where m2 m3 = 1 and
+    /// m2 + m3 = 3 (by hand: N(1) = N'(1) = 0), i.e. m2 = (3 + sqrt 5)/2;
+    /// there the denominator is W^2 - 7/2 W + 3 = (W - 3/2)(W - 2).
+    #[test]
+    fn a_box_reads_the_type_the_number_field_gives() {
+        let model = crate::Model::from_id("B2").unwrap();
+        let tf = model.undamped_tf();
+        let fixed = BTreeMap::from([
+            ("c1".to_string(), r("2")),
+            ("c23".to_string(), r("1/2")),
+            ("m1".to_string(), r("1")),
+        ]);
+        let n = tf.num.subs_point(&fixed);
+        let sigma = Rat::ONE;
+        let conditions = vec![
+            n.subs(OMEGA, &sigma),
+            n.derivative(OMEGA).subs(OMEGA, &sigma),
+        ];
+        let free = vec!["m2".to_string(), "m3".to_string()];
+        let system = System::new(conditions, free.clone());
+        let centre = system.newton(vec![r("13/5"), r("2/5")]).unwrap();
+        let ranges: Vec<RatInterval> = centre.iter().map(|c| around(c, RADIUS_BITS)).collect();
+        assert!(system.krawczyk_holds(&centre, &ranges));
+        let w = IsolatedWitness {
+            fixed: fixed.clone(),
+            free: free
+                .iter()
+                .zip(&ranges)
+                .map(|(k, v)| (k.clone(), [v.lo().clone(), v.hi().clone()]))
+                .collect(),
+            cancelled: Vec::new(),
+            multiple: vec![(sigma.clone(), 2)],
+            poses: Vec::new(),
+            partition: Vec::new(),
+        };
+        let rests = Rests::new(&tf.num, &tf.den, &w).unwrap();
+        let partition = rests
+            .first_partition(&centre_point(&free, &centre), &w.multiple)
+            .unwrap();
+        let boxed = rests.read(&partition, &w.multiple).unwrap();
+        // The other route: the exact point over Q(sqrt 5).
+        let k = RealField::real_roots_of(&UPoly::from_i64s(&[-5, 0, 1]))
+            .into_iter()
+            .find(|f| f.to_f64(&f.generator()) > 0.0)
+            .unwrap();
+        let half = r("1/2");
+        let m2 = k.add(
+            &k.from_rat(&r("3/2")),
+            &k.mul(&k.from_rat(&half), &k.generator()),
+        );
+        let m3 = k.sub(&k.from_rat(&r("3")), &m2);
+        let mut point: BTreeMap<String, _> = fixed
+            .iter()
+            .map(|(a, b)| (a.clone(), k.from_rat(b)))
+            .collect();
+        point.insert("m2".into(), m2);
+        point.insert("m3".into(), m3);
+        let exact = frf_type_at_algebraic(&tf.num, &tf.den, OMEGA, &k, &point).unwrap();
+        assert_eq!(exact.to_string(), "A^2RR");
+        assert_eq!(boxed, exact);
+        // The same box claimed without the double zero among the
+        // partition's points is refused.
+        assert_eq!(rests.read(&[r("7/4")], &w.multiple), Err(Unread::Refused));
+    }
+
+    #[test]
+    fn the_blocks_pose_a_shared_eigenvalue() {
+        // N5-g1-a2.1-s4.1: block A is m1 on c1, so its determinant is
+        // c1 - m1 Omega, and the cofactors multiply out to num and den.
+        let model = crate::Model::from_id("N5-g1-a2.1-s4.1").unwrap();
+        let tf = model.undamped_tf();
+        let pose = block_pose(&model, &tf.num, &tf.den).unwrap();
+        let f0 = &pose.factors[0];
+        assert!(
+            *f0 == p("c1 - m1*Omega") || *f0 == p("m1*Omega - c1"),
+            "{f0}"
+        );
+        let combine = |c: &[Poly; 2]| &(&c[0] * &pose.factors[0]) + &(&c[1] * &pose.factors[1]);
+        assert_eq!(combine(&pose.numerator), tf.num);
+        assert_eq!(combine(&pose.denominator), tf.den);
+        // Without a gap there are no blocks to pose by.
+        let whole = crate::Model::from_id("N5-g0-a1.0-s2.0").unwrap();
+        let tf = whole.undamped_tf();
+        assert!(block_pose(&whole, &tf.num, &tf.den).is_none());
+    }
+}

@@ -1,0 +1,448 @@
+//! Points on the variety of a type with coincident roots, in `f64`.
+//!
+//! A type with cancelled poles or multiple zeros lives on a variety: a
+//! pole cancelled at `rho` needs `N(rho) = D(rho) = 0`, an `A^mu` at
+//! `sigma` needs `N` and its first `mu - 1` derivatives to vanish there.
+//! Log-uniform points never land on it, so the sampler projects them onto
+//! it. The unknowns are the logarithms of the parameters, of every
+//! cancelled pole and of every multiple zero; each condition is divided by
+//! the sum of its terms' moduli, so that `1e-13` means zero in `f64`. From
+//! a log-uniform start, with the poles and zeros at roots of the start's
+//! denominator and numerator, a min-norm Gauss-Newton step
+//! `dx = -J^T (J J^T)^-1 F` (the Jacobian exact in the logarithms, the
+//! normalisation held constant) moves onto the variety.
+//!
+//! A converged point's type is read without the ill-conditioned multiple
+//! roots: the posed ones are divided out of numerator and denominator
+//! (composite deflation, so that a large root does not swamp the small
+//! ones), the rests' positive roots bracketed, and the point is skipped
+//! when two of all its positive roots lie within a relative
+//! [`SEPARATION`] (a point of a thinner stratum, or one `f64` cannot
+//! order). The reading is a prediction, not a proof: the prover turns a
+//! point into a witness by isolating a solution of the conditions in a
+//! box next to it ([`super::isolated`]), and the checker reads that
+//! witness by exact arithmetic.
+
+use super::frf_type::{Feature, FrfType, Token};
+use super::targeted::positive_roots;
+use crate::tf::UndampedCoefficients;
+use crate::xorshift::XorShift;
+
+/// Gauss-Newton steps before a start is given up.
+const ITERATIONS: usize = 40;
+/// Largest normalised residual of a point on the variety.
+const TOLERANCE: f64 = 1e-13;
+/// Relative distance below which two roots count as one.
+pub(crate) const SEPARATION: f64 = 1e-6;
+/// How far (in logarithms) a converged point may leave the start box.
+const BOX_MARGIN: f64 = 2.0;
+
+/// The variety of `cancelled` cancelled poles and multiple zeros of the
+/// multiplicities `multiple` of one model's undamped inertance.
+pub(crate) struct Variety<'a> {
+    tf: &'a UndampedCoefficients,
+    params: usize,
+    cancelled: usize,
+    multiple: &'a [u32],
+}
+
+/// A point of a [`Variety`]: parameters, cancelled poles and multiple
+/// zeros (with multiplicities), all in linear units.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct VarietyPoint {
+    pub params: Vec<f64>,
+    pub cancelled: Vec<f64>,
+    pub multiple: Vec<(f64, u32)>,
+}
+
+impl<'a> Variety<'a> {
+    pub(crate) fn new(
+        tf: &'a UndampedCoefficients,
+        params: usize,
+        cancelled: usize,
+        multiple: &'a [u32],
+    ) -> Variety<'a> {
+        Variety {
+            tf,
+            params,
+            cancelled,
+            multiple,
+        }
+    }
+
+    /// Conditions in all.
+    fn conditions(&self) -> usize {
+        2 * self.cancelled + self.multiple.iter().sum::<u32>() as usize
+    }
+
+    /// Unknowns in all: parameters, cancelled poles, multiple zeros.
+    fn unknowns(&self) -> usize {
+        self.params + self.cancelled + self.multiple.len()
+    }
+
+    /// A log-uniform start in `[-range, range]` per parameter, its posed
+    /// poles at distinct poles of the start and its multiple zeros at
+    /// positive zeros (at poles where it has none); `None` where the start
+    /// has too few poles.
+    pub(crate) fn start(&self, rng: &mut XorShift, range: f64) -> Option<Vec<f64>> {
+        let mut x: Vec<f64> = (0..self.params)
+            .map(|_| range * (2.0 * rng.uniform() - 1.0))
+            .collect();
+        let values: Vec<f64> = x.iter().map(|v| v.exp()).collect();
+        let (n, d) = self.tf.eval(&values);
+        let mut poles = positive_roots(&d)?;
+        if poles.len() < self.cancelled || poles.is_empty() {
+            return None;
+        }
+        let zeros = positive_roots(&n)?;
+        let all_poles = poles.clone();
+        for _ in 0..self.cancelled {
+            let p = poles.remove(index(rng, poles.len()));
+            x.push(p.ln());
+        }
+        let pool = if zeros.is_empty() { &all_poles } else { &zeros };
+        for _ in self.multiple {
+            x.push(pool[index(rng, pool.len())].ln());
+        }
+        Some(x)
+    }
+
+    /// The normalised conditions at `x` and, if asked, their Jacobian in
+    /// `x` (rows of [`Self::unknowns`] entries); `None` where a value is
+    /// not finite.
+    fn residual(&self, x: &[f64], jacobian: Option<&mut Vec<Vec<f64>>>) -> Option<Vec<f64>> {
+        let k = self.params;
+        let values: Vec<f64> = x[..k].iter().map(|v| v.exp()).collect();
+        let c = self.tf.eval_with_log_gradients(&values);
+        let mut f = Vec::with_capacity(self.conditions());
+        let mut rows: Vec<Vec<f64>> = Vec::with_capacity(self.conditions());
+        let mut condition = |coeffs: &[f64], gradient: &[Vec<f64>], order: usize, at: f64, col| {
+            // The `order`-th derivative at `at`, its scale, its slope in
+            // log `at` and its gradient in the log parameters.
+            let mut value = 0.0;
+            let mut scale = 0.0;
+            let mut slope = 0.0;
+            let mut row = vec![0.0; self.unknowns()];
+            for (i, a) in coeffs.iter().enumerate().skip(order) {
+                let falling = falling(i, order);
+                let power = at.powi((i - order) as i32);
+                value += a * falling * power;
+                scale += (a * falling).abs() * power;
+                slope += a * falling * (i - order) as f64 * power;
+                for (j, g) in gradient[i].iter().enumerate() {
+                    row[j] += g * falling * power;
+                }
+            }
+            if scale.is_nan() || scale <= 0.0 || !value.is_finite() || !scale.is_finite() {
+                return None;
+            }
+            row[col] += slope;
+            for r in &mut row {
+                *r /= scale;
+            }
+            f.push(value / scale);
+            rows.push(row);
+            Some(())
+        };
+        for i in 0..self.cancelled {
+            let at = x[k + i].exp();
+            condition(&c.num, &c.num_gradient, 0, at, k + i)?;
+            condition(&c.den, &c.den_gradient, 0, at, k + i)?;
+        }
+        for (j, &mu) in self.multiple.iter().enumerate() {
+            let col = k + self.cancelled + j;
+            let at = x[col].exp();
+            for order in 0..mu as usize {
+                condition(&c.num, &c.num_gradient, order, at, col)?;
+            }
+        }
+        if rows.iter().flatten().any(|v| !v.is_finite()) {
+            return None;
+        }
+        if let Some(j) = jacobian {
+            *j = rows;
+        }
+        Some(f)
+    }
+
+    /// As many parameters as there are conditions, in whose logarithms
+    /// the conditions' Jacobian at `x` is best conditioned (see
+    /// [`independent_columns`]), by index; `None` where it drops rank: a
+    /// point of a thinner stratum (two posed roots about to meet), whose
+    /// `f64` reading is not to be trusted either.
+    pub(crate) fn free_parameters(&self, x: &[f64]) -> Option<Vec<usize>> {
+        let mut jac = Vec::new();
+        self.residual(x, Some(&mut jac))?;
+        let rows: Vec<Vec<f64>> = jac
+            .into_iter()
+            .map(|row| row[..self.params].to_vec())
+            .collect();
+        independent_columns(&rows, self.conditions())
+    }
+
+    /// Projects `x` onto the variety; `true` when it converged within the
+    /// box `[-range - 2, range + 2]` of the parameters' logarithms.
+    pub(crate) fn project(&self, x: &mut [f64], range: f64) -> bool {
+        let mut jac = Vec::new();
+        for _ in 0..ITERATIONS {
+            let Some(f) = self.residual(x, Some(&mut jac)) else {
+                return false;
+            };
+            if f.iter().all(|v| v.abs() < TOLERANCE) {
+                return x[..self.params]
+                    .iter()
+                    .all(|v| v.abs() <= range + BOX_MARGIN);
+            }
+            // J J^T, regularised by a trace fraction as the script does.
+            let e = f.len();
+            let mut a: Vec<Vec<f64>> = (0..e)
+                .map(|i| (0..e).map(|j| dot(&jac[i], &jac[j])).collect())
+                .collect();
+            let trace: f64 = (0..e).map(|i| a[i][i]).sum();
+            for (i, row) in a.iter_mut().enumerate() {
+                row[i] += 1e-14 * trace;
+            }
+            let Some(y) = solve(a, f) else {
+                return false;
+            };
+            let mut step = vec![0.0; x.len()];
+            for (row, yi) in jac.iter().zip(&y) {
+                for (s, j) in step.iter_mut().zip(row) {
+                    *s += j * yi;
+                }
+            }
+            // A long step leaves the basin: at most 1 in log units.
+            let norm = step.iter().fold(1.0f64, |m, s| m.max(s.abs()));
+            if !norm.is_finite() {
+                return false;
+            }
+            for (xi, s) in x.iter_mut().zip(&step) {
+                *xi -= s / norm;
+            }
+        }
+        false
+    }
+
+    /// The point `x` in linear units.
+    pub(crate) fn point(&self, x: &[f64]) -> VarietyPoint {
+        let k = self.params;
+        let c = self.cancelled;
+        VarietyPoint {
+            params: x[..k].iter().map(|v| v.exp()).collect(),
+            cancelled: x[k..k + c].iter().map(|v| v.exp()).collect(),
+            multiple: x[k + c..]
+                .iter()
+                .zip(self.multiple)
+                .map(|(v, &mu)| (v.exp(), mu))
+                .collect(),
+        }
+    }
+
+    /// The type at a converged point, or `None` where it is not read (two
+    /// roots within [`SEPARATION`], a pole off the positive axis, values
+    /// not finite).
+    pub(crate) fn read(&self, p: &VarietyPoint) -> Option<FrfType> {
+        let (mut n, mut d) = self.tf.eval(&p.params);
+        for &r in &p.cancelled {
+            n = deflate(&n, r);
+            d = deflate(&d, r);
+        }
+        for &(s, mu) in &p.multiple {
+            for _ in 0..mu {
+                n = deflate(&n, s);
+            }
+        }
+        let zeros = positive_roots(&n)?;
+        let poles = positive_roots(&d)?;
+        if poles.len() + 1 != d.len() {
+            return None;
+        }
+        let simple = |feature| Token {
+            feature,
+            multiplicity: 1,
+        };
+        let mut marks: Vec<(f64, Option<Token>)> = Vec::new();
+        marks.extend(
+            zeros
+                .iter()
+                .map(|&z| (z, Some(simple(Feature::Antiresonance)))),
+        );
+        marks.extend(poles.iter().map(|&z| (z, Some(simple(Feature::Resonance)))));
+        marks.extend(p.multiple.iter().map(|&(s, mu)| {
+            let tok = Token {
+                feature: Feature::Antiresonance,
+                multiplicity: mu,
+            };
+            (s, Some(tok))
+        }));
+        marks.extend(p.cancelled.iter().map(|&r| (r, None)));
+        if marks.iter().any(|(v, _)| !v.is_finite()) {
+            return None;
+        }
+        marks.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if marks
+            .windows(2)
+            .any(|w| w[1].0 - w[0].0 <= SEPARATION * (w[0].0.abs() + w[1].0.abs()))
+        {
+            return None;
+        }
+        Some(FrfType {
+            tokens: marks.into_iter().filter_map(|m| m.1).collect(),
+            nonminimum_phase: zeros.len() + 1 < n.len(),
+        })
+    }
+}
+
+/// `count` columns of `rows` chosen one at a time, each the one with the
+/// largest part orthogonal to those chosen before (Gram-Schmidt with
+/// column pivoting); `None` where a pivot falls below `1e-8` of the
+/// first, i.e. the columns span less than `count` dimensions in `f64`.
+fn independent_columns(rows: &[Vec<f64>], count: usize) -> Option<Vec<usize>> {
+    if count == 0 {
+        return Some(Vec::new());
+    }
+    let width = rows.first()?.len();
+    let mut columns: Vec<Vec<f64>> = (0..width)
+        .map(|j| rows.iter().map(|r| r[j]).collect())
+        .collect();
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let mut chosen: Vec<usize> = Vec::new();
+    let mut first = 0.0;
+    for _ in 0..count {
+        let best = (0..width)
+            .filter(|j| !chosen.contains(j))
+            .max_by(|&a, &b| norm(&columns[a]).total_cmp(&norm(&columns[b])))?;
+        let size = norm(&columns[best]);
+        if chosen.is_empty() {
+            first = size;
+        }
+        if size.is_nan() || size <= 1e-8 * first || !size.is_finite() {
+            return None;
+        }
+        let unit: Vec<f64> = columns[best].iter().map(|x| x / size).collect();
+        for column in columns.iter_mut() {
+            let along: f64 = column.iter().zip(&unit).map(|(a, b)| a * b).sum();
+            for (x, u) in column.iter_mut().zip(&unit) {
+                *x -= along * u;
+            }
+        }
+        chosen.push(best);
+    }
+    chosen.sort_unstable();
+    Some(chosen)
+}
+
+fn index(rng: &mut XorShift, n: usize) -> usize {
+    (rng.next_u64() % n as u64) as usize
+}
+
+/// `i! / (i - order)!`.
+fn falling(i: usize, order: usize) -> f64 {
+    (i + 1 - order..=i).map(|v| v as f64).product()
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// `a y = b` by Gaussian elimination with partial pivoting; `None` where
+/// `a` is singular in `f64`.
+fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
+    let n = b.len();
+    for col in 0..n {
+        let pivot = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+        let size = a[pivot][col].abs();
+        if size.is_nan() || size == 0.0 {
+            return None;
+        }
+        a.swap(col, pivot);
+        b.swap(col, pivot);
+        let (top, rest) = a.split_at_mut(col + 1);
+        let pivot_row = &top[col];
+        for (offset, row) in rest.iter_mut().enumerate() {
+            let m = row[col] / pivot_row[col];
+            for (v, p) in row[col..n].iter_mut().zip(&pivot_row[col..n]) {
+                *v -= m * p;
+            }
+            b[col + 1 + offset] -= m * b[col];
+        }
+    }
+    let mut y = vec![0.0; n];
+    for row in (0..n).rev() {
+        let s: f64 = (row + 1..n).map(|k| a[row][k] * y[k]).sum();
+        y[row] = (b[row] - s) / a[row][row];
+    }
+    y.iter().all(|v| v.is_finite()).then_some(y)
+}
+
+/// The quotient of `c` (ascending) by `x - r`, the remainder dropped.
+/// Composite deflation: the quotient's high part by the forward
+/// recurrence, its low part by the backward one, split at the dominant
+/// term `|c_i r^i|`, so that a large root does not swamp the small ones.
+pub(crate) fn deflate(c: &[f64], r: f64) -> Vec<f64> {
+    let d = c.len().saturating_sub(1);
+    if d == 0 {
+        return Vec::new();
+    }
+    let mut forward = vec![0.0; d];
+    forward[d - 1] = c[d];
+    for i in (1..d).rev() {
+        forward[i - 1] = c[i] + r * forward[i];
+    }
+    let mut backward = vec![0.0; d];
+    backward[0] = -c[0] / r;
+    for i in 1..d {
+        backward[i] = (backward[i - 1] - c[i]) / r;
+    }
+    let split = (0..=d)
+        .max_by(|&i, &j| {
+            let size = |k: usize| c[k].abs() * r.abs().powi(k as i32);
+            size(i).total_cmp(&size(j))
+        })
+        .unwrap_or(0);
+    (0..d)
+        .map(|i| if i >= split { forward[i] } else { backward[i] })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn deflation_keeps_small_roots_beside_a_large_one() {
+        // (x - 1e-4)(x - 2)(x - 1e6), divided by x - 1e6.
+        let roots = [1e-4, 2.0, 1e6];
+        let mut c = vec![1.0];
+        for r in roots {
+            let mut next = vec![0.0; c.len() + 1];
+            for (i, a) in c.iter().enumerate() {
+                next[i] -= r * a;
+                next[i + 1] += a;
+            }
+            c = next;
+        }
+        let q = deflate(&c, 1e6);
+        let found = positive_roots(&q).unwrap();
+        assert_eq!(found.len(), 2);
+        assert!((found[0] / 1e-4 - 1.0).abs() < 1e-9, "{found:?}");
+        assert!((found[1] / 2.0 - 1.0).abs() < 1e-9, "{found:?}");
+    }
+
+    #[test]
+    fn columns_are_chosen_by_their_independent_parts() {
+        // The second column repeats the first; the third is independent.
+        let rows = vec![vec![1.0, 2.0, 0.0], vec![1.0, 2.0, 1.0]];
+        assert_eq!(independent_columns(&rows, 2), Some(vec![1, 2]));
+        assert_eq!(independent_columns(&rows, 3), None);
+        assert_eq!(independent_columns(&rows, 0), Some(vec![]));
+    }
+
+    #[test]
+    fn a_small_system_is_solved() {
+        let a = vec![vec![0.0, 2.0], vec![4.0, 1.0]];
+        let y = solve(a, vec![2.0, 9.0]).unwrap();
+        assert!((y[0] - 2.0).abs() < 1e-15 && (y[1] - 1.0).abs() < 1e-15);
+        assert!(solve(vec![vec![1.0, 2.0], vec![2.0, 4.0]], vec![1.0, 1.0]).is_none());
+    }
+}
