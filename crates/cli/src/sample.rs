@@ -134,7 +134,7 @@ pub fn run(path: &Path, opts: &Options) -> Result<String, String> {
             s.push('\n');
             s
         }
-        SampleFormat::Md => markdown(&out, opts.starts, path),
+        SampleFormat::Md => markdown(&out, opts.starts, path, table.engine_version),
     })
 }
 
@@ -156,9 +156,8 @@ fn sample_all(
     progress.set_prefix("sample");
     progress.enable_steady_tick(std::time::Duration::from_secs(1));
     let fingerprint = format!(
-        "mms {} engine {}; starts {}; seed {SEED:#x}",
-        env!("CARGO_PKG_VERSION"),
-        mms::analysis::ENGINE_VERSION,
+        "sampler {}; starts {}; seed {SEED:#x}",
+        mms::analysis::SAMPLER_VERSION,
         opts.starts
     );
     let one = |k: usize| -> Result<CellSample, String> {
@@ -168,8 +167,15 @@ fn sample_all(
         if let Some(f) = &file {
             if let Ok(text) = std::fs::read_to_string(f) {
                 match serde_json::from_str::<Entry>(&text) {
-                    Ok(e) if e.fingerprint == fingerprint && e.sample.cell == job.1 => {
+                    // The counts are the structure's; the types asked
+                    // about are this table's.
+                    Ok(mut e)
+                        if e.fingerprint == fingerprint
+                            && (e.sample.cell.cancelled, &e.sample.cell.multiple)
+                                == (job.1.cancelled, &job.1.multiple) =>
+                    {
                         progress.inc(opts.starts);
+                        e.sample.cell = job.1.clone();
                         return Ok(e.sample);
                     }
                     Ok(_) => {}
@@ -234,7 +240,7 @@ fn cell_name((model, cell): &(Model, mms::analysis::Cell)) -> String {
     format!("{}-c{}-m{}", model.id(), cell.cancelled, mults.join("_"))
 }
 
-fn markdown(models: &[ModelSamples], starts: u64, path: &Path) -> String {
+fn markdown(models: &[ModelSamples], starts: u64, path: &Path, engine: u32) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -259,7 +265,7 @@ fn markdown(models: &[ModelSamples], starts: u64, path: &Path) -> String {
         .sum();
     let _ = writeln!(
         s,
-        "`mms sample` (mms {}, engine {}), {starts} starts per cell (coincidence \
+        "`mms sample` (mms {}, sampler {}; the table of engine {engine}), {starts} starts per cell (coincidence \
          structure of a model's unknown types), log-uniform parameters within \
          e^-3 .. e^3, projected onto the cell's variety and read in f64 with the \
          posed roots divided out (points where the conditions' Jacobian drops \
@@ -267,7 +273,7 @@ fn markdown(models: &[ModelSamples], starts: u64, path: &Path) -> String {
          likelihood; one never read lies, if anywhere, in a region thinner than \
          the sampler reaches.\n",
         env!("CARGO_PKG_VERSION"),
-        mms::analysis::ENGINE_VERSION
+        mms::analysis::SAMPLER_VERSION
     );
     let _ = writeln!(
         s,

@@ -1567,6 +1567,45 @@ fn classify_posed(
     })
 }
 
+/// Cancelled poles, and multiple zeros with their multiplicities.
+type PosedRoots = (Vec<Rat>, Vec<(Rat, u32)>);
+
+/// The posed roots of a witness `v` (under `what`): its `cancelled` poles
+/// and its `multiple` zeros as `[place, multiplicity]`, each optional.
+fn posed_roots(v: &Value, what: &str) -> Result<PosedRoots, String> {
+    let array = |key: &str| -> Result<&[Value], String> {
+        match v.get(key) {
+            None => Ok(&[]),
+            Some(a) => a
+                .as_array()
+                .map(Vec::as_slice)
+                .ok_or_else(|| format!("{what}.{key}: expected an array")),
+        }
+    };
+    let cancelled = array("cancelled")?
+        .iter()
+        .enumerate()
+        .map(|(i, r)| rat_value(r, &format!("{what}.cancelled[{i}]")))
+        .collect::<Result<_, _>>()?;
+    let multiple = array("multiple")?
+        .iter()
+        .enumerate()
+        .map(|(i, e)| {
+            let path = format!("{what}.multiple[{i}]");
+            let pair = e
+                .as_array()
+                .filter(|a| a.len() == 2)
+                .ok_or_else(|| format!("{path}: expected [place, multiplicity]"))?;
+            let k = pair[1]
+                .as_u64()
+                .filter(|k| (2..=64).contains(k))
+                .ok_or_else(|| format!("{path}: a multiplicity from 2 to 64 expected"))?;
+            Ok((rat_value(&pair[0], &path)?, k as u32))
+        })
+        .collect::<Result<_, String>>()?;
+    Ok((cancelled, multiple))
+}
+
 /// The field and the point of an algebraic witness: `minimal` an
 /// irreducible polynomial in `theta` with one root in `interval`, and a
 /// polynomial in `theta` for exactly `params`, each positive at `theta`.
@@ -2116,37 +2155,7 @@ impl ModelChecker {
     /// A point over a real number field: see the module docs, item 2.
     fn check_algebraic(&self, v: &Value, t: &Ty) -> Result<(), String> {
         let (nf, point) = parse_algebraic_point(v, &self.params)?;
-        let cancelled: Vec<Rat> = match v.get("cancelled") {
-            None => Vec::new(),
-            Some(c) => c
-                .as_array()
-                .ok_or("algebraic.cancelled: expected an array of rationals")?
-                .iter()
-                .enumerate()
-                .map(|(i, r)| rat_value(r, &format!("algebraic.cancelled[{i}]")))
-                .collect::<Result<_, _>>()?,
-        };
-        let multiple: Vec<(Rat, u32)> = match v.get("multiple") {
-            None => Vec::new(),
-            Some(m) => m
-                .as_array()
-                .ok_or("algebraic.multiple: expected an array of [place, multiplicity]")?
-                .iter()
-                .enumerate()
-                .map(|(i, e)| {
-                    let path = format!("algebraic.multiple[{i}]");
-                    let pair = e
-                        .as_array()
-                        .filter(|a| a.len() == 2)
-                        .ok_or_else(|| format!("{path}: expected [place, multiplicity]"))?;
-                    let k = pair[1]
-                        .as_u64()
-                        .filter(|k| (2..=64).contains(k))
-                        .ok_or_else(|| format!("{path}: a multiplicity from 2 to 64 expected"))?;
-                    Ok((rat_value(&pair[0], &path)?, k as u32))
-                })
-                .collect::<Result<_, String>>()?,
-        };
+        let (cancelled, multiple) = posed_roots(v, "algebraic")?;
         let got = classify_posed(&nf, &self.num, &self.den, &point, &cancelled, &multiple)
             .map_err(|e| format!("algebraic: {e}"))?;
         if &got != t {

@@ -49,7 +49,7 @@ pub use prover::{
     ConditionRule, Definiteness, FactorProof, OpenProof, Proof, RegionSample, SearchLimits,
     SignCase, SignCondition, Substitution, UnlistedRole,
 };
-pub use sampling::{cells, sample_cell, Cell, CellSample, SAMPLING_RANGE};
+pub use sampling::{cells, sample_cell, Cell, CellSample, SAMPLER_VERSION, SAMPLING_RANGE};
 
 use crate::model::Model;
 use crate::tf::OMEGA;

@@ -26,6 +26,13 @@ use crate::xorshift::XorShift;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
+/// The version of the sampler: raised whenever a change can alter its
+/// counts, so that stored counts (`mms sample --cache`) made by another
+/// version are sampled again. The engine's version does not enter: the
+/// counts depend on the model and the cell's structure, not on the
+/// verdicts.
+pub const SAMPLER_VERSION: u32 = 1;
+
 /// The sampler's start box: parameters log-uniform within
 /// `e^-RANGE .. e^RANGE`, as the prover's.
 pub const SAMPLING_RANGE: f64 = 3.0;

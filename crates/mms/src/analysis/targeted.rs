@@ -1993,38 +1993,21 @@ pub(super) fn solve_linear(equations: &[Poly], vars: &[String]) -> Option<Vec<Ra
     if equations.len() != n {
         return None;
     }
-    // Rows [a_1 .. a_n | -b] of a.x + b = 0.
-    let mut rows: Vec<Vec<Rat>> = Vec::with_capacity(n);
+    // a.x = -b for a.x + b = 0.
+    let mut a: Vec<Vec<Rat>> = Vec::with_capacity(n);
+    let mut b: Vec<Rat> = Vec::with_capacity(n);
     for e in equations {
-        let mut row = Vec::with_capacity(n + 1);
+        let mut row = Vec::with_capacity(n);
         let mut rest = e.clone();
         for x in vars {
             let c = rest.coeffs_in(x);
             row.push(c.get(1).map_or(Some(Rat::ZERO), |a| a.as_constant())?);
             rest = c.first().cloned().unwrap_or_else(Poly::zero);
         }
-        row.push(-rest.as_constant()?);
-        rows.push(row);
+        b.push(-rest.as_constant()?);
+        a.push(row);
     }
-    for col in 0..n {
-        let pivot = (col..n).find(|&r| !rows[r][col].is_zero())?;
-        rows.swap(col, pivot);
-        let inv = rows[col][col].recip();
-        for v in rows[col].iter_mut() {
-            *v = &*v * &inv;
-        }
-        let pivot_row = rows[col].clone();
-        for (r, row) in rows.iter_mut().enumerate() {
-            if r != col && !row[col].is_zero() {
-                let f = row[col].clone();
-                for (x, p) in row.iter_mut().zip(&pivot_row).skip(col) {
-                    let d = &f * p;
-                    *x = &*x - &d;
-                }
-            }
-        }
-    }
-    Some(rows.into_iter().map(|r| r[n].clone()).collect())
+    poly::solve_rat(&a, &b)
 }
 
 /// Samples per partial wall.

@@ -23,7 +23,7 @@
 //!    and not one for both; every root of the denominator's rest is
 //!    placed, and every multiple zero is a point of the partition.
 
-use super::{poly_value, rat_value, Tok, Ty, OMEGA};
+use super::{poly_value, posed_roots, rat_value, Tok, Ty, OMEGA};
 use poly::{Poly, Rat, RatInterval};
 use serde_json::Value;
 use std::collections::BTreeMap;
@@ -215,30 +215,10 @@ impl Witness {
                     .ok_or_else(|| format!("isolated.{key}: expected an array")),
             }
         };
-        let cancelled = array("cancelled")?
-            .iter()
-            .enumerate()
-            .map(|(i, r)| {
-                let path = format!("isolated.cancelled[{i}]");
-                positive(rat_value(r, &path)?, &path)
-            })
-            .collect::<Result<Vec<Rat>, String>>()?;
-        let multiple = array("multiple")?
-            .iter()
-            .enumerate()
-            .map(|(i, e)| {
-                let path = format!("isolated.multiple[{i}]");
-                let pair = e
-                    .as_array()
-                    .filter(|a| a.len() == 2)
-                    .ok_or_else(|| format!("{path}: expected [place, multiplicity]"))?;
-                let k = pair[1]
-                    .as_u64()
-                    .filter(|k| (2..=64).contains(k))
-                    .ok_or_else(|| format!("{path}: a multiplicity from 2 to 64 expected"))?;
-                Ok((positive(rat_value(&pair[0], &path)?, &path)?, k as u32))
-            })
-            .collect::<Result<Vec<(Rat, u32)>, String>>()?;
+        let (cancelled, multiple) = posed_roots(v, "isolated")?;
+        for r in cancelled.iter().chain(multiple.iter().map(|(r, _)| r)) {
+            positive(r.clone(), "isolated: a posed root")?;
+        }
         let poses = array("poses")?
             .iter()
             .enumerate()
