@@ -40,7 +40,7 @@ const FORMAT: &str = "mms-analyze-cache";
 /// The layout of [`Summary`] and [`Entry`]. Bump it whenever either changes,
 /// or the analysis changes its results without a change of the crate
 /// version, so that old files are recomputed rather than misread.
-const LAYOUT_VERSION: u32 = 7;
+const LAYOUT_VERSION: u32 = 8;
 
 /// One cache file.
 #[derive(Serialize, Deserialize)]

@@ -303,8 +303,14 @@ fn a2_isolated_r() -> Value {
 /// The paper file with A2's verdict on `t` replaced by an isolated
 /// witness `w`, checked.
 fn with_isolated(t: &str, w: Value) -> Result<CheckReport, CheckError> {
+    with_isolated_on("A2", t, w)
+}
+
+/// The paper file with model `id`'s verdict on `t` replaced by an
+/// isolated witness `w`, checked.
+fn with_isolated_on(id: &str, t: &str, w: Value) -> Result<CheckReport, CheckError> {
     let mut v = paper_file().clone();
-    let verdict = v.pointer_mut(&verdict_ptr("A2", t)).unwrap();
+    let verdict = v.pointer_mut(&verdict_ptr(id, t)).unwrap();
     let o = verdict.as_object_mut().unwrap();
     o.remove("witness");
     o.insert("isolated".into(), w);
@@ -369,6 +375,63 @@ fn isolated_witnesses_are_checked_in_their_box() {
     negative["free"]["m3"] = json!(["-1", "2"]);
     let step = refused("R", negative, "a box not positive");
     assert!(step.contains("not positive"), "{step}");
+}
+
+/// B2's type C with its one pair of poles cancelled together, posed by
+/// the blocks: `den = det(A) q_B` with `det(A) = m1 Omega - c1`, `q_B =
+/// m2 m3 Omega - c23 (m2 + m3)`, and `num = -c23 det(A) + Omega q_B` (by
+/// hand from the paper's Num and Den). With c23 = m2 = 1 fixed and the
+/// pole at 2, `det(A)`, `q_B` and `num'` vanish there only at m1 = 2,
+/// m3 = 1, c1 = 4, where num = (Omega - 2)^2 and den = 2 (Omega - 2)^2.
+fn b2_double_c() -> Value {
+    json!({
+        "fixed": {"c23": "1", "m2": "1"},
+        "free": {
+            "c1": ["4095/1024", "4097/1024"],
+            "m1": ["2047/1024", "2049/1024"],
+            "m3": ["1023/1024", "1025/1024"],
+        },
+        "cancelled": ["2"],
+        "poses": [{
+            "pole": 0, "double": true,
+            "factors": ["m1*Omega - c1", "m2*m3*Omega - c23*m2 - c23*m3"],
+            "numerator": ["-c23", "Omega"],
+            "denominator": ["m2*m3*Omega - c23*m2 - c23*m3", "0"],
+        }],
+        "partition": [],
+    })
+}
+
+#[test]
+fn a_pole_cancelled_twice_is_checked() {
+    with_isolated_on("B2", "C", b2_double_c()).unwrap_or_else(|e| panic!("{e}"));
+    let refused = |w: Value, what: &str| {
+        let e = with_isolated_on("B2", "C", w).expect_err(what);
+        let (model, ty, step) = type_step(&e);
+        assert_eq!((model, ty), ("B2", "C"));
+        assert!(step.starts_with("isolated"), "{what}: {e}");
+        step.to_string()
+    };
+    // Claimed once only: two conditions for three free parameters.
+    let mut once = b2_double_c();
+    once["poses"][0]["double"] = false.into();
+    let step = refused(once, "cancelled once");
+    assert!(step.contains("conditions posed"), "{step}");
+    // Posed by the numerator and the denominator themselves, with the
+    // trivial cofactors: both vanish at the pole, but the denominator is
+    // no constant times their product, so no double root follows.
+    let b2 = paper_file().pointer(&model_ptr("B2")).unwrap();
+    let mut loose = b2_double_c();
+    loose["poses"][0]["factors"] = json!([b2["numerator"], b2["denominator"]]);
+    loose["poses"][0]["numerator"] = json!(["1", "0"]);
+    loose["poses"][0]["denominator"] = json!(["0", "1"]);
+    let step = refused(loose, "a denominator not the factors' product");
+    assert!(step.contains("not a constant times f0 f1"), "{step}");
+    // The pair claimed at another pole: the box holds no solution there.
+    let mut elsewhere = b2_double_c();
+    elsewhere["cancelled"] = json!(["3"]);
+    let step = refused(elsewhere, "another pole");
+    assert!(step.contains("Krawczyk"), "{step}");
 }
 
 #[test]

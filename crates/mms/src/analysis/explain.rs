@@ -207,9 +207,11 @@ pub fn explain(analysis: &ModelAnalysis, t: &FrfType, format: ExplainFormat) -> 
                 .enumerate()
                 .map(|(i, r)| match b.poses.iter().find(|q| q.pole == i) {
                     Some(q) => format!(
-                        "a pole cancelled at Omega = {r}, where {} and {} vanish (and with them num and den, by the cofactors in the witness)",
+                        "a pole cancelled {}at Omega = {r}, where {} and {} vanish (and with them num and den, by the cofactors in the witness{})",
+                        if q.double { "twice " } else { "" },
                         w.poly(&q.factors[0]),
-                        w.poly(&q.factors[1])
+                        w.poly(&q.factors[1]),
+                        if q.double { "; den is their product, num's derivative vanishes there too" } else { "" }
                     ),
                     None => format!("a pole cancelled at Omega = {r}"),
                 })

@@ -44,7 +44,7 @@
 use super::frf_type::{Feature, FrfType, Token};
 use super::prover::Prover;
 use super::targeted::{positive_roots, short_rational};
-use super::variety::{Variety, VarietyPoint};
+use super::variety::{BlockFactors, Variety, VarietyPoint};
 use super::{IsolatedWitness, PolePose};
 use crate::model::Model;
 use crate::tf::{UndampedCoefficients, OMEGA};
@@ -103,9 +103,45 @@ impl Prover<'_> {
         let (signatures, derivatives) = self.pencil_signatures(wanted);
         let tf = UndampedCoefficients::new(self.model);
         let blocks = block_pose(self.model, &self.num, &self.den);
-        let mut rng = XorShift::new(seed);
-        for ((cancelled, mults), types) in &signatures {
-            let variety = Variety::new(&tf, self.params.len(), *cancelled as usize, mults);
+        let compiled = blocks
+            .as_ref()
+            .map(|b| BlockFactors::new(&b.factors, &self.params));
+        // Each structure with its poles cancelled once, then (with a gap)
+        // with one pair, two pairs, ... cancelled where the blocks share
+        // an eigenvalue: where the single ones meet, the sampler lands on
+        // those pairs, a stratum of its own. The single structures come
+        // first and share one stream of draws; each paired one draws from
+        // its own seed, so the pairs only add to what the singles show.
+        let pairs = |c: u32| {
+            if compiled.is_some() {
+                c as usize / 2
+            } else {
+                0
+            }
+        };
+        let singles = signatures
+            .iter()
+            .map(|((c, mults), types)| (*c as usize, 0, mults, types));
+        let paired = signatures.iter().flat_map(|((c, mults), types)| {
+            (1..=pairs(*c)).map(move |d| (*c as usize, d, mults, types))
+        });
+        let mut shared = XorShift::new(seed);
+        for (cancelled, doubles, mults, types) in singles.chain(paired) {
+            let mut variety = Variety::new(&tf, self.params.len(), cancelled, mults);
+            let mut own;
+            let rng = match compiled.as_ref() {
+                Some(b) if doubles > 0 => {
+                    variety = variety.with_doubles(doubles, b);
+                    let key = mults
+                        .iter()
+                        .fold((cancelled as u64) << 8 | doubles as u64, |h, &m| {
+                            (h ^ u64::from(m)).wrapping_mul(0x0100_0000_01b3)
+                        });
+                    own = XorShift::new(seed ^ key.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+                    &mut own
+                }
+                _ => &mut shared,
+            };
             let mut tries: BTreeMap<FrfType, usize> = BTreeMap::new();
             let mut barren = 0;
             for _ in 0..STARTS {
@@ -113,7 +149,7 @@ impl Prover<'_> {
                     break;
                 }
                 barren += 1;
-                let Some(mut x) = variety.start(&mut rng, RANGE) else {
+                let Some(mut x) = variety.start(rng, RANGE) else {
                     continue;
                 };
                 if !variety.project(&mut x, RANGE) {
@@ -167,9 +203,11 @@ impl Prover<'_> {
                 fixed.insert(name.clone(), short_rational(v, DIGITS)?);
             }
         }
+        // The poles cancelled once, then those cancelled in pairs.
         let cancelled: Vec<Rat> = p
             .cancelled
             .iter()
+            .chain(&p.doubles)
             .map(|&r| short_rational(r, DIGITS))
             .collect::<Option<_>>()?;
         let multiple: Vec<(Rat, u32)> = p
@@ -186,27 +224,40 @@ impl Prover<'_> {
             .cloned()
             .zip(p.params.iter().copied())
             .collect();
-        let poses: Vec<PolePose> = blocks
-            .map(|b| {
-                p.cancelled
+        let mut poses: Vec<PolePose> = Vec::new();
+        if let Some(b) = blocks {
+            for (i, &rho) in p.cancelled.iter().enumerate() {
+                let shared = b
+                    .factors
                     .iter()
-                    .enumerate()
-                    .filter(|(_, &rho)| {
-                        b.factors.iter().all(|f| {
-                            relative_at(f, &sampled, rho).is_some_and(|v| v.abs() < SHARED)
-                        })
-                    })
-                    .map(|(i, _)| PolePose {
+                    .all(|f| relative_at(f, &sampled, rho).is_some_and(|v| v.abs() < SHARED));
+                if shared {
+                    poses.push(PolePose {
                         pole: i,
                         ..b.clone()
-                    })
-                    .collect()
-            })
-            .unwrap_or_default();
+                    });
+                }
+            }
+            for i in 0..p.doubles.len() {
+                poses.push(PolePose {
+                    pole: p.cancelled.len() + i,
+                    double: true,
+                    ..b.clone()
+                });
+            }
+        } else if !p.doubles.is_empty() {
+            return None;
+        }
+        let slope = self.num.derivative(OMEGA);
         let mut conditions = Vec::new();
         for (i, rho) in cancelled.iter().enumerate() {
             match poses.iter().find(|q| q.pole == i) {
-                Some(q) => conditions.extend(q.factors.iter().map(|f| f.subs(OMEGA, rho))),
+                Some(q) => {
+                    conditions.extend(q.factors.iter().map(|f| f.subs(OMEGA, rho)));
+                    if q.double {
+                        conditions.push(slope.subs(OMEGA, rho));
+                    }
+                }
                 None => conditions.extend([self.num.subs(OMEGA, rho), self.den.subs(OMEGA, rho)]),
             }
         }
@@ -335,6 +386,7 @@ fn block_pose(model: &Model, num: &Poly, den: &Poly) -> Option<PolePose> {
     }
     Some(PolePose {
         pole: 0,
+        double: false,
         numerator: [n_b.scale(&k_neg), (&omega * &n_a).scale(&k_neg)],
         denominator: [q_b.scale(&k), Poly::zero()],
         factors: [det_a, q_b],
@@ -506,9 +558,12 @@ impl Rests {
             .collect::<Option<_>>()?;
         let mut q = num.subs_point(&w.fixed).coeffs_in(OMEGA);
         let mut r = den.subs_point(&w.fixed).coeffs_in(OMEGA);
-        for rho in &w.cancelled {
-            q = divided(&q, rho);
-            r = divided(&r, rho);
+        for (i, rho) in w.cancelled.iter().enumerate() {
+            let twice = w.poses.iter().any(|p| p.pole == i && p.double);
+            for _ in 0..1 + usize::from(twice) {
+                q = divided(&q, rho);
+                r = divided(&r, rho);
+            }
         }
         for (sigma, mu) in &w.multiple {
             for _ in 0..*mu {
@@ -817,6 +872,44 @@ mod tests {
         // The same box claimed without the double zero among the
         // partition's points is refused.
         assert_eq!(rests.read(&[r("7/4")], &w.multiple), Err(Unread::Refused));
+    }
+
+    /// B2's type C (every pole cancelled) only comes with its two poles
+    /// cancelled together: `num = -c23 det(A) + Omega q_B` and `den =
+    /// det(A) q_B` (by hand from the paper's Num and Den), so at a root of
+    /// `det(A)` the numerator vanishes only where `q_B` does too, and two
+    /// different poles cannot both cancel. The search must find the pair.
+    #[test]
+    fn a_pair_of_poles_cancelled_together_shows_a_constant() {
+        let model = crate::Model::from_id("B2").unwrap();
+        let tf = model.undamped_tf();
+        let mut prover = Prover::new(&model, tf.num.clone(), tf.den.clone());
+        let c: FrfType = "C".parse().unwrap();
+        assert_eq!(prover.isolated_search(std::slice::from_ref(&c), 7), 1);
+        let w = &prover.isolated[&c];
+        assert_eq!(w.cancelled.len(), 1);
+        assert!(w.poses.iter().all(|q| q.double), "{:?}", w.poses);
+        // The other route: the chain's equations solved in f64 at the
+        // box's centre (dampers zero) give a flat inertance, away from
+        // the cancelled pole to within the box's width.
+        let values: Vec<f64> = model
+            .parameters()
+            .iter()
+            .map(|name| match (w.fixed.get(name), w.free.get(name)) {
+                (Some(v), _) => v.to_f64(),
+                (_, Some([lo, hi])) => (lo.to_f64() + hi.to_f64()) / 2.0,
+                _ => 0.0,
+            })
+            .collect();
+        let pole_hz = w.cancelled[0].to_f64().sqrt() / (2.0 * std::f64::consts::PI);
+        let response = crate::response::ChainResponse::new(&model, crate::Output::Acceleration);
+        let g: Vec<f64> = [0.1, 0.5, 2.0, 10.0]
+            .iter()
+            .map(|k| response.eval(&values, k * pole_hz).unwrap().re)
+            .collect();
+        for v in &g {
+            assert!((v / g[0] - 1.0).abs() < 1e-9, "{g:?}");
+        }
     }
 
     #[test]

@@ -222,11 +222,17 @@ pub struct IsolatedWitness {
 /// two `factors` (polynomials in the parameters and `Omega`) instead of
 /// the numerator's and the denominator's: the cofactors show that both
 /// of these vanish wherever the factors do,
-/// `numerator = n0 f0 + n1 f1` and `denominator = d0 f0 + d1 f1`.
+/// `numerator = n0 f0 + n1 f1` and `denominator = d0 f0 + d1 f1`. A
+/// `double` pole is cancelled twice: the denominator is a constant times
+/// `f0 f1`, so it has a double root where both vanish, and the numerator's
+/// derivative is posed to vanish there too.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PolePose {
     /// The index of the pole in the witness's `cancelled`.
     pub pole: usize,
+    /// Cancelled twice.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub double: bool,
     /// `[f0, f1]`.
     pub factors: [Poly; 2],
     /// `[n0, n1]`.
@@ -424,7 +430,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 32;
+pub const ENGINE_VERSION: u32 = 33;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///

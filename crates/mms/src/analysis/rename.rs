@@ -112,6 +112,7 @@ impl Renaming {
                     .iter()
                     .map(|p| PolePose {
                         pole: p.pole,
+                        double: p.double,
                         factors: p.factors.clone().map(|f| self.poly(&f)),
                         numerator: p.numerator.clone().map(|f| self.poly(&f)),
                         denominator: p.denominator.clone().map(|f| self.poly(&f)),

@@ -25,8 +25,9 @@
 
 use super::frf_type::{Feature, FrfType, Token};
 use super::targeted::positive_roots;
-use crate::tf::UndampedCoefficients;
+use crate::tf::{Compiled, UndampedCoefficients, OMEGA};
 use crate::xorshift::XorShift;
+use poly::Poly;
 
 /// Gauss-Newton steps before a start is given up.
 const ITERATIONS: usize = 40;
@@ -38,24 +39,68 @@ pub(crate) const SEPARATION: f64 = 1e-6;
 const BOX_MARGIN: f64 = 2.0;
 
 /// The variety of `cancelled` cancelled poles and multiple zeros of the
-/// multiplicities `multiple` of one model's undamped inertance.
+/// multiplicities `multiple` of one model's undamped inertance; of the
+/// cancelled poles, `2 * doubles` may be cancelled in pairs where the
+/// chain's two blocks share an eigenvalue (the denominator's double root
+/// there, and the numerator's).
 pub(crate) struct Variety<'a> {
     tf: &'a UndampedCoefficients,
     params: usize,
     cancelled: usize,
+    doubles: usize,
+    blocks: Option<&'a BlockFactors>,
     multiple: &'a [u32],
 }
 
-/// A point of a [`Variety`]: parameters, cancelled poles and multiple
-/// zeros (with multiplicities), all in linear units.
+/// The two blocks' determinants of a chain with a gap (`det A` and
+/// `det B / Omega`, whose product is the denominator up to a constant),
+/// compiled: where both vanish at `rho`, the denominator has a double root
+/// and the numerator a root there, so a pole cancelled twice is posed as
+/// both factors and the numerator's derivative vanishing at `rho`.
+pub(crate) struct BlockFactors {
+    coeffs: [Vec<Compiled>; 2],
+}
+
+impl BlockFactors {
+    pub(crate) fn new(factors: &[Poly; 2], names: &[String]) -> BlockFactors {
+        let compile = |f: &Poly| -> Vec<Compiled> {
+            f.coeffs_in(OMEGA)
+                .iter()
+                .map(|c| Compiled::new(c, names))
+                .collect()
+        };
+        BlockFactors {
+            coeffs: [compile(&factors[0]), compile(&factors[1])],
+        }
+    }
+
+    /// Each factor's coefficients at `x` with their derivatives in the
+    /// logarithms of the parameters.
+    #[allow(clippy::type_complexity)]
+    fn eval_with_log_gradients(&self, x: &[f64]) -> [(Vec<f64>, Vec<Vec<f64>>); 2] {
+        self.coeffs.each_ref().map(|cs| {
+            cs.iter()
+                .map(|c| {
+                    let mut g = vec![0.0; x.len()];
+                    (c.eval_with_log_gradient(x, &mut g), g)
+                })
+                .unzip()
+        })
+    }
+}
+
+/// A point of a [`Variety`]: parameters, poles cancelled once and in
+/// pairs, and multiple zeros (with multiplicities), all in linear units.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct VarietyPoint {
     pub params: Vec<f64>,
     pub cancelled: Vec<f64>,
+    pub doubles: Vec<f64>,
     pub multiple: Vec<(f64, u32)>,
 }
 
 impl<'a> Variety<'a> {
+    /// The variety with every cancelled pole cancelled once.
     pub(crate) fn new(
         tf: &'a UndampedCoefficients,
         params: usize,
@@ -66,18 +111,32 @@ impl<'a> Variety<'a> {
             tf,
             params,
             cancelled,
+            doubles: 0,
+            blocks: None,
             multiple,
+        }
+    }
+
+    /// The same structure with `doubles` pairs of its cancelled poles
+    /// cancelled where the blocks share an eigenvalue.
+    pub(crate) fn with_doubles(self, doubles: usize, blocks: &'a BlockFactors) -> Variety<'a> {
+        Variety {
+            cancelled: self.cancelled - 2 * doubles,
+            doubles,
+            blocks: Some(blocks),
+            ..self
         }
     }
 
     /// Conditions in all.
     fn conditions(&self) -> usize {
-        2 * self.cancelled + self.multiple.iter().sum::<u32>() as usize
+        2 * self.cancelled + 3 * self.doubles + self.multiple.iter().sum::<u32>() as usize
     }
 
-    /// Unknowns in all: parameters, cancelled poles, multiple zeros.
+    /// Unknowns in all: parameters, cancelled poles (once, in pairs),
+    /// multiple zeros.
     fn unknowns(&self) -> usize {
-        self.params + self.cancelled + self.multiple.len()
+        self.params + self.cancelled + self.doubles + self.multiple.len()
     }
 
     /// A log-uniform start in `[-range, range]` per parameter, its posed
@@ -91,12 +150,12 @@ impl<'a> Variety<'a> {
         let values: Vec<f64> = x.iter().map(|v| v.exp()).collect();
         let (n, d) = self.tf.eval(&values);
         let mut poles = positive_roots(&d)?;
-        if poles.len() < self.cancelled || poles.is_empty() {
+        if poles.len() < self.cancelled + self.doubles || poles.is_empty() {
             return None;
         }
         let zeros = positive_roots(&n)?;
         let all_poles = poles.clone();
-        for _ in 0..self.cancelled {
+        for _ in 0..self.cancelled + self.doubles {
             let p = poles.remove(index(rng, poles.len()));
             x.push(p.ln());
         }
@@ -114,6 +173,11 @@ impl<'a> Variety<'a> {
         let k = self.params;
         let values: Vec<f64> = x[..k].iter().map(|v| v.exp()).collect();
         let c = self.tf.eval_with_log_gradients(&values);
+        let blocks = match (self.doubles, self.blocks) {
+            (0, _) => None,
+            (_, Some(b)) => Some(b.eval_with_log_gradients(&values)),
+            (_, None) => return None,
+        };
         let mut f = Vec::with_capacity(self.conditions());
         let mut rows: Vec<Vec<f64>> = Vec::with_capacity(self.conditions());
         let mut condition = |coeffs: &[f64], gradient: &[Vec<f64>], order: usize, at: f64, col| {
@@ -149,8 +213,17 @@ impl<'a> Variety<'a> {
             condition(&c.num, &c.num_gradient, 0, at, k + i)?;
             condition(&c.den, &c.den_gradient, 0, at, k + i)?;
         }
+        if let Some([(f0, g0), (f1, g1)]) = &blocks {
+            for i in 0..self.doubles {
+                let col = k + self.cancelled + i;
+                let at = x[col].exp();
+                condition(f0, g0, 0, at, col)?;
+                condition(f1, g1, 0, at, col)?;
+                condition(&c.num, &c.num_gradient, 1, at, col)?;
+            }
+        }
         for (j, &mu) in self.multiple.iter().enumerate() {
-            let col = k + self.cancelled + j;
+            let col = k + self.cancelled + self.doubles + j;
             let at = x[col].exp();
             for order in 0..mu as usize {
                 condition(&c.num, &c.num_gradient, order, at, col)?;
@@ -227,10 +300,12 @@ impl<'a> Variety<'a> {
     pub(crate) fn point(&self, x: &[f64]) -> VarietyPoint {
         let k = self.params;
         let c = self.cancelled;
+        let d = self.doubles;
         VarietyPoint {
             params: x[..k].iter().map(|v| v.exp()).collect(),
             cancelled: x[k..k + c].iter().map(|v| v.exp()).collect(),
-            multiple: x[k + c..]
+            doubles: x[k + c..k + c + d].iter().map(|v| v.exp()).collect(),
+            multiple: x[k + c + d..]
                 .iter()
                 .zip(self.multiple)
                 .map(|(v, &mu)| (v.exp(), mu))
@@ -243,7 +318,7 @@ impl<'a> Variety<'a> {
     /// not finite).
     pub(crate) fn read(&self, p: &VarietyPoint) -> Option<FrfType> {
         let (mut n, mut d) = self.tf.eval(&p.params);
-        for &r in &p.cancelled {
+        for &r in p.cancelled.iter().chain(&p.doubles).chain(&p.doubles) {
             n = deflate(&n, r);
             d = deflate(&d, r);
         }
@@ -275,7 +350,7 @@ impl<'a> Variety<'a> {
             };
             (s, Some(tok))
         }));
-        marks.extend(p.cancelled.iter().map(|&r| (r, None)));
+        marks.extend(p.cancelled.iter().chain(&p.doubles).map(|&r| (r, None)));
         if marks.iter().any(|(v, _)| !v.is_finite()) {
             return None;
         }

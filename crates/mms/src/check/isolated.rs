@@ -9,7 +9,9 @@
 //!    ones, the posed roots, the box's ends and the partition positive;
 //! 2. the posed conditions (numerator and denominator at each cancelled
 //!    pole, or a pose's two factors once its cofactors multiply out to the
-//!    numerator and the denominator; the numerator and its derivatives
+//!    numerator and the denominator, and for a pole cancelled twice the
+//!    numerator's derivative as well, once the denominator is a constant
+//!    times the two factors; the numerator and its derivatives
 //!    below the multiplicity at each multiple zero), the fixed parameters
 //!    substituted, are as many
 //!    as the free parameters; Krawczyk's operator with the rounded inverse
@@ -47,7 +49,7 @@ pub(super) fn read_isolated(
     }
     // A pose's factors replace the numerator and the denominator at its
     // pole once the cofactors show that both vanish where the factors do.
-    let mut posed: BTreeMap<usize, [Poly; 2]> = BTreeMap::new();
+    let mut posed: BTreeMap<usize, ([Poly; 2], bool)> = BTreeMap::new();
     for (i, pose) in w.poses.iter().enumerate() {
         let [f0, f1] = &pose.factors;
         let combined = |c: &[Poly; 2]| &(&c[0] * f0) + &(&c[1] * f1);
@@ -61,6 +63,17 @@ pub(super) fn read_isolated(
                 "isolated.poses[{i}]: the denominator is not d0 f0 + d1 f1"
             ));
         }
+        // Cancelled twice: the denominator a constant times f0 f1, so a
+        // double root where both vanish.
+        if pose.double {
+            let product = f0 * f1;
+            let ratio = den.div_exact(&product).and_then(|q| q.as_constant());
+            if ratio.is_none_or(|c| c.is_zero()) {
+                return Err(format!(
+                    "isolated.poses[{i}]: a double pole, but the denominator is not a constant times f0 f1"
+                ));
+            }
+        }
         if pose.pole >= w.cancelled.len() || posed.contains_key(&pose.pole) {
             return Err(format!(
                 "isolated.poses[{i}]: pole {} is no cancelled pole or posed twice",
@@ -73,12 +86,17 @@ pub(super) fn read_isolated(
                 *f = f.subs(name, value);
             }
         }
-        posed.insert(pose.pole, fixed);
+        posed.insert(pose.pole, (fixed, pose.double));
     }
     let mut conditions = Vec::new();
     for (i, rho) in w.cancelled.iter().enumerate() {
         match posed.get(&i) {
-            Some([f0, f1]) => conditions.extend([f0.subs(OMEGA, rho), f1.subs(OMEGA, rho)]),
+            Some(([f0, f1], double)) => {
+                conditions.extend([f0.subs(OMEGA, rho), f1.subs(OMEGA, rho)]);
+                if *double {
+                    conditions.push(n.derivative(OMEGA).subs(OMEGA, rho));
+                }
+            }
             None => conditions.extend([n.subs(OMEGA, rho), d.subs(OMEGA, rho)]),
         }
     }
@@ -99,9 +117,16 @@ pub(super) fn read_isolated(
     krawczyk(&conditions, &w.free)?;
     let mut num_divisor = vec![Rat::ONE];
     let mut den_divisor = vec![Rat::ONE];
-    for rho in &w.cancelled {
-        num_divisor = times_root(&num_divisor, rho);
-        den_divisor = times_root(&den_divisor, rho);
+    for (i, rho) in w.cancelled.iter().enumerate() {
+        let times = if posed.get(&i).is_some_and(|p| p.1) {
+            2
+        } else {
+            1
+        };
+        for _ in 0..times {
+            num_divisor = times_root(&num_divisor, rho);
+            den_divisor = times_root(&den_divisor, rho);
+        }
     }
     for (sigma, mu) in &w.multiple {
         for _ in 0..*mu {
@@ -128,6 +153,7 @@ struct Witness {
 /// A cancelled pole posed by two factors, with the cofactors.
 struct Pose {
     pole: usize,
+    double: bool,
     factors: [Poly; 2],
     numerator: [Poly; 2],
     denominator: [Poly; 2],
@@ -150,8 +176,15 @@ impl Pose {
                 poly_value(&a[1], &format!("{path}.{key}[1]"))?,
             ])
         };
+        let double = match v.get("double") {
+            None => false,
+            Some(d) => d
+                .as_bool()
+                .ok_or_else(|| format!("{path}.double: expected true or false"))?,
+        };
         Ok(Pose {
             pole,
+            double,
             factors: pair("factors")?,
             numerator: pair("numerator")?,
             denominator: pair("denominator")?,
