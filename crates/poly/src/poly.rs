@@ -959,6 +959,44 @@ impl Poly {
             .collect()
     }
 
+    /// Division by a divisor of degree one in `name` with a constant
+    /// coefficient there, `divisor = a name + g`: `(q, r)` with `self = q
+    /// divisor + r` and `r` free of `name` (`self` with `name = -g / a`).
+    /// `None` if the divisor is not of that form. Two such divisors in
+    /// different variables, each free of the other's, are a Gröbner basis
+    /// in a lex order led by those variables, so dividing by one and then
+    /// the other leaves zero exactly for the members of their ideal.
+    ///
+    /// ```
+    /// use poly::Poly;
+    /// let p: Poly = "x^2*y + x + 3".parse().unwrap();
+    /// let d: Poly = "2*x - y".parse().unwrap();
+    /// let (q, r) = p.div_rem_linear("x", &d).unwrap();
+    /// assert!(!r.has_var("x"));
+    /// assert_eq!(&(&q * &d) + &r, p);
+    /// ```
+    pub fn div_rem_linear(&self, name: &str, divisor: &Poly) -> Option<(Poly, Poly)> {
+        let d = divisor.coeffs_in(name);
+        let a = match d.as_slice() {
+            [_, a] => a.as_constant().filter(|a| !a.is_zero())?,
+            _ => return None,
+        };
+        let root = d[0].scale(&(-&a.recip()));
+        let c = self.coeffs_in(name);
+        if c.len() <= 1 {
+            return Some((Poly::zero(), self.clone()));
+        }
+        // Horner's scheme by `name - root`: q_(k-1) = c_k + root q_k.
+        let mut q = vec![Poly::zero(); c.len() - 1];
+        let mut carry = Poly::zero();
+        for k in (1..c.len()).rev() {
+            carry = &c[k] + &(&root * &carry);
+            q[k - 1] = carry.clone();
+        }
+        let r = &c[0] + &(&root * &carry);
+        Some((Poly::from_coeffs_in(name, &q).scale(&a.recip()), r))
+    }
+
     /// Inverse of [`Poly::coeffs_in`]: `sum coeffs[i] * name^i`.
     pub fn from_coeffs_in(name: &str, coeffs: &[Poly]) -> Poly {
         let x = Poly::var(name);
@@ -1668,6 +1706,26 @@ mod tests {
 
     fn p(s: &str) -> Poly {
         s.parse().unwrap()
+    }
+
+    #[test]
+    fn division_by_two_linear_divisors_decides_their_ideal() {
+        // The tridiagonal 3x3 determinant with the middle row as pivot
+        // lies in the ideal of its two outer diagonal entries (expansion
+        // by hand: d2 f0 f1 - b^2 f1 - c^2 f0); a lone f0 f1 + 1 does not.
+        let (f0, f1) = (p("c1 + b - w*m1"), p("c - w*m3"));
+        let det = &(&(&p("b + c - w*m2") * &f0) * &f1) - &(&(&p("b^2") * &f1) + &(&p("c^2") * &f0));
+        let reduce = |x: &Poly| {
+            let (q0, r0) = x.div_rem_linear("c1", &f0).unwrap();
+            let (q1, r1) = r0.div_rem_linear("c", &f1).unwrap();
+            assert_eq!(&(&(&q0 * &f0) + &(&q1 * &f1)) + &r1, *x);
+            r1
+        };
+        assert!(reduce(&det).is_zero());
+        assert_eq!(reduce(&(&(&f0 * &f1) + &Poly::one())), Poly::one());
+        // Not linear in the variable, or a coefficient that is no constant.
+        assert!(det.div_rem_linear("w", &p("w^2 - 1")).is_none());
+        assert!(det.div_rem_linear("w", &p("m1*w - 1")).is_none());
     }
 
     #[test]

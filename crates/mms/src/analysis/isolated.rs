@@ -42,6 +42,7 @@
 //! the box's reading is that type.
 
 use super::frf_type::{Feature, FrfType, Token};
+use super::pole_signs::{block_ranges, run_det};
 use super::prover::Prover;
 use super::targeted::{positive_roots, short_rational};
 use super::variety::{BlockFactors, Variety, VarietyPoint};
@@ -103,6 +104,7 @@ impl Prover<'_> {
         let (signatures, derivatives) = self.pencil_signatures(wanted);
         let tf = UndampedCoefficients::new(self.model);
         let blocks = block_pose(self.model, &self.num, &self.den);
+        let nodes = node_poses(self.model, &self.num, &self.den);
         let compiled = blocks
             .as_ref()
             .map(|b| BlockFactors::new(&b.factors, &self.params));
@@ -173,7 +175,8 @@ impl Prover<'_> {
                     continue;
                 }
                 *n += 1;
-                if let Some(w) = self.isolate(&p, &chosen, (&derivatives, blocks.as_ref()), &t) {
+                let poses = (blocks.as_ref(), nodes.as_slice());
+                if let Some(w) = self.isolate(&p, &chosen, (&derivatives, poses), &t) {
                     self.isolated.insert(t, w);
                     barren = 0;
                 }
@@ -189,7 +192,7 @@ impl Prover<'_> {
         &self,
         p: &VarietyPoint,
         chosen: &[usize],
-        (derivatives, blocks): (&[Poly], Option<&PolePose>),
+        (derivatives, (blocks, nodes)): (&[Poly], (Option<&PolePose>, &[PolePose])),
         t: &FrfType,
     ) -> Option<IsolatedWitness> {
         let mut fixed = BTreeMap::new();
@@ -224,20 +227,23 @@ impl Prover<'_> {
             .cloned()
             .zip(p.params.iter().copied())
             .collect();
+        let vanish = |q: &PolePose, rho: f64| {
+            q.factors
+                .iter()
+                .all(|f| relative_at(f, &sampled, rho).is_some_and(|v| v.abs() < SHARED))
+        };
         let mut poses: Vec<PolePose> = Vec::new();
-        if let Some(b) = blocks {
-            for (i, &rho) in p.cancelled.iter().enumerate() {
-                let shared = b
-                    .factors
-                    .iter()
-                    .all(|f| relative_at(f, &sampled, rho).is_some_and(|v| v.abs() < SHARED));
-                if shared {
-                    poses.push(PolePose {
-                        pole: i,
-                        ..b.clone()
-                    });
-                }
+        // Likewise at a node of a mode inside a block, where both runs
+        // beside the node vanish.
+        for (i, &rho) in p.cancelled.iter().enumerate() {
+            if let Some(q) = blocks.into_iter().chain(nodes).find(|q| vanish(q, rho)) {
+                poses.push(PolePose {
+                    pole: i,
+                    ..q.clone()
+                });
             }
+        }
+        if let Some(b) = blocks {
             for i in 0..p.doubles.len() {
                 poses.push(PolePose {
                     pole: p.cancelled.len() + i,
@@ -336,6 +342,60 @@ fn relative_at(f: &Poly, point: &BTreeMap<String, f64>, omega: f64) -> Option<f6
         scale += term.abs();
     }
     (scale > 0.0 && value.is_finite()).then(|| value / scale)
+}
+
+/// The cancellations at a node of a mode: inside a block, where the runs
+/// on the two sides of one mass share an eigenvalue, that mass stands
+/// still in the mode (the two runs' springs pull on it in balance); where
+/// the ports do not both see the mode (one of them meets the block only
+/// at that mass), the numerator and the denominator vanish with both
+/// runs' determinants. Which pairs do is decided exactly: posed by the two
+/// determinants, the cofactors from dividing by each in a variable it
+/// holds linearly with a constant coefficient and the other lacks (a
+/// Gröbner basis, so a remainder means the pair does not pose the pole);
+/// runs of one mass have one (the spring to the far side), longer runs
+/// none, and are not posed.
+fn node_poses(model: &Model, num: &Poly, den: &Poly) -> Vec<PolePose> {
+    let (mass, stiff) = (model.mass_matrix(), model.stiffness_matrix());
+    let mut poses = Vec::new();
+    for (lo, hi) in block_ranges(&stiff) {
+        for node in lo + 1..hi.saturating_sub(1) {
+            let f0 = run_det(&mass, &stiff, lo, node);
+            let f1 = run_det(&mass, &stiff, node + 1, hi);
+            let (Some(v0), Some(v1)) = (lead_variable(&f0, &f1), lead_variable(&f1, &f0)) else {
+                continue;
+            };
+            let cofactors = |x: &Poly| -> Option<[Poly; 2]> {
+                let (q0, r0) = x.div_rem_linear(&v0, &f0)?;
+                let (q1, r1) = r0.div_rem_linear(&v1, &f1)?;
+                r1.is_zero().then_some([q0, q1])
+            };
+            if let (Some(n), Some(d)) = (cofactors(num), cofactors(den)) {
+                poses.push(PolePose {
+                    pole: 0,
+                    double: false,
+                    factors: [f0, f1],
+                    numerator: n,
+                    denominator: d,
+                });
+            }
+        }
+    }
+    poses
+}
+
+/// A variable of `f` of degree one with a constant coefficient, absent
+/// from `other`.
+fn lead_variable(f: &Poly, other: &Poly) -> Option<String> {
+    f.vars()
+        .iter()
+        .find(|v| {
+            *v != OMEGA
+                && !other.has_var(v)
+                && f.coeffs_in(v).len() == 2
+                && f.coeffs_in(v)[1].as_constant().is_some()
+        })
+        .cloned()
 }
 
 /// The cancellations by the blocks' shared eigenvalue, for a chain whose
@@ -910,6 +970,49 @@ mod tests {
         for v in &g {
             assert!((v / g[0] - 1.0).abs() < 1e-9, "{g:?}");
         }
+    }
+
+    /// N5-g3-a4.2-s5.2: block A is masses 1 to 3, and both ports meet it at
+    /// mass 2. Where the runs beside it, `c1 + c12 - m1 Omega` (mass 1)
+    /// and `c23 - m3 Omega` (mass 3), vanish together, mass 2 is a node of
+    /// a mode of block A that the force never excites.
+    #[test]
+    fn a_node_of_a_mode_poses_a_cancelled_pole() {
+        let model = crate::Model::from_id("N5-g3-a4.2-s5.2").unwrap();
+        let tf = model.undamped_tf();
+        let poses = node_poses(&model, &tf.num, &tf.den);
+        assert_eq!(poses.len(), 1, "{poses:?}");
+        let q = &poses[0];
+        assert_eq!(q.factors, [p("c1 + c12 - m1*Omega"), p("c23 - m3*Omega")]);
+        let combine = |c: &[Poly; 2]| &(&c[0] * &q.factors[0]) + &(&c[1] * &q.factors[1]);
+        assert_eq!(combine(&q.numerator), tf.num);
+        assert_eq!(combine(&q.denominator), tf.den);
+        // At Omega = 2 with m1 = m3 = c12 = 1, c1 = 1, c23 = 2 (and block
+        // B's mode at 2 c45 = 6, away from it), the chain's
+        // equations solved in f64 show no resonance there: the inertance
+        // near sqrt(2) rad/s stays within a few times its value far off.
+        let values: Vec<f64> = model
+            .parameters()
+            .iter()
+            .map(|n| match n.as_str() {
+                "c23" => 2.0,
+                "c45" => 3.0,
+                n if n.starts_with('d') => 0.0,
+                _ => 1.0,
+            })
+            .collect();
+        let response = crate::response::ChainResponse::new(&model, crate::Output::Acceleration);
+        let pole_hz = 2f64.sqrt() / (2.0 * std::f64::consts::PI);
+        let near = response
+            .eval(&values, pole_hz * (1.0 + 1e-9))
+            .unwrap()
+            .norm();
+        let off = response.eval(&values, pole_hz * 1.3).unwrap().norm();
+        assert!(near < 10.0 * off, "{near} against {off}");
+        // Both ports at mass 1, which moves in that mode: no node pose.
+        let other = crate::Model::from_id("N5-g3-a4.1-s5.1").unwrap();
+        let tf = other.undamped_tf();
+        assert!(node_poses(&other, &tf.num, &tf.den).is_empty());
     }
 
     #[test]
