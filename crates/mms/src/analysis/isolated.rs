@@ -61,6 +61,10 @@ const PATIENCE: usize = 1000;
 const RANGE: f64 = super::SAMPLING_RANGE;
 /// Sampled points per type that are tried.
 const POINTS: usize = 12;
+/// Starts per structure with a type still without a witness, drawn after
+/// the rest without patience, and what their seeds differ by.
+const PERSISTENT_STARTS: usize = 10_000;
+const PERSISTENT_SEED: u64 = 0x5BD1_E995_0000_0001;
 /// Significant digits of the fixed parameters and the posed roots.
 const DIGITS: i32 = 6;
 /// Bits kept of the coordinates after each Newton step.
@@ -127,62 +131,110 @@ impl Prover<'_> {
         let paired = signatures.iter().flat_map(|((c, mults), types)| {
             (1..=pairs(*c)).map(move |d| (*c as usize, d, mults, types))
         });
+        let poses = (blocks.as_ref(), nodes.as_slice());
+        let key = |cancelled: usize, doubles: usize, mults: &[u32]| {
+            mults
+                .iter()
+                .fold((cancelled as u64) << 8 | doubles as u64, |h, &m| {
+                    (h ^ u64::from(m)).wrapping_mul(0x0100_0000_01b3)
+                })
+                .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        };
+        let structures: Vec<_> = singles.chain(paired).collect();
+        let n_params = self.params.len();
         let mut shared = XorShift::new(seed);
-        for (cancelled, doubles, mults, types) in singles.chain(paired) {
-            let mut variety = Variety::new(&tf, self.params.len(), cancelled, mults);
-            let mut own;
-            let rng = match compiled.as_ref() {
-                Some(b) if doubles > 0 => {
-                    variety = variety.with_doubles(doubles, b);
-                    let key = mults
-                        .iter()
-                        .fold((cancelled as u64) << 8 | doubles as u64, |h, &m| {
-                            (h ^ u64::from(m)).wrapping_mul(0x0100_0000_01b3)
-                        });
-                    own = XorShift::new(seed ^ key.wrapping_mul(0x9E37_79B9_7F4A_7C15));
-                    &mut own
-                }
-                _ => &mut shared,
-            };
-            let mut tries: BTreeMap<FrfType, usize> = BTreeMap::new();
-            let mut barren = 0;
-            for _ in 0..STARTS {
-                if types.iter().all(|t| self.shown(t)) || barren >= PATIENCE {
-                    break;
-                }
-                barren += 1;
-                let Some(mut x) = variety.start(rng, RANGE) else {
-                    continue;
-                };
-                if !variety.project(&mut x, RANGE) {
-                    continue;
-                }
-                let p = variety.point(&x);
-                let Some(t) = variety.read(&p) else {
-                    continue;
-                };
-                if !types.contains(&t) || self.shown(&t) {
-                    continue;
-                }
-                // A point where the conditions' Jacobian drops rank lies
-                // on a thinner stratum (two posed roots about to meet): it
-                // is passed over without spending the type's tries.
-                let Some(chosen) = variety.free_parameters(&x) else {
-                    continue;
-                };
-                let n = tries.entry(t.clone()).or_default();
-                if *n >= POINTS {
-                    continue;
-                }
-                *n += 1;
-                let poses = (blocks.as_ref(), nodes.as_slice());
-                if let Some(w) = self.isolate(&p, &chosen, (&derivatives, poses), &t) {
-                    self.isolated.insert(t, w);
-                    barren = 0;
-                }
+        for &(cancelled, doubles, mults, types) in &structures {
+            let mut variety = Variety::new(&tf, n_params, cancelled, mults);
+            if let (true, Some(b)) = (doubles > 0, compiled.as_ref()) {
+                variety = variety.with_doubles(doubles, b);
             }
+            let mut own = XorShift::new(seed ^ key(cancelled, doubles, mults));
+            let rng = if doubles > 0 { &mut own } else { &mut shared };
+            self.draw(
+                &variety,
+                rng,
+                types,
+                STARTS,
+                PATIENCE,
+                (&derivatives, poses),
+            );
+        }
+        // Types whose points are rare (one start in a thousand or fewer)
+        // are passed by the patience above: every structure with a type
+        // still without a witness is drawn on once more, without it and
+        // from a seed of its own, after all the rest, which keeps the
+        // earlier draws.
+        for &(cancelled, doubles, mults, types) in &structures {
+            if types.iter().all(|t| self.shown(t)) {
+                continue;
+            }
+            let mut variety = Variety::new(&tf, n_params, cancelled, mults);
+            if let (true, Some(b)) = (doubles > 0, compiled.as_ref()) {
+                variety = variety.with_doubles(doubles, b);
+            }
+            let mut rng = XorShift::new(seed ^ key(cancelled, doubles, mults) ^ PERSISTENT_SEED);
+            let starts = PERSISTENT_STARTS;
+            self.draw(
+                &variety,
+                &mut rng,
+                types,
+                starts,
+                starts,
+                (&derivatives, poses),
+            );
         }
         wanted.iter().filter(|t| self.shown(t)).count()
+    }
+
+    /// Draws up to `starts` points of `variety` (stopping after `patience`
+    /// in a row that show no new type, or once every type of `types` is
+    /// shown) and isolates a witness next to those that read a type of
+    /// `types` still without one.
+    fn draw(
+        &mut self,
+        variety: &Variety,
+        rng: &mut XorShift,
+        types: &[FrfType],
+        starts: usize,
+        patience: usize,
+        context: (&[Poly], (Option<&PolePose>, &[PolePose])),
+    ) {
+        let mut tries: BTreeMap<FrfType, usize> = BTreeMap::new();
+        let mut barren = 0;
+        for _ in 0..starts {
+            if types.iter().all(|t| self.shown(t)) || barren >= patience {
+                break;
+            }
+            barren += 1;
+            let Some(mut x) = variety.start(rng, RANGE) else {
+                continue;
+            };
+            if !variety.project(&mut x, RANGE) {
+                continue;
+            }
+            let p = variety.point(&x);
+            let Some(t) = variety.read(&p) else {
+                continue;
+            };
+            if !types.contains(&t) || self.shown(&t) {
+                continue;
+            }
+            // A point where the conditions' Jacobian drops rank lies on a
+            // thinner stratum (two posed roots about to meet): it is
+            // passed over without spending the type's tries.
+            let Some(chosen) = variety.free_parameters(&x) else {
+                continue;
+            };
+            let n = tries.entry(t.clone()).or_default();
+            if *n >= POINTS {
+                continue;
+            }
+            *n += 1;
+            if let Some(w) = self.isolate(&p, &chosen, context, &t) {
+                self.isolated.insert(t, w);
+                barren = 0;
+            }
+        }
     }
 
     /// An isolated witness of `t` next to the sampled point `p`, with the
