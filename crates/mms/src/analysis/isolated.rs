@@ -40,6 +40,15 @@
 //! conditions' Jacobian), is moved onto the system with the others
 //! rounded by Newton's iteration in exact arithmetic, and is kept only if
 //! the box's reading is that type.
+//!
+//! Where `N` and `D` meet tangentially, `N(rho) = D(rho) = 0` has a
+//! singular Jacobian and Newton's iteration only halves its error; such a
+//! pole is posed instead by two factors that both vanish there, with
+//! cofactors showing that `N` and `D` are combinations of them
+//! ([`PolePose`]): the blocks' determinants where the chain's gap splits
+//! it and the blocks share an eigenvalue (once, or as a pair cancelled
+//! together, then with `N'(rho) = 0` too), or the determinants of the
+//! runs beside a node of a mode inside a block.
 
 use super::frf_type::{Feature, FrfType, Token};
 use super::pole_signs::{block_ranges, run_det};
