@@ -153,10 +153,7 @@ impl Prover<'_> {
         let n_params = self.params.len();
         let mut shared = XorShift::new(seed);
         for &(cancelled, doubles, mults, types) in &structures {
-            let mut variety = Variety::new(&tf, n_params, cancelled, mults);
-            if let (true, Some(b)) = (doubles > 0, compiled.as_ref()) {
-                variety = variety.with_doubles(doubles, b);
-            }
+            let variety = structure_variety(&tf, n_params, (cancelled, doubles, mults), &compiled);
             let mut own = XorShift::new(seed ^ key(cancelled, doubles, mults));
             let rng = if doubles > 0 { &mut own } else { &mut shared };
             self.draw(
@@ -177,10 +174,7 @@ impl Prover<'_> {
             if types.iter().all(|t| self.shown(t)) {
                 continue;
             }
-            let mut variety = Variety::new(&tf, n_params, cancelled, mults);
-            if let (true, Some(b)) = (doubles > 0, compiled.as_ref()) {
-                variety = variety.with_doubles(doubles, b);
-            }
+            let variety = structure_variety(&tf, n_params, (cancelled, doubles, mults), &compiled);
             let mut rng = XorShift::new(seed ^ key(cancelled, doubles, mults) ^ PERSISTENT_SEED);
             let starts = PERSISTENT_STARTS;
             self.draw(
@@ -315,13 +309,17 @@ impl Prover<'_> {
         } else if !p.doubles.is_empty() {
             return None;
         }
-        let slope = self.num.derivative(OMEGA);
+        // The numerator's slope, where a pole is cancelled twice.
+        let slope = poses
+            .iter()
+            .any(|q| q.double)
+            .then(|| self.num.derivative(OMEGA));
         let mut conditions = Vec::new();
         for (i, rho) in cancelled.iter().enumerate() {
             match poses.iter().find(|q| q.pole == i) {
                 Some(q) => {
                     conditions.extend(q.factors.iter().map(|f| f.subs(OMEGA, rho)));
-                    if q.double {
+                    if let (true, Some(slope)) = (q.double, &slope) {
                         conditions.push(slope.subs(OMEGA, rho));
                     }
                 }
@@ -405,6 +403,22 @@ fn relative_at(f: &Poly, point: &BTreeMap<String, f64>, omega: f64) -> Option<f6
     (scale > 0.0 && value.is_finite()).then(|| value / scale)
 }
 
+/// The variety of a structure: `cancelled` poles (of which `doubles`
+/// pairs are cancelled together, by the `blocks`) and zeros of the
+/// multiplicities `mults`.
+fn structure_variety<'a>(
+    tf: &'a UndampedCoefficients,
+    params: usize,
+    (cancelled, doubles, mults): (usize, usize, &'a [u32]),
+    blocks: &'a Option<BlockFactors>,
+) -> Variety<'a> {
+    let variety = Variety::new(tf, params, cancelled, mults);
+    match blocks {
+        Some(b) if doubles > 0 => variety.with_doubles(doubles, b),
+        _ => variety,
+    }
+}
+
 /// The cancellations at a node of a mode: inside a block, where the runs
 /// on the two sides of one mass share an eigenvalue, that mass stands
 /// still in the mode (the two runs' springs pull on it in balance); where
@@ -453,8 +467,7 @@ fn lead_variable(f: &Poly, other: &Poly) -> Option<String> {
         .find(|v| {
             *v != OMEGA
                 && !other.has_var(v)
-                && f.coeffs_in(v).len() == 2
-                && f.coeffs_in(v)[1].as_constant().is_some()
+                && matches!(f.coeffs_in(v).as_slice(), [_, a] if a.is_constant())
         })
         .cloned()
 }

@@ -249,8 +249,11 @@ impl Witness {
             }
         };
         let (cancelled, multiple) = posed_roots(v, "isolated")?;
-        for r in cancelled.iter().chain(multiple.iter().map(|(r, _)| r)) {
-            positive(r.clone(), "isolated: a posed root")?;
+        for (i, r) in cancelled.iter().enumerate() {
+            positive(r.clone(), &format!("isolated.cancelled[{i}]"))?;
+        }
+        for (i, (r, _)) in multiple.iter().enumerate() {
+            positive(r.clone(), &format!("isolated.multiple[{i}]"))?;
         }
         let poses = array("poses")?
             .iter()
