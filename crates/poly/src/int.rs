@@ -143,6 +143,15 @@ impl Int {
         }
     }
 
+    /// As a big integer, borrowed where it is one: the arithmetic of a big
+    /// operand then copies no digits.
+    fn as_big(&self) -> std::borrow::Cow<'_, BigInt> {
+        match self {
+            Int::Small(v) => std::borrow::Cow::Owned(BigInt::from(*v)),
+            Int::Big(b) => std::borrow::Cow::Borrowed(b),
+        }
+    }
+
     /// True for zero.
     pub fn is_zero(&self) -> bool {
         matches!(self, Int::Small(0))
@@ -230,7 +239,7 @@ impl Int {
                 }
             }
             _ => {
-                let (q, r) = self.to_big().div_rem(&other.to_big());
+                let (q, r) = self.as_big().div_rem(&other.as_big());
                 debug_assert!(r.is_zero(), "inexact division");
                 Int::from_big(q)
             }
@@ -246,7 +255,7 @@ impl Int {
                 (Int::Small(q), Int::Small(r))
             }
             _ => {
-                let (q, r) = self.to_big().div_mod_floor(&other.to_big());
+                let (q, r) = self.as_big().div_mod_floor(&other.as_big());
                 (Int::from_big(q), Int::from_big(r))
             }
         }
@@ -259,7 +268,7 @@ impl Int {
                 (Int::Small(a / b), Int::Small(a % b))
             }
             _ => {
-                let (q, r) = self.to_big().div_rem(&other.to_big());
+                let (q, r) = self.as_big().div_rem(&other.as_big());
                 (Int::from_big(q), Int::from_big(r))
             }
         }
@@ -386,7 +395,7 @@ impl Ord for Int {
     fn cmp(&self, other: &Self) -> Ordering {
         match (self, other) {
             (Int::Small(a), Int::Small(b)) => a.cmp(b),
-            _ => self.to_big().cmp(&other.to_big()),
+            _ => self.as_big().cmp(&other.as_big()),
         }
     }
 }
@@ -420,7 +429,7 @@ impl Add for &Int {
                 return Int::Small(s);
             }
         }
-        Int::from_big(self.to_big() + rhs.to_big())
+        Int::from_big(&*self.as_big() + &*rhs.as_big())
     }
 }
 
@@ -432,7 +441,7 @@ impl Sub for &Int {
                 return Int::Small(s);
             }
         }
-        Int::from_big(self.to_big() - rhs.to_big())
+        Int::from_big(&*self.as_big() - &*rhs.as_big())
     }
 }
 
@@ -444,7 +453,7 @@ impl Mul for &Int {
                 return Int::Small(s);
             }
         }
-        Int::from_big(self.to_big() * rhs.to_big())
+        Int::from_big(&*self.as_big() * &*rhs.as_big())
     }
 }
 

@@ -300,6 +300,9 @@ impl fmt::Debug for Rat {
 
 impl Add for &Rat {
     type Output = Rat;
+    /// With the denominators' gcd `g` taken out first (Knuth, TAOCP
+    /// 4.5.1): the sum is then in lowest terms after one more gcd, of the
+    /// new numerator and `g` only, and needs none where `g = 1`.
     fn add(self, rhs: &Rat) -> Rat {
         if self.den.is_one() && rhs.den.is_one() {
             return Rat::from_int(&self.num + &rhs.num);
@@ -307,10 +310,30 @@ impl Add for &Rat {
         if self.den == rhs.den {
             return Rat::new(&self.num + &rhs.num, self.den.clone());
         }
-        Rat::new(
-            &(&self.num * &rhs.den) + &(&rhs.num * &self.den),
-            &self.den * &rhs.den,
-        )
+        let g = self.den.gcd(&rhs.den);
+        if g.is_one() {
+            return Rat {
+                num: &(&self.num * &rhs.den) + &(&rhs.num * &self.den),
+                den: &self.den * &rhs.den,
+            };
+        }
+        let (da, db) = (self.den.div_exact(&g), rhs.den.div_exact(&g));
+        let t = &(&self.num * &db) + &(&rhs.num * &da);
+        if t.is_zero() {
+            return Rat::ZERO;
+        }
+        let h = t.gcd(&g);
+        if h.is_one() {
+            Rat {
+                num: t,
+                den: &da * &rhs.den,
+            }
+        } else {
+            Rat {
+                num: t.div_exact(&h),
+                den: &da * &rhs.den.div_exact(&h),
+            }
+        }
     }
 }
 
@@ -323,11 +346,29 @@ impl Sub for &Rat {
 
 impl Mul for &Rat {
     type Output = Rat;
+    /// Each numerator's gcd with the other's denominator taken out first
+    /// (Knuth, TAOCP 4.5.1): the product is then in lowest terms, and the
+    /// gcds are of the smaller operands rather than of the product.
     fn mul(self, rhs: &Rat) -> Rat {
         if self.den.is_one() && rhs.den.is_one() {
             return Rat::from_int(&self.num * &rhs.num);
         }
-        Rat::new(&self.num * &rhs.num, &self.den * &rhs.den)
+        if self.num.is_zero() || rhs.num.is_zero() {
+            return Rat::ZERO;
+        }
+        let g1 = self.num.gcd(&rhs.den);
+        let g2 = rhs.num.gcd(&self.den);
+        let part = |x: &Int, g: &Int| {
+            if g.is_one() {
+                x.clone()
+            } else {
+                x.div_exact(g)
+            }
+        };
+        Rat {
+            num: &part(&self.num, &g1) * &part(&rhs.num, &g2),
+            den: &part(&self.den, &g2) * &part(&rhs.den, &g1),
+        }
     }
 }
 
@@ -374,6 +415,38 @@ forward_owned!(Add add, Sub sub, Mul mul, Div div);
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    /// A fraction with numerator and denominator from small, word-sized
+    /// or two-word factors, so that every path of the integers is met.
+    fn fraction() -> impl Strategy<Value = Rat> {
+        let part = prop_oneof![
+            -50i64..50,
+            any::<i64>(),
+            (any::<i64>(), any::<i64>()).prop_map(|(a, b)| (a / 2) ^ (b % 7)),
+        ];
+        (part.clone(), part.clone(), part, 1i64..1000).prop_map(|(a, b, c, f)| {
+            let n = &Int::from(a) * &Int::from(f);
+            let d = &(&Int::from(b) * &Int::from(c)) * &Int::from(f);
+            let d = if d.is_zero() { Int::ONE } else { d.abs() };
+            Rat::new(n, d)
+        })
+    }
+
+    proptest! {
+        /// The sum and product with the gcds taken out first are the
+        /// fractions `Rat::new` reduces from the schoolbook formulas.
+        #[test]
+        fn sums_and_products_are_the_schoolbook_fractions_reduced(x in fraction(), y in fraction()) {
+            let (a, b, c, d) = (x.numer(), x.denom(), y.numer(), y.denom());
+            let sum = Rat::new(&(a * d) + &(c * b), b * d);
+            let product = Rat::new(a * c, b * d);
+            let difference = Rat::new(&(a * d) - &(c * b), b * d);
+            prop_assert_eq!(&x + &y, sum);
+            prop_assert_eq!(&x * &y, product);
+            prop_assert_eq!(&x - &y, difference);
+        }
+    }
 
     #[test]
     fn parse_forms() {

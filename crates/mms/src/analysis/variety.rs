@@ -25,7 +25,7 @@
 
 use super::frf_type::{Feature, FrfType, Token};
 use super::targeted::positive_roots;
-use crate::tf::{Compiled, UndampedCoefficients, OMEGA};
+use crate::tf::{self, Compiled, Gradients, UndampedCoefficients, OMEGA};
 use crate::xorshift::XorShift;
 use poly::Poly;
 
@@ -76,16 +76,10 @@ impl BlockFactors {
 
     /// Each factor's coefficients at `x` with their derivatives in the
     /// logarithms of the parameters.
-    #[allow(clippy::type_complexity)]
-    fn eval_with_log_gradients(&self, x: &[f64]) -> [(Vec<f64>, Vec<Vec<f64>>); 2] {
-        self.coeffs.each_ref().map(|cs| {
-            cs.iter()
-                .map(|c| {
-                    let mut g = vec![0.0; x.len()];
-                    (c.eval_with_log_gradient(x, &mut g), g)
-                })
-                .unzip()
-        })
+    fn eval_with_log_gradients(&self, x: &[f64]) -> [(Vec<f64>, Gradients); 2] {
+        self.coeffs
+            .each_ref()
+            .map(|cs| tf::eval_with_log_gradients(cs, x))
     }
 }
 
@@ -180,7 +174,7 @@ impl<'a> Variety<'a> {
         };
         let mut f = Vec::with_capacity(self.conditions());
         let mut rows: Vec<Vec<f64>> = Vec::with_capacity(self.conditions());
-        let mut condition = |coeffs: &[f64], gradient: &[Vec<f64>], order: usize, at: f64, col| {
+        let mut condition = |coeffs: &[f64], gradient: &Gradients, order: usize, at: f64, col| {
             // The `order`-th derivative at `at`, its scale, its slope in
             // log `at` and its gradient in the log parameters.
             let mut value = 0.0;
@@ -189,11 +183,11 @@ impl<'a> Variety<'a> {
             let mut row = vec![0.0; self.unknowns()];
             for (i, a) in coeffs.iter().enumerate().skip(order) {
                 let falling = falling(i, order);
-                let power = at.powi((i - order) as i32);
+                let power = tf::power(at, (i - order) as i32);
                 value += a * falling * power;
                 scale += (a * falling).abs() * power;
                 slope += a * falling * (i - order) as f64 * power;
-                for (j, g) in gradient[i].iter().enumerate() {
+                for (j, g) in gradient.row(i).iter().enumerate() {
                     row[j] += g * falling * power;
                 }
             }
