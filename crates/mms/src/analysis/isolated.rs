@@ -48,13 +48,16 @@
 //! ([`PolePose`]): the blocks' determinants where the chain's gap splits
 //! it and the blocks share an eigenvalue (once, or as a pair cancelled
 //! together, then with `N'(rho) = 0` too), or the determinants of the
-//! runs beside a node of a mode inside a block.
+//! runs beside a node of a mode inside a block. At such a pole the
+//! sampler's own Jacobian (in `N` and `D`) may drop rank too: those
+//! points are tried last, with the free parameters chosen by the posed
+//! conditions' Jacobian.
 
 use super::frf_type::{Feature, FrfType, Token};
 use super::pole_signs::{block_ranges, run_det};
 use super::prover::Prover;
 use super::targeted::{positive_roots, short_rational};
-use super::variety::{BlockFactors, Variety, VarietyPoint};
+use super::variety::{independent_columns, BlockFactors, Variety, VarietyPoint};
 use super::{IsolatedWitness, PolePose};
 use crate::model::Model;
 use crate::tf::{UndampedCoefficients, OMEGA};
@@ -152,6 +155,7 @@ impl Prover<'_> {
         let structures: Vec<_> = singles.chain(paired).collect();
         let n_params = self.params.len();
         let mut shared = XorShift::new(seed);
+        let mut singular = Vec::new();
         for &(cancelled, doubles, mults, types) in &structures {
             let variety = structure_variety(&tf, n_params, (cancelled, doubles, mults), &compiled);
             let mut own = XorShift::new(seed ^ key(cancelled, doubles, mults));
@@ -160,9 +164,9 @@ impl Prover<'_> {
                 &variety,
                 rng,
                 types,
-                STARTS,
-                PATIENCE,
+                (STARTS, PATIENCE),
                 (&derivatives, poses),
+                &mut singular,
             );
         }
         // Types whose points are rare (one start in a thousand or fewer)
@@ -181,10 +185,22 @@ impl Prover<'_> {
                 &variety,
                 &mut rng,
                 types,
-                starts,
-                starts,
+                (starts, starts),
                 (&derivatives, poses),
+                &mut singular,
             );
+        }
+        // Last, the points passed over above where the variety's Jacobian
+        // dropped rank, with the free parameters chosen by the posed
+        // conditions: a pole where the blocks share an eigenvalue is such
+        // a point, and only its pose has full rank.
+        for (t, p) in &singular {
+            if self.shown(t) {
+                continue;
+            }
+            if let Some(w) = self.isolate(p, None, (&derivatives, poses), t) {
+                self.isolated.insert(t.clone(), w);
+            }
         }
         wanted.iter().filter(|t| self.shown(t)).count()
     }
@@ -192,15 +208,16 @@ impl Prover<'_> {
     /// Draws up to `starts` points of `variety` (stopping after `patience`
     /// in a row that show no new type, or once every type of `types` is
     /// shown) and isolates a witness next to those that read a type of
-    /// `types` still without one.
+    /// `types` still without one; those where the variety's Jacobian drops
+    /// rank go to `singular` instead, up to `POINTS` per type.
     fn draw(
         &mut self,
         variety: &Variety,
         rng: &mut XorShift,
         types: &[FrfType],
-        starts: usize,
-        patience: usize,
+        (starts, patience): (usize, usize),
         context: (&[Poly], (Option<&PolePose>, &[PolePose])),
+        singular: &mut Vec<(FrfType, VarietyPoint)>,
     ) {
         let mut tries: BTreeMap<FrfType, usize> = BTreeMap::new();
         let mut barren = 0;
@@ -223,9 +240,13 @@ impl Prover<'_> {
                 continue;
             }
             // A point where the conditions' Jacobian drops rank lies on a
-            // thinner stratum (two posed roots about to meet): it is
-            // passed over without spending the type's tries.
+            // thinner stratum (two posed roots about to meet), or where a
+            // pole is cancelled tangentially: it is kept for a last pass
+            // (see `isolated_search`) without spending the type's tries.
             let Some(chosen) = variety.free_parameters(&x) else {
+                if singular.iter().filter(|(u, _)| *u == t).count() < POINTS {
+                    singular.push((t, p));
+                }
                 continue;
             };
             let n = tries.entry(t.clone()).or_default();
@@ -233,7 +254,7 @@ impl Prover<'_> {
                 continue;
             }
             *n += 1;
-            if let Some(w) = self.isolate(&p, &chosen, context, &t) {
+            if let Some(w) = self.isolate(&p, Some(&chosen), context, &t) {
                 self.isolated.insert(t, w);
                 barren = 0;
             }
@@ -246,21 +267,10 @@ impl Prover<'_> {
     fn isolate(
         &self,
         p: &VarietyPoint,
-        chosen: &[usize],
+        chosen: Option<&[usize]>,
         (derivatives, (blocks, nodes)): (&[Poly], (Option<&PolePose>, &[PolePose])),
         t: &FrfType,
     ) -> Option<IsolatedWitness> {
-        let mut fixed = BTreeMap::new();
-        let mut free = Vec::new();
-        let mut start = Vec::new();
-        for (i, (name, &v)) in self.params.iter().zip(&p.params).enumerate() {
-            if chosen.contains(&i) {
-                free.push(name.clone());
-                start.push(Rat::from_f64(v)?.round_to_bits(53));
-            } else {
-                fixed.insert(name.clone(), short_rational(v, DIGITS)?);
-            }
-        }
         // The poles cancelled once, then those cancelled in pairs.
         let cancelled: Vec<Rat> = p
             .cancelled
@@ -333,6 +343,25 @@ impl Prover<'_> {
                     .map(|d| d.subs(OMEGA, sigma)),
             );
         }
+        // Where the variety's own Jacobian dropped rank (a pole posed by
+        // the blocks is a tangential cancellation, so the numerator's and
+        // the denominator's conditions lose a rank there), the free
+        // parameters are chosen by the posed conditions' Jacobian.
+        let chosen = match chosen {
+            Some(c) => c.to_vec(),
+            None => posed_free_parameters(&conditions, &self.params, &p.params)?,
+        };
+        let mut fixed = BTreeMap::new();
+        let mut free = Vec::new();
+        let mut start = Vec::new();
+        for (i, (name, &v)) in self.params.iter().zip(&p.params).enumerate() {
+            if chosen.contains(&i) {
+                free.push(name.clone());
+                start.push(Rat::from_f64(v)?.round_to_bits(53));
+            } else {
+                fixed.insert(name.clone(), short_rational(v, DIGITS)?);
+            }
+        }
         let conditions: Vec<Poly> = conditions.iter().map(|e| e.subs_point(&fixed)).collect();
         let system = System::new(conditions, free.clone());
         let centre = system.newton(start.clone())?;
@@ -379,6 +408,44 @@ impl Prover<'_> {
 /// The value of `f` at the parameters `point` and `Omega = omega`, over
 /// the sum of its terms' moduli there.
 fn relative_at(f: &Poly, point: &BTreeMap<String, f64>, omega: f64) -> Option<f64> {
+    let (value, scale) = value_and_scale(f, point, omega)?;
+    (scale > 0.0 && value.is_finite()).then(|| value / scale)
+}
+
+/// As many of the parameters as there are `conditions` (polynomials in
+/// the parameters alone), in whose logarithms the conditions' Jacobian at
+/// `values` is best conditioned, each row relative to the sum of its
+/// condition's terms' moduli; `None` where it drops rank there too.
+fn posed_free_parameters(
+    conditions: &[Poly],
+    names: &[String],
+    values: &[f64],
+) -> Option<Vec<usize>> {
+    let point: BTreeMap<String, f64> = names.iter().cloned().zip(values.iter().copied()).collect();
+    let rows: Vec<Vec<f64>> = conditions
+        .iter()
+        .map(|c| {
+            // The conditions are free of `Omega`: the posed roots are in.
+            let (_, scale) = value_and_scale(c, &point, 0.0)?;
+            if !(scale > 0.0 && scale.is_finite()) {
+                return None;
+            }
+            names
+                .iter()
+                .zip(values)
+                .map(|(n, &v)| {
+                    let (slope, _) = value_and_scale(&c.derivative(n), &point, 0.0)?;
+                    slope.is_finite().then_some(slope * v / scale)
+                })
+                .collect()
+        })
+        .collect::<Option<_>>()?;
+    independent_columns(&rows, conditions.len())
+}
+
+/// The value of `f` at the parameters `point` and `Omega = omega`, and
+/// the sum of its terms' moduli there (`0` for the zero polynomial).
+fn value_and_scale(f: &Poly, point: &BTreeMap<String, f64>, omega: f64) -> Option<(f64, f64)> {
     let x: Vec<f64> = f
         .vars()
         .iter()
@@ -400,7 +467,7 @@ fn relative_at(f: &Poly, point: &BTreeMap<String, f64>, omega: f64) -> Option<f6
         value += term;
         scale += term.abs();
     }
-    (scale > 0.0 && value.is_finite()).then(|| value / scale)
+    Some((value, scale))
 }
 
 /// The variety of a structure: `cancelled` poles (of which `doubles`
@@ -916,6 +983,26 @@ mod tests {
 
     fn r(s: &str) -> Rat {
         s.parse().unwrap()
+    }
+
+    /// Numerator and denominator combinations of two block determinants
+    /// `a - 1` and `b - 1` with proportional cofactors: at `a = b = 1` their
+    /// gradients are parallel, so no two parameters can be solved for
+    /// them, while the determinants themselves pose the pole with `a` and
+    /// `b` free.
+    #[test]
+    fn free_parameters_are_chosen_by_the_pose_where_the_plain_conditions_drop_rank() {
+        let names: Vec<String> = ["a", "b", "c"].iter().map(|v| v.to_string()).collect();
+        let at = [1.0, 1.0, 2.0];
+        let plain = [p("a*c + b*c - 2*c"), p("2*a + 2*b - 4")];
+        assert_eq!(posed_free_parameters(&plain, &names, &at), None);
+        let posed = [p("a - 1"), p("b - 1")];
+        assert_eq!(posed_free_parameters(&posed, &names, &at), Some(vec![0, 1]));
+        // One condition in `c` alone leaves only `c` to solve for.
+        assert_eq!(
+            posed_free_parameters(&[p("c - 2")], &names, &at),
+            Some(vec![2])
+        );
     }
 
     #[test]

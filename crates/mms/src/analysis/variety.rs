@@ -366,7 +366,7 @@ impl<'a> Variety<'a> {
 /// largest part orthogonal to those chosen before (Gram-Schmidt with
 /// column pivoting); `None` where a pivot falls below `1e-8` of the
 /// first, i.e. the columns span less than `count` dimensions in `f64`.
-fn independent_columns(rows: &[Vec<f64>], count: usize) -> Option<Vec<usize>> {
+pub(crate) fn independent_columns(rows: &[Vec<f64>], count: usize) -> Option<Vec<usize>> {
     if count == 0 {
         return Some(Vec::new());
     }
