@@ -319,9 +319,8 @@ impl Add for &Rat {
         }
         let (da, db) = (self.den.div_exact(&g), rhs.den.div_exact(&g));
         let t = &(&self.num * &db) + &(&rhs.num * &da);
-        if t.is_zero() {
-            return Rat::ZERO;
-        }
+        // Zero only for `rhs = -self`, whose denominators are equal.
+        debug_assert!(!t.is_zero());
         let h = t.gcd(&g);
         if h.is_one() {
             Rat {
@@ -417,34 +416,50 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
-    /// A fraction with numerator and denominator from small, word-sized
-    /// or two-word factors, so that every path of the integers is met.
+    /// A fraction whose numerator and denominator are each a product of
+    /// two parts, small, word-sized or the extremes of `i64`, so that
+    /// numerators and denominators of one and two words, shared factors and
+    /// the `i64` edges are all met.
     fn fraction() -> impl Strategy<Value = Rat> {
         let part = prop_oneof![
             -50i64..50,
             any::<i64>(),
-            (any::<i64>(), any::<i64>()).prop_map(|(a, b)| (a / 2) ^ (b % 7)),
+            Just(i64::MIN),
+            Just(i64::MAX),
+            (1i64..1000).prop_map(|k| k * 6),
         ];
-        (part.clone(), part.clone(), part, 1i64..1000).prop_map(|(a, b, c, f)| {
-            let n = &Int::from(a) * &Int::from(f);
-            let d = &(&Int::from(b) * &Int::from(c)) * &Int::from(f);
-            let d = if d.is_zero() { Int::ONE } else { d.abs() };
-            Rat::new(n, d)
+        (part.clone(), part.clone(), part.clone(), part).prop_map(|(a, b, c, d)| {
+            let n = &Int::from(a) * &Int::from(b);
+            let d = (&Int::from(c) * &Int::from(d)).abs();
+            Rat::new(n, if d.is_zero() { Int::ONE } else { d })
         })
+    }
+
+    /// `x + y`, `x * y` and `x - y` against `Rat::new` of the schoolbook
+    /// formulas.
+    fn schoolbook(x: &Rat, y: &Rat) -> Result<(), TestCaseError> {
+        let (a, b, c, d) = (x.numer(), x.denom(), y.numer(), y.denom());
+        prop_assert_eq!(x + y, Rat::new(&(a * d) + &(c * b), b * d));
+        prop_assert_eq!(x * y, Rat::new(a * c, b * d));
+        prop_assert_eq!(x - y, Rat::new(&(a * d) - &(c * b), b * d));
+        Ok(())
     }
 
     proptest! {
         /// The sum and product with the gcds taken out first are the
-        /// fractions `Rat::new` reduces from the schoolbook formulas.
+        /// fractions `Rat::new` reduces from the schoolbook formulas: for
+        /// any two fractions, a fraction and its negative, two with equal
+        /// denominators, and two whose denominators divide one another.
         #[test]
-        fn sums_and_products_are_the_schoolbook_fractions_reduced(x in fraction(), y in fraction()) {
-            let (a, b, c, d) = (x.numer(), x.denom(), y.numer(), y.denom());
-            let sum = Rat::new(&(a * d) + &(c * b), b * d);
-            let product = Rat::new(a * c, b * d);
-            let difference = Rat::new(&(a * d) - &(c * b), b * d);
-            prop_assert_eq!(&x + &y, sum);
-            prop_assert_eq!(&x * &y, product);
-            prop_assert_eq!(&x - &y, difference);
+        fn sums_and_products_are_the_schoolbook_fractions_reduced(
+            x in fraction(), y in fraction(), k in -1000i64..1000,
+        ) {
+            schoolbook(&x, &y)?;
+            schoolbook(&x, &-&x)?;
+            let same = Rat::new(&(y.numer() * x.denom()) + &Int::from(k), x.denom().clone());
+            schoolbook(&x, &same)?;
+            let finer = Rat::new(y.numer().clone(), x.denom() * y.denom());
+            schoolbook(&x, &finer)?;
         }
     }
 

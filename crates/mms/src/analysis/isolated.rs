@@ -209,7 +209,7 @@ impl Prover<'_> {
     /// in a row that show no new type, or once every type of `types` is
     /// shown) and isolates a witness next to those that read a type of
     /// `types` still without one; those where the variety's Jacobian drops
-    /// rank go to `singular` instead, up to `POINTS` per type.
+    /// rank go to `singular` instead, up to `POINTS` per type and draw.
     fn draw(
         &mut self,
         variety: &Variety,
@@ -220,6 +220,7 @@ impl Prover<'_> {
         singular: &mut Vec<(FrfType, VarietyPoint)>,
     ) {
         let mut tries: BTreeMap<FrfType, usize> = BTreeMap::new();
+        let mut kept: BTreeMap<FrfType, usize> = BTreeMap::new();
         let mut barren = 0;
         for _ in 0..starts {
             if types.iter().all(|t| self.shown(t)) || barren >= patience {
@@ -244,7 +245,11 @@ impl Prover<'_> {
             // pole is cancelled tangentially: it is kept for a last pass
             // (see `isolated_search`) without spending the type's tries.
             let Some(chosen) = variety.free_parameters(&x) else {
-                if singular.iter().filter(|(u, _)| *u == t).count() < POINTS {
+                // Counted per draw, so that the first structures' points
+                // do not crowd out those of the pairs and the rare ones.
+                let kept = kept.entry(t.clone()).or_default();
+                if *kept < POINTS {
+                    *kept += 1;
                     singular.push((t, p));
                 }
                 continue;

@@ -236,7 +236,8 @@ impl<'a> Variety<'a> {
     /// the conditions' Jacobian at `x` is best conditioned (see
     /// [`independent_columns`]), by index; `None` where it drops rank: a
     /// point of a thinner stratum (two posed roots about to meet), whose
-    /// `f64` reading is not to be trusted either.
+    /// `f64` reading is not to be trusted either (a witness tried there
+    /// is read again, exactly, on its box).
     pub(crate) fn free_parameters(&self, x: &[f64]) -> Option<Vec<usize>> {
         let mut jac = Vec::new();
         self.residual(x, Some(&mut jac))?;
