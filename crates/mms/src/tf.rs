@@ -591,6 +591,13 @@ pub(crate) fn power(mut x: f64, e: i32) -> f64 {
     }
 }
 
+/// A term's value at `x`: its coefficient times its factors, in order.
+fn term_value(c: f64, powers: &[(u32, i32)], x: &[f64]) -> f64 {
+    powers
+        .iter()
+        .fold(c, |acc, &(i, e)| acc * power(x[i as usize], e))
+}
+
 impl Compiled {
     pub(crate) fn new(p: &Poly, names: &[String]) -> Compiled {
         let index: Vec<u32> = p
@@ -626,13 +633,8 @@ impl Compiled {
     /// logarithms of the parameters (each term's value times its power).
     pub(crate) fn eval_with_log_gradient(&self, x: &[f64], grad: &mut [f64]) -> f64 {
         let mut sum = 0.0;
-        let mut start = 0;
-        for &(c, end) in &self.terms {
-            let powers = &self.factors[start..end as usize];
-            start = end as usize;
-            let t = powers
-                .iter()
-                .fold(c, |acc, &(i, e)| acc * power(x[i as usize], e));
+        for (c, powers) in self.each_term() {
+            let t = term_value(c, powers, x);
             sum += t;
             for &(i, e) in powers {
                 grad[i as usize] += f64::from(e) * t;
@@ -643,13 +645,16 @@ impl Compiled {
 
     /// Each term's value at `x`.
     fn terms<'a>(&'a self, x: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
+        self.each_term().map(|(c, powers)| term_value(c, powers, x))
+    }
+
+    /// Each term's coefficient and factors `(parameter, power)`.
+    fn each_term(&self) -> impl Iterator<Item = (f64, &[(u32, i32)])> {
         let mut start = 0;
         self.terms.iter().map(move |&(c, end)| {
             let powers = &self.factors[start..end as usize];
             start = end as usize;
-            powers
-                .iter()
-                .fold(c, |acc, &(i, e)| acc * power(x[i as usize], e))
+            (c, powers)
         })
     }
 
@@ -696,7 +701,7 @@ impl UndampedCoefficients {
     }
 
     /// As [`Self::eval`], with each coefficient's derivatives in the
-    /// logarithms of the parameters (`[coefficient][parameter]`).
+    /// logarithms of the parameters (a row per coefficient).
     pub(crate) fn eval_with_log_gradients(&self, x: &[f64]) -> CoefficientsWithGradients {
         let (num, num_gradient) = eval_with_log_gradients(&self.num, x);
         let (den, den_gradient) = eval_with_log_gradients(&self.den, x);

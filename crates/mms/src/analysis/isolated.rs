@@ -180,12 +180,11 @@ impl Prover<'_> {
             }
             let variety = structure_variety(&tf, n_params, (cancelled, doubles, mults), &compiled);
             let mut rng = XorShift::new(seed ^ key(cancelled, doubles, mults) ^ PERSISTENT_SEED);
-            let starts = PERSISTENT_STARTS;
             self.draw(
                 &variety,
                 &mut rng,
                 types,
-                (starts, starts),
+                (PERSISTENT_STARTS, PERSISTENT_STARTS),
                 (&derivatives, poses),
                 &mut singular,
             );
