@@ -697,6 +697,47 @@ fn whole_file(dir: &std::path::Path, text: &str) -> String {
 }
 
 #[test]
+fn sample_poses_two_cancelled_poles_as_a_pair_where_the_blocks_share_them() {
+    // `AR` of N4-g2-a3.1-s3.2 (two of three poles cancelled) has an exact
+    // witness in the 4-mass table. Left open, it is sampled on its single
+    // cancellations, whose points all lie where the Jacobian drops rank
+    // (none read), and with the pair posed, which reads it; the type is
+    // counted once.
+    let dir = std::env::temp_dir().join(format!("mms-sample-pairs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut v = json(&["analyze", "N4-g2-a3.1-s3.2", "--format", "json"]);
+    let t = v["models"][0]["types"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|t| t["type"] == "AR")
+        .unwrap();
+    assert_eq!(t["status"], "possible");
+    let o = t.as_object_mut().unwrap();
+    o.remove("witness");
+    o.insert("status".into(), "unknown".into());
+    let file = dir.join("open.json");
+    std::fs::write(&file, v.to_string()).unwrap();
+    let (code, out, err) = mms(&["sample", file.to_str().unwrap(), "--starts", "2000"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("1 of the 1 unknown types were read at least once; 0 never."),
+        "{out}"
+    );
+    let rows: Vec<&str> = out.lines().filter(|l| l.starts_with("| N4-")).collect();
+    assert_eq!(rows.len(), 2, "{out}");
+    assert!(
+        rows[0].contains("| 2 | 0 | - |") && rows[0].ends_with("| 0 | `AR` 0 |"),
+        "{out}"
+    );
+    assert!(
+        rows[1].contains("| 2 | 1 | - |") && !rows[1].ends_with("`AR` 0 |"),
+        "{out}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
 fn sample_reads_a_type_left_open_and_resumes_from_its_cache() {
     // The 3-mass table with A2's R (a cancelled pole, possible by the
     // paper's Tab. 3) left unknown: points on the variety of one

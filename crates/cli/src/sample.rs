@@ -171,8 +171,11 @@ fn sample_all(
                     // about are this table's.
                     Ok(mut e)
                         if e.fingerprint == fingerprint
-                            && (e.sample.cell.cancelled, &e.sample.cell.multiple)
-                                == (job.1.cancelled, &job.1.multiple) =>
+                            && (
+                                e.sample.cell.cancelled,
+                                e.sample.cell.pairs,
+                                &e.sample.cell.multiple,
+                            ) == (job.1.cancelled, job.1.pairs, &job.1.multiple) =>
                     {
                         progress.inc(opts.starts);
                         e.sample.cell = job.1.clone();
@@ -233,11 +236,20 @@ fn sample_all(
         .collect()
 }
 
-/// A cell's name: the source model, its cancelled poles and multiple
-/// zeros (also its cache file's name).
+/// A cell's name: the source model, its cancelled poles (and the pairs
+/// among them, if any) and multiple zeros (also its cache file's name).
 fn cell_name((model, cell): &(Model, mms::analysis::Cell)) -> String {
     let mults: Vec<String> = cell.multiple.iter().map(u32::to_string).collect();
-    format!("{}-c{}-m{}", model.id(), cell.cancelled, mults.join("_"))
+    let pairs = match cell.pairs {
+        0 => String::new(),
+        p => format!("-p{p}"),
+    };
+    format!(
+        "{}-c{}{pairs}-m{}",
+        model.id(),
+        cell.cancelled,
+        mults.join("_")
+    )
 }
 
 fn markdown(models: &[ModelSamples], starts: u64, path: &Path, engine: u32) -> String {
@@ -247,29 +259,31 @@ fn markdown(models: &[ModelSamples], starts: u64, path: &Path, engine: u32) -> S
         "# The unknown types of {} on their own regions\n",
         path.display()
     );
-    let types: usize = models
-        .iter()
-        .flat_map(|m| &m.cells)
-        .map(|c| c.cell.types.len())
-        .sum();
-    let read: usize = models
-        .iter()
-        .flat_map(|m| &m.cells)
-        .map(|c| {
-            c.cell
-                .types
-                .iter()
-                .filter(|t| c.seen.contains_key(*t))
-                .count()
-        })
-        .sum();
+    // A type is asked about in its structure's cell and, with cancelled
+    // pairs, in their cells too: counted once per model, read if any of
+    // them read it.
+    let (mut types, mut read) = (0, 0);
+    for m in models {
+        let mut asked: BTreeMap<&FrfType, bool> = BTreeMap::new();
+        for c in &m.cells {
+            for t in &c.cell.types {
+                *asked.entry(t).or_default() |= c.seen.contains_key(t);
+            }
+        }
+        types += asked.len();
+        read += asked.values().filter(|&&r| r).count();
+    }
     let _ = writeln!(
         s,
         "`mms sample` (mms {}, sampler {}; the table of engine {engine}), {starts} starts per cell (coincidence \
          structure of a model's unknown types), log-uniform parameters within \
          e^-3 .. e^3, projected onto the cell's variety and read in f64 with the \
          posed roots divided out (points where the conditions' Jacobian drops \
-         rank, or with two roots within a relative 1e-6, not read). Evidence, not proof: a type read is possible in all \
+         rank, or with two roots within a relative 1e-6, not read). Where the \
+         chain's gap splits it into two blocks, a structure with two or more \
+         cancelled poles is sampled again with pairs of them cancelled together \
+         at an eigenvalue both blocks have (the column \"pairs\"): the single \
+         structure cannot read those points. Evidence, not proof: a type read is possible in all \
          likelihood; one never read lies, if anywhere, in a region thinner than \
          the sampler reaches.\n",
         env!("CARGO_PKG_VERSION"),
@@ -307,9 +321,9 @@ fn markdown(models: &[ModelSamples], starts: u64, path: &Path, engine: u32) -> S
     }
     let _ = writeln!(
         s,
-        "| model | cancelled | multiple zeros | converged | read | unknown types (times read) |"
+        "| model | cancelled | pairs | multiple zeros | converged | read | unknown types (times read) |"
     );
-    let _ = writeln!(s, "|---|---:|---|---:|---:|---|");
+    let _ = writeln!(s, "|---|---:|---:|---|---:|---:|---|");
     for m in models {
         for c in &m.cells {
             let mults: Vec<String> = c.cell.multiple.iter().map(u32::to_string).collect();
@@ -321,9 +335,10 @@ fn markdown(models: &[ModelSamples], starts: u64, path: &Path, engine: u32) -> S
                 .collect();
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} |",
                 m.id,
                 c.cell.cancelled,
+                c.cell.pairs,
                 if mults.is_empty() {
                     "-".to_string()
                 } else {

@@ -551,7 +551,7 @@ fn lead_variable(f: &Poly, other: &Poly) -> Option<String> {
 /// `num = -k p`, `den = k q` give `num = (-k n_B) det(A) + (-k Omega n_A)
 /// q_B` and `den = (k q_B) det(A)`. The pose's `pole` is left at 0;
 /// `None` without a gap, or if the identities do not come out.
-fn block_pose(model: &Model, num: &Poly, den: &Poly) -> Option<PolePose> {
+pub(super) fn block_pose(model: &Model, num: &Poly, den: &Poly) -> Option<PolePose> {
     let g = model.gap();
     let n = model.n_masses();
     if g == 0 || g >= n {

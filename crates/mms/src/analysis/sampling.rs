@@ -7,7 +7,13 @@
 //! multiple zeros) is sampled on its own variety: the variety sampler's
 //! starts, projected onto it and read in `f64` with the posed roots
 //! divided out ([`super::variety`]); the generic types (no coincidence)
-//! at log-uniform points. The counts say how many starts reached the
+//! at log-uniform points. Where the chain's gap splits it into two blocks,
+//! two cancelled poles may also be one eigenvalue the blocks share, a
+//! pair cancelled together: a point where two single cancellations meet,
+//! which the single structure's Jacobian drops rank at and so never
+//! reads. A structure with two or more cancelled poles is therefore also
+//! sampled with one pair, two pairs, ... posed as such
+//! ([`Cell::pairs`]). The counts say how many starts reached the
 //! variety, how many of those could be read (the conditions' Jacobian of
 //! full rank, so not a point where two posed roots are about to meet,
 //! which `f64` misreads; no two roots within a relative `1e-6`), and how
@@ -18,8 +24,9 @@
 //! is a misreading in `f64` or a wrong certificate, and is worth a look.
 
 use super::frf_type::FrfType;
+use super::isolated::block_pose;
 use super::targeted::root_signature;
-use super::variety::Variety;
+use super::variety::{BlockFactors, Variety};
 use crate::model::Model;
 use crate::tf::{UndampedCoefficients, OMEGA};
 use crate::xorshift::XorShift;
@@ -43,10 +50,18 @@ pub const SAMPLING_RANGE: f64 = 3.0;
 pub struct Cell {
     /// Cancelled poles.
     pub cancelled: u32,
+    /// Of the cancelled poles, the pairs cancelled together where the
+    /// chain's two blocks share an eigenvalue (`2 * pairs <= cancelled`).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub pairs: u32,
     /// Multiplicities of the multiple zeros, in the order of the type.
     pub multiple: Vec<u32>,
     /// The types asked about.
     pub types: Vec<FrfType>,
+}
+
+fn is_zero(n: &u32) -> bool {
+    *n == 0
 }
 
 /// What the sampler read on one [`Cell`].
@@ -65,7 +80,10 @@ pub struct CellSample {
 }
 
 /// The cells of `types` for `model`: its types grouped by coincidence
-/// structure, the generic ones (no coincidence) in the cell with none.
+/// structure, the generic ones (no coincidence) in the cell with none;
+/// where the chain has a gap, a structure with `c >= 2` cancelled poles
+/// is also asked about with `1 ..= c / 2` of them cancelled in pairs (the
+/// same types, [`Cell::pairs`]).
 ///
 /// ```
 /// use mms::analysis::cells;
@@ -74,22 +92,34 @@ pub struct CellSample {
 /// let c = cells(&m, &types);
 /// assert_eq!((c[0].cancelled, c[0].multiple.len(), c[0].types.len()), (0, 0, 2));
 /// assert_eq!(c[1].multiple, [2]);
+/// // A gap between masses 2 and 3: two cancelled poles may be one pair.
+/// let m = mms::Model::from_id("N5-g2-a3.1-s3.2")?;
+/// let c = cells(&m, &["AARR".parse()?]);
+/// assert_eq!(c.iter().map(|c| (c.cancelled, c.pairs)).collect::<Vec<_>>(), [(2, 0), (2, 1)]);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn cells(model: &Model, types: &[FrfType]) -> Vec<Cell> {
-    let degree = model.undamped_tf().den.degree(OMEGA);
+    let tf = model.undamped_tf();
+    let degree = tf.den.degree(OMEGA);
     let mut by: BTreeMap<(u32, Vec<u32>), Vec<FrfType>> = BTreeMap::new();
     for t in types {
         let key = root_signature(t, degree).unwrap_or((0, Vec::new()));
         by.entry(key).or_default().push(t.clone());
     }
-    by.into_iter()
-        .map(|((cancelled, multiple), types)| Cell {
-            cancelled,
-            multiple,
-            types,
-        })
-        .collect()
+    let gap = block_pose(model, &tf.num, &tf.den).is_some();
+    let mut out = Vec::new();
+    for ((cancelled, multiple), types) in by {
+        let most = if gap { cancelled / 2 } else { 0 };
+        for pairs in 0..=most {
+            out.push(Cell {
+                cancelled,
+                pairs,
+                multiple: multiple.clone(),
+                types: types.clone(),
+            });
+        }
+    }
+    out
 }
 
 /// Samples `cell` of `model` at `starts` starts from the seed `seed`,
@@ -115,9 +145,8 @@ pub fn sample_cell(
     mut progress: impl FnMut(u64),
 ) -> CellSample {
     let tf = UndampedCoefficients::new(model);
-    let params = model.undamped_parameters().len();
-    let variety = Variety::new(&tf, params, cell.cancelled as usize, &cell.multiple);
-    let mut rng = XorShift::new(seed);
+    let names = model.undamped_parameters();
+    let params = names.len();
     let mut out = CellSample {
         cell: cell.clone(),
         starts,
@@ -125,6 +154,26 @@ pub fn sample_cell(
         read: 0,
         seen: BTreeMap::new(),
     };
+    let undamped = model.undamped_tf();
+    let blocks = match cell.pairs {
+        0 => None,
+        _ => match block_pose(model, &undamped.num, &undamped.den) {
+            Some(pose) if 2 * cell.pairs <= cell.cancelled => {
+                Some(BlockFactors::new(&pose.factors, &names))
+            }
+            // No pair of this size can be posed: no point.
+            _ => {
+                progress(starts);
+                return out;
+            }
+        },
+    };
+    let variety = Variety::new(&tf, params, cell.cancelled as usize, &cell.multiple);
+    let variety = match &blocks {
+        Some(b) => variety.with_doubles(cell.pairs as usize, b),
+        None => variety,
+    };
+    let mut rng = XorShift::new(seed);
     for i in 0..starts {
         if i > 0 && i % 1000 == 0 {
             progress(i);
@@ -146,4 +195,36 @@ pub fn sample_cell(
     }
     progress(starts);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pairs_cancelled_together_read_what_single_cancellations_cannot() {
+        // `AR` of N4-g2-a3.1-s3.2 cancels two of its three poles, and the
+        // 4-mass table has an exact witness for it (which `mms check`
+        // reads): the blocks share an eigenvalue there. Every point the
+        // single structure reaches is such a point, where its Jacobian
+        // drops rank, so it reads none; the pair posed reads them.
+        let m = Model::from_id("N4-g2-a3.1-s3.2").unwrap();
+        let ar: FrfType = "AR".parse().unwrap();
+        let c = cells(&m, std::slice::from_ref(&ar));
+        assert_eq!(
+            c.iter().map(|c| (c.cancelled, c.pairs)).collect::<Vec<_>>(),
+            [(2, 0), (2, 1)]
+        );
+        let single = sample_cell(&m, &c[0], 3000, 7, |_| {});
+        let paired = sample_cell(&m, &c[1], 3000, 7, |_| {});
+        assert!(single.converged > 100 && single.read == 0, "{single:?}");
+        assert!(
+            paired.seen.get(&ar).copied().unwrap_or(0) > 1000,
+            "{paired:?}"
+        );
+        // Without a gap no pair can be posed: no point, not a panic.
+        let collocated = Model::from_id("N4-g0-a1.0-s1.0").unwrap();
+        let s = sample_cell(&collocated, &c[1], 100, 7, |_| {});
+        assert_eq!((s.converged, s.read), (0, 0));
+    }
 }
