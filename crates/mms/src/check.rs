@@ -60,7 +60,13 @@
 //!    multiplicities, Descartes' rule, connected regions with sample
 //!    points, or refuted sign conditions); or one of two structural
 //!    theorems that hold on the whole orthant, whose premises it checks on
-//!    the model's matrices and polynomials;
+//!    the model's matrices and polynomials; or a limit of generic types
+//!    (`limits`): the reduced TF's leading and constant coefficients of
+//!    one sign, numerator and denominator square-free and coprime at the
+//!    certificate's point (exact gcds), and every generic type that
+//!    gathers into the type (every gathering written out here, not the
+//!    prover's recursion) listed and certified impossible in the same
+//!    model;
 //! 4. the derived fields, where present: the pole-zero cancellations, the
 //!    critical factors (coverage, `cancels`, each status's proof), the
 //!    count of moment invariants and the determinable parameters (the rank
@@ -1322,6 +1328,89 @@ fn a_priori_types(a: u32, r: u32) -> Vec<Ty> {
     out
 }
 
+/// Every type the generic type `g` (simple tokens, `a` zeros in all)
+/// turns into as its roots gather, written forwards: its tokens cut into
+/// consecutive runs, pairs of its zeros off the axis landing on runs or
+/// alone between them (one point per landing), and each point read as
+/// `A^(z-p)`, `R^(p-z)` or nothing. Apart from the prover's recursion,
+/// which matches `g` against one wanted type.
+fn limit_images(g: &Ty, a: u32) -> Vec<Ty> {
+    fn compositions(n: u32) -> Vec<Vec<u32>> {
+        if n == 0 {
+            return vec![Vec::new()];
+        }
+        let mut out = Vec::new();
+        for first in 1..=n {
+            for mut rest in compositions(n - first) {
+                rest.insert(0, first);
+                out.push(rest);
+            }
+        }
+        out
+    }
+    let zeros = g.toks.iter().filter(|k| k.zero).count() as u32;
+    let off = a.saturating_sub(zeros);
+    let n = g.toks.len();
+    let mut out: Vec<Ty> = Vec::new();
+    for cuts in 0u32..(1 << n.saturating_sub(1)) {
+        let mut groups: Vec<(u32, u32)> = Vec::new();
+        let mut cur = (0, 0);
+        for (i, k) in g.toks.iter().enumerate() {
+            if k.zero {
+                cur.0 += 1;
+            } else {
+                cur.1 += 1;
+            }
+            if i + 1 == n || cuts & (1 << i) != 0 {
+                groups.push(cur);
+                cur = (0, 0);
+            }
+        }
+        // Slot 2j: between runs j - 1 and j (a list of landing points);
+        // slot 2j + 1: on run j.
+        let slots = 2 * groups.len() + 1;
+        let mut stack: Vec<(usize, u32, Vec<Tok>)> = vec![(0, off / 2, Vec::new())];
+        while let Some((slot, left, toks)) = stack.pop() {
+            if slot == slots {
+                let ty = Ty {
+                    toks,
+                    nm: off - 2 * (off / 2 - left) > 0,
+                };
+                if !out.contains(&ty) {
+                    out.push(ty);
+                }
+                continue;
+            }
+            if slot % 2 == 0 {
+                for used in 0..=left {
+                    for parts in compositions(used) {
+                        let mut t = toks.clone();
+                        t.extend(parts.iter().map(|&e| Tok {
+                            zero: true,
+                            mult: 2 * e,
+                        }));
+                        stack.push((slot + 1, left - used, t));
+                    }
+                }
+            } else {
+                let (z, p) = groups[slot / 2];
+                for e in 0..=left {
+                    let mut t = toks.clone();
+                    let z = z + 2 * e;
+                    if z != p {
+                        t.push(Tok {
+                            zero: z > p,
+                            mult: z.abs_diff(p),
+                        });
+                    }
+                    stack.push((slot + 1, left - e, t));
+                }
+            }
+        }
+    }
+    out
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Tok {
     /// Antiresonance (a zero of the numerator); else a resonance.
@@ -1952,6 +2041,16 @@ fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, 
         ..CheckReport::default()
     };
     let types = arr_field(m, "types", path).map_err(model_err)?;
+    // Every verdict, for the certificates that rest on other types' (each
+    // of those is checked in its own turn below).
+    let mut verdicts: Vec<(Ty, &str)> = Vec::with_capacity(types.len());
+    for (j, verdict) in types.iter().enumerate() {
+        let vpath = format!("types[{j}]");
+        let name = str_field(verdict, "type", &vpath).map_err(model_err)?;
+        let t = Ty::parse(name).map_err(|e| model_err(format!("{vpath}: {e}")))?;
+        let status = str_field(verdict, "status", &vpath).map_err(model_err)?;
+        verdicts.push((t, status));
+    }
     for (j, verdict) in types.iter().enumerate() {
         let vpath = format!("types[{j}]");
         let name = str_field(verdict, "type", &vpath).map_err(model_err)?;
@@ -1980,9 +2079,20 @@ fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, 
             }
             "impossible" => {
                 let c = field(verdict, "certificate", &vpath).map_err(type_err)?;
-                checker
-                    .check_proof(c, &[], &t, "certificate", "")
-                    .map_err(type_err)?;
+                let limits = c
+                    .get("open")
+                    .and_then(|o| o.get("kind"))
+                    .and_then(Value::as_str)
+                    == Some("limits");
+                if limits {
+                    checker
+                        .check_limits(c, &t, &verdicts)
+                        .map_err(|e| type_err(format!("limits: {e}")))?;
+                } else {
+                    checker
+                        .check_proof(c, &[], &t, "certificate", "")
+                        .map_err(type_err)?;
+                }
                 report.certificates += 1;
             }
             "unknown" => report.unknown += 1,
@@ -2143,6 +2253,97 @@ fn verify_tf(model: &Model, num: &Poly, den: &Poly) -> Result<(), String> {
 }
 
 impl ModelChecker {
+    /// A type certified as a limit of impossible generic types: the
+    /// certificate's point makes the reduced numerator and denominator
+    /// square-free and coprime, so the points with a multiple or shared
+    /// root are nowhere dense; their leading and constant coefficients in
+    /// `Omega` have one sign, so no root reaches 0 or infinity; and every
+    /// generic type (simple tokens, every pole) that gathers into `t`
+    /// ([`limit_images`], written forwards here) is listed and has the
+    /// verdict "impossible", checked in its own turn. A generic type cannot
+    /// carry such a certificate, so none rests on itself.
+    fn check_limits(&mut self, c: &Value, t: &Ty, verdicts: &[(Ty, &str)]) -> Result<(), String> {
+        if !arr_field(c, "stratum", "certificate")?.is_empty()
+            || !arr_field(c, "factors", "certificate")?.is_empty()
+            || c.get("unlisted").is_some()
+        {
+            return Err("a limit of generic types holds on the whole orthant alone: expected no stratum, factors or unlisted".into());
+        }
+        let open = field(c, "open", "certificate")?;
+        let top = self.stratum(&[])?;
+        let (num, den) = (top.num.clone(), top.den.clone());
+        let (a, r) = (num.degree(OMEGA), top.den_degree);
+        let generic = |x: &Ty| x.resonances() == r && x.toks.iter().all(|k| k.mult == 1);
+        if generic(t) {
+            return Err(format!("{t} is generic: it cannot be its own limit"));
+        }
+        let one_signed = |p: Poly| p.all_coefs_positive() || p.all_coefs_negative();
+        for (what, p) in [("numerator", &num), ("denominator", &den)] {
+            let lead = p.lead_in(OMEGA);
+            let at_zero = p.subs(OMEGA, &Rat::ZERO);
+            if !one_signed(lead.clone()) || !one_signed(at_zero.clone()) {
+                return Err(format!(
+                    "the {what}'s leading coefficient {lead} or value at Omega = 0, {at_zero}, is not of one sign"
+                ));
+            }
+        }
+        let point = parse_point(
+            field(open, "point", "certificate.open")?,
+            &self.params,
+            "certificate.open.point",
+        )?;
+        let n = num.eval_except(OMEGA, &point)?;
+        let d = den.eval_except(OMEGA, &point)?;
+        for (what, p) in [("numerator", &n), ("denominator", &d)] {
+            if !gcd(p, &p.derivative(OMEGA)).is_constant() {
+                return Err(format!("at the point the {what} {p} has a multiple root"));
+            }
+        }
+        if !gcd(&n, &d).is_constant() {
+            return Err("at the point numerator and denominator share a root".into());
+        }
+        let mut listed: Vec<Ty> = Vec::new();
+        for (i, g) in arr_field(open, "generic", "certificate.open")?
+            .iter()
+            .enumerate()
+        {
+            let name = g
+                .as_str()
+                .ok_or_else(|| format!("certificate.open.generic[{i}]: expected a type"))?;
+            listed.push(Ty::parse(name)?);
+        }
+        let mut own: Vec<Ty> = Vec::new();
+        for g in a_priori_types(a, r).into_iter().filter(|g| generic(g)) {
+            if !limit_images(&g, a).contains(t) {
+                continue;
+            }
+            match verdicts.iter().find(|(x, _)| *x == g) {
+                Some((_, "impossible")) => {}
+                Some((_, status)) => {
+                    return Err(format!(
+                        "the generic type {g} gathers into it and is {status}"
+                    ))
+                }
+                None => {
+                    return Err(format!(
+                        "the generic type {g} gathers into it and has no verdict"
+                    ))
+                }
+            }
+            if !listed.contains(&g) {
+                return Err(format!(
+                    "the generic type {g} gathers into it and is not listed"
+                ));
+            }
+            own.push(g);
+        }
+        if let Some(x) = listed.iter().find(|x| !own.contains(x)) {
+            return Err(format!("{x} is listed but does not gather into it"));
+        }
+        self.proofs += 1;
+        Ok(())
+    }
+
     fn check_witness(&self, w: &Value, t: &Ty) -> Result<(), String> {
         let point = parse_point(w, &self.params, "witness")?;
         let got = classify(&self.num, &self.den, &point).map_err(|e| format!("witness: {e}"))?;
@@ -4597,6 +4798,127 @@ mod tests {
                 assert_eq!(ours, theirs, "a = {a}, r = {r}");
             }
         }
+    }
+
+    /// The checker's forward enumeration of what a generic type's roots
+    /// gather into against the prover's recursion, which matches one
+    /// wanted type: the same answer for every generic type and candidate
+    /// of the degrees up to 4 and 4.
+    #[test]
+    fn limit_images_match_the_provers_recursion() {
+        for a in 0..=4 {
+            for r in 1..=4 {
+                let all = a_priori_types(a, r);
+                for g in all
+                    .iter()
+                    .filter(|g| g.resonances() == r && g.toks.iter().all(|k| k.mult == 1))
+                {
+                    let images = limit_images(g, a);
+                    let gp: crate::analysis::FrfType = g.to_string().parse().unwrap();
+                    for x in &all {
+                        let xp: crate::analysis::FrfType = x.to_string().parse().unwrap();
+                        assert_eq!(
+                            crate::analysis::collapses(&gp, &xp, a, r),
+                            images.contains(x),
+                            "{g} -> {x} (a = {a}, r = {r})"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// N4-g0-a1.0-s2.0 with every non-generic impossible type left open
+    /// and given to the limits rule: the table with its certificates, and
+    /// the pointers (type index) of those it certified.
+    fn limits_table() -> (Value, Vec<usize>) {
+        use crate::analysis::{analyze, limits_of_generic_types, SearchLimits, Status};
+        use crate::table::{AnalysisTable, Covers, TableModel};
+        let m = Model::from_id("N4-g0-a1.0-s2.0").unwrap();
+        let mut a = analyze(&m, &SearchLimits::default());
+        let r = a.denominator.degree(OMEGA);
+        for v in a.types.iter_mut() {
+            let generic = v.frf_type.resonances() == r
+                && v.frf_type.tokens.iter().all(|k| k.multiplicity == 1);
+            if v.status == Status::Impossible && !generic {
+                v.status = Status::Unknown;
+                v.certificate = None;
+            }
+        }
+        let a = limits_of_generic_types(&m, a);
+        let table =
+            AnalysisTable::new(Covers::Models(vec![m.id()]), vec![TableModel::new(a)]).to_value();
+        let certified: Vec<usize> = table["models"][0]["types"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v["certificate"]["open"]["kind"] == "limits")
+            .map(|(i, _)| i)
+            .collect();
+        (table, certified)
+    }
+
+    #[test]
+    fn limits_of_generic_types_are_checked_and_forgeries_refused() {
+        let (table, certified) = limits_table();
+        assert!(certified.len() > 10, "{}", certified.len());
+        let report = check_file(&table.to_string()).unwrap_or_else(|e| panic!("{e}"));
+        assert!(report.certificates >= certified.len());
+        let types = |v: &Value| v["models"][0]["types"].as_array().unwrap().clone();
+        let first = certified[0];
+        let refused = |v: Value, what: &str| {
+            let e = check_file(&v.to_string()).expect_err(what).to_string();
+            assert!(e.contains("limits: "), "{what}: {e}");
+            e
+        };
+        // A generic type dropped from the list.
+        let mut v = table.clone();
+        v["models"][0]["types"][first]["certificate"]["open"]["generic"]
+            .as_array_mut()
+            .unwrap()
+            .pop();
+        assert!(refused(v, "a generic type unlisted").contains("is not listed"));
+        // The certificate moved to a type with a witness that is not generic.
+        let ts = types(&table);
+        let r = ts
+            .iter()
+            .map(|v| Ty::parse(v["type"].as_str().unwrap()).unwrap().resonances())
+            .max()
+            .unwrap();
+        let witnessed = ts
+            .iter()
+            .position(|v| {
+                v["status"] == "possible" && {
+                    let t = Ty::parse(v["type"].as_str().unwrap()).unwrap();
+                    t.toks.iter().any(|k| k.mult > 1) || t.resonances() < r
+                }
+            })
+            .expect("a non-generic possible type");
+        let mut v = table.clone();
+        let cert = ts[first]["certificate"].clone();
+        let w = &mut v["models"][0]["types"][witnessed];
+        w["status"] = "impossible".into();
+        w.as_object_mut().unwrap().remove("witness");
+        w["certificate"] = cert.clone();
+        refused(v, "a limit certificate on a witnessed type");
+        // On a generic type.
+        let generic = ts
+            .iter()
+            .position(|v| {
+                v["status"] == "impossible" && {
+                    let t = Ty::parse(v["type"].as_str().unwrap()).unwrap();
+                    t.toks.iter().all(|k| k.mult == 1) && t.resonances() == r
+                }
+            })
+            .unwrap();
+        let mut v = table.clone();
+        v["models"][0]["types"][generic]["certificate"] = cert.clone();
+        assert!(refused(v, "on a generic type").contains("is generic"));
+        // With more than the whole orthant's claim.
+        let mut v = table.clone();
+        v["models"][0]["types"][first]["certificate"]["unlisted"] = "needs_cancellation".into();
+        assert!(refused(v, "with unlisted factors").contains("whole orthant alone"));
     }
 
     /// The interpolated Sylvester determinant of polynomials in `Omega`

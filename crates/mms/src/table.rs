@@ -36,7 +36,7 @@ pub const TABLE_FORMAT: &str = "mms-analysis-table";
 
 /// The version of the format: raised whenever a field is added, removed or
 /// changes meaning, so that no reader takes a file for what it is not.
-pub const TABLE_FORMAT_VERSION: u32 = 8;
+pub const TABLE_FORMAT_VERSION: u32 = 9;
 
 /// A table of analyses (see the [module docs](self)).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

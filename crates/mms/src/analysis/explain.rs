@@ -497,6 +497,18 @@ fn open(w: &mut W, o: &OpenProof) {
             }
             w.out.push('\n');
         }
+        OpenProof::Limits { point, generic } => {
+            let list: Vec<String> = generic.iter().map(|g| g.to_string()).collect();
+            w.para(&format!(
+                "The leading and constant coefficients of numerator and denominator have one sign, so their roots move continuously and never reach 0 or infinity; at {} both are square-free and coprime, so every point is a limit of points where all roots are simple and none is shared. Near a point of this type the roots of such a point gather in consecutive runs (poles stay real, zeros may land in conjugate pairs), each run becoming one of the type's tokens or cancelling out. The generic types that can gather into this one are {}, each impossible: so is this type.",
+                point_text(point),
+                if list.is_empty() {
+                    "none".to_string()
+                } else {
+                    list.join(", ")
+                }
+            ));
+        }
         OpenProof::SignConditions {
             linear_parts,
             cases,

@@ -29,6 +29,7 @@ mod continuity;
 mod explain;
 mod frf_type;
 mod isolated;
+mod limits;
 mod lp;
 mod pole_signs;
 mod prover;
@@ -44,6 +45,8 @@ pub use frf_type::{
     candidate_types, frf_type_at, frf_type_at_algebraic, frf_type_of, frf_type_over, Feature,
     FrfType, ParseFrfTypeError, Token,
 };
+#[cfg(test)]
+pub(crate) use limits::{collapses, limits_of_generic_types};
 pub use pole_signs::{BlockPoleSigns, BlockSign, PoleSigns, RemainderFactor};
 pub use prover::{
     ConditionRule, Definiteness, FactorProof, OpenProof, Proof, RegionSample, SearchLimits,
@@ -430,7 +433,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 36;
+pub const ENGINE_VERSION: u32 = 37;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
@@ -545,7 +548,8 @@ fn analyze_source(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
     };
     // Once, not for the mirror too: its variety is the same under other
     // names, so its sampler would only repeat this one's.
-    completion(model, own, Completion::Isolated)
+    let own = completion(model, own, Completion::Isolated);
+    limits::limits_of_generic_types(model, own)
 }
 
 /// The searches that complete an analysis, last of all.
@@ -730,7 +734,8 @@ pub fn analyze_alone(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
         analyze_rational(model, limits),
         Completion::Algebraic,
     );
-    completion(model, a, Completion::Isolated)
+    let a = completion(model, a, Completion::Isolated);
+    limits::limits_of_generic_types(model, a)
 }
 
 /// [`analyze_alone`] without the search over number fields.

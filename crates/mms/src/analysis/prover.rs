@@ -284,6 +284,21 @@ pub enum OpenProof {
         /// One sample per region, in increasing `var`.
         samples: Vec<RegionSample>,
     },
+    /// Every point is a limit of generic points (all roots simple, none
+    /// shared), and every generic type whose roots can gather into this
+    /// type is impossible (docs/analysis.md, "Limits of generic types").
+    /// Premises: the leading and constant coefficients in `Omega` of the
+    /// reduced numerator and denominator have one sign on the orthant (no
+    /// root reaches 0 or infinity), and at `point` both are square-free
+    /// and coprime. Only on the whole orthant, never on a wall.
+    Limits {
+        /// A point where numerator and denominator are square-free and
+        /// coprime (a witness of a generic type).
+        point: BTreeMap<String, Rat>,
+        /// The generic types whose roots can gather into the type, each
+        /// certified impossible in the same analysis.
+        generic: Vec<FrfType>,
+    },
     /// Every assignment of the rational roots to the type's tokens forces
     /// contradictory sign conditions.
     SignConditions {

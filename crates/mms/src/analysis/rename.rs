@@ -277,6 +277,10 @@ impl Renaming {
                     })
                     .collect(),
             },
+            OpenProof::Limits { point, generic } => OpenProof::Limits {
+                point: self.point(point),
+                generic: generic.clone(),
+            },
             OpenProof::TooManyResonances { .. }
             | OpenProof::TooFewResonances { .. }
             | OpenProof::Multiplicity
