@@ -46,6 +46,10 @@ struct ModelSamples {
     /// Types the table certifies impossible that a cell's sampler read,
     /// with how often.
     impossible_read: BTreeMap<FrfType, u64>,
+    /// For each unknown type, the possible generic types that gather into
+    /// it ([`mms::analysis::gathers_into`]): why the limits of generic
+    /// types leave it open, and where a witness would be approached from.
+    limit_of: BTreeMap<FrfType, Vec<FrfType>>,
 }
 
 /// A cache file: one cell's counts with what they were made from.
@@ -73,6 +77,7 @@ pub fn run(path: &Path, opts: &Options) -> Result<String, String> {
     // One job per cell of each analysis source with unknown types: models
     // that share a source (reciprocal twins) have the same variety.
     let mut models: Vec<(String, Model, Vec<FrfType>, Vec<FrfType>)> = Vec::new();
+    let mut limit_of: Vec<BTreeMap<FrfType, Vec<FrfType>>> = Vec::new();
     for m in &table.models {
         let a = &m.analysis;
         let model = Model::from_id(&a.generic_id)
@@ -86,6 +91,28 @@ pub fn run(path: &Path, opts: &Options) -> Result<String, String> {
         };
         let unknown = with(Status::Unknown);
         if !unknown.is_empty() {
+            // The degrees: the candidates include the type with every zero
+            // positive and the one with every pole.
+            let r = a.types.iter().map(|v| v.frf_type.resonances()).max();
+            let z = a.types.iter().map(|v| v.frf_type.antiresonances()).max();
+            let (r, z) = (r.unwrap_or(0), z.unwrap_or(0));
+            let generic: Vec<FrfType> = with(Status::Possible)
+                .into_iter()
+                .filter(|g| g.resonances() == r && g.tokens.iter().all(|k| k.multiplicity == 1))
+                .collect();
+            limit_of.push(
+                unknown
+                    .iter()
+                    .map(|t| {
+                        let from: Vec<FrfType> = generic
+                            .iter()
+                            .filter(|g| mms::analysis::gathers_into(g, t, z, r))
+                            .cloned()
+                            .collect();
+                        (t.clone(), from)
+                    })
+                    .collect(),
+            );
             models.push((a.id.clone(), model, unknown, with(Status::Impossible)));
         }
     }
@@ -111,7 +138,8 @@ pub fn run(path: &Path, opts: &Options) -> Result<String, String> {
     let out: Vec<ModelSamples> = models
         .iter()
         .zip(&of_model)
-        .map(|((id, _, _, impossible), mine)| {
+        .zip(limit_of)
+        .map(|(((id, _, _, impossible), mine), limit_of)| {
             let cells: Vec<CellSample> = mine.iter().map(|&k| samples[k].clone()).collect();
             let mut impossible_read = BTreeMap::new();
             for c in &cells {
@@ -125,6 +153,7 @@ pub fn run(path: &Path, opts: &Options) -> Result<String, String> {
                 id: id.clone(),
                 cells,
                 impossible_read,
+                limit_of,
             }
         })
         .collect();
@@ -347,6 +376,36 @@ fn markdown(models: &[ModelSamples], starts: u64, path: &Path, engine: u32) -> S
                 c.converged,
                 c.read,
                 list.join(", ")
+            );
+        }
+    }
+    let _ = writeln!(
+        s,
+        "\n## Limits of possible generic types\n\nEvery point of a type is a limit of generic points (simple roots, every \
+         pole) whose roots gather into it (docs/analysis.md, \"Limits of generic types\"). \
+         Where only impossible generic types gather into a type, the analysis certifies it \
+         impossible; each type below has possible generic types that gather into it, so \
+         continuity leaves it open, and its witness, if any, lies next to points of them. \
+         A type with none (\"-\") has an unknown generic type gathering into it, or the \
+         rule's premises do not hold for its model.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| model | unknown type | possible generic types gathering into it |"
+    );
+    let _ = writeln!(s, "|---|---|---|");
+    for m in models {
+        for (t, from) in &m.limit_of {
+            let list: Vec<String> = from.iter().map(|g| format!("`{g}`")).collect();
+            let _ = writeln!(
+                s,
+                "| {} | `{t}` | {} |",
+                m.id,
+                if list.is_empty() {
+                    "-".to_string()
+                } else {
+                    format!("{}: {}", list.len(), list.join(", "))
+                }
             );
         }
     }

@@ -4818,7 +4818,7 @@ mod tests {
                     for x in &all {
                         let xp: crate::analysis::FrfType = x.to_string().parse().unwrap();
                         assert_eq!(
-                            crate::analysis::collapses(&gp, &xp, a, r),
+                            crate::analysis::gathers_into(&gp, &xp, a, r),
                             images.contains(x),
                             "{g} -> {x} (a = {a}, r = {r})"
                         );

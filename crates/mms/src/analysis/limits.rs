@@ -16,8 +16,8 @@
 //! stay off it). A run of `a` zeros, `2e` of them a pair landing there,
 //! and `b` poles becomes at `p` one token `A^(a-b)` or `R^(b-a)`, or
 //! nothing when `a = b`: `min(a, b)` poles cancelled. So a type `T` shows
-//! at `p` only if the generic type of `q` *collapses* to `T` in this way
-//! ([`collapses`]); if every generic type that collapses to `T` is
+//! at `p` only if the generic type of `q` *gathers into* `T` in this way
+//! ([`gathers_into`]); if every generic type that gathers into `T` is
 //! impossible, so is `T` ([`OpenProof::Limits`]). The rule comes last, on
 //! the types every other rule and search left open.
 
@@ -29,12 +29,26 @@ use poly::{gcd, Poly, Rat};
 use std::collections::{BTreeMap, HashMap};
 
 /// True when the generic type `g` (simple tokens, all `r` poles, `a`
-/// zeros in all) can turn into `t` as its roots gather (see the module
-/// docs): its tokens split into consecutive runs, each with some of the
-/// off-axis zero pairs landing on it, and pairs landing alone, each run
-/// becoming `t`'s next token or cancelling out, with `t`'s count of
-/// zeros off the axis left over.
-pub(crate) fn collapses(g: &FrfType, t: &FrfType, a: u32, r: u32) -> bool {
+/// zeros in all) of a TF with numerator degree `a` and denominator degree
+/// `r` in `Omega` can turn into `t` as its roots gather: its tokens split
+/// into consecutive runs, each with some of the off-axis zero pairs
+/// landing on it, and pairs landing alone, each run becoming `t`'s next
+/// token or cancelling out, with `t`'s count of zeros off the axis left
+/// over. Every point of type `t` is a limit of points of such types
+/// (where the premises of the rule hold, docs/analysis.md, "Limits of
+/// generic types"), so a possible `g` that gathers into `t` is where a
+/// witness of `t` would be approached from.
+///
+/// ```
+/// use mms::analysis::{gathers_into, FrfType};
+/// let t = |s: &str| s.parse::<FrfType>().unwrap();
+/// // A pole and a zero meet and cancel.
+/// assert!(gathers_into(&t("ARAR"), &t("AR"), 2, 2));
+/// // A conjugate pair lands on the axis: a double zero, never two zeros.
+/// assert!(gathers_into(&t("RR (nm)"), &t("RA^2R"), 2, 2));
+/// assert!(!gathers_into(&t("RR (nm)"), &t("RAAR"), 2, 2));
+/// ```
+pub fn gathers_into(g: &FrfType, t: &FrfType, a: u32, r: u32) -> bool {
     let r_t = t.resonances();
     if r_t > r {
         return false;
@@ -195,7 +209,7 @@ pub(crate) fn limits_of_generic_types(model: &Model, mut analysis: ModelAnalysis
         let mut limit_of = Vec::new();
         let mut all_impossible = true;
         for (g, s) in &generic {
-            if collapses(g, &v.frf_type, a, r) {
+            if gathers_into(g, &v.frf_type, a, r) {
                 all_impossible &= *s == Status::Impossible;
                 limit_of.push(g.clone());
             }
@@ -232,16 +246,16 @@ mod tests {
     #[test]
     fn examples_of_gathering() {
         // A pole and a zero meet and cancel: ARAR -> AR (either pair).
-        assert!(collapses(&t("ARAR"), &t("AR"), 2, 2));
+        assert!(gathers_into(&t("ARAR"), &t("AR"), 2, 2));
         // Two zeros between poles cannot come from alternating roots by
         // one cancellation next to them.
-        assert!(!collapses(&t("ARAR"), &t("RAA"), 2, 2));
+        assert!(!gathers_into(&t("ARAR"), &t("RAA"), 2, 2));
         // A conjugate pair lands on the axis as a double zero.
-        assert!(collapses(&t("RR (nm)"), &t("RA^2R"), 2, 2));
+        assert!(gathers_into(&t("RR (nm)"), &t("RA^2R"), 2, 2));
         // ... but not as two simple zeros.
-        assert!(!collapses(&t("RR (nm)"), &t("RAAR"), 2, 2));
+        assert!(!gathers_into(&t("RR (nm)"), &t("RAAR"), 2, 2));
         // Two zeros meet: a double zero.
-        assert!(collapses(&t("RAAR"), &t("RA^2R"), 2, 2));
+        assert!(gathers_into(&t("RAAR"), &t("RA^2R"), 2, 2));
     }
 
     #[test]
@@ -307,7 +321,7 @@ mod tests {
         let (a, r) = (num.degree(OMEGA), den.degree(OMEGA));
         let limit_of: Vec<FrfType> = super::super::candidate_types(a, r)
             .into_iter()
-            .filter(|g| is_generic(g, r) && collapses(g, &t("RAARR"), a, r))
+            .filter(|g| is_generic(g, r) && gathers_into(g, &t("RAARR"), a, r))
             .collect();
         assert!(!limit_of.is_empty());
         for g in &limit_of {

@@ -45,8 +45,9 @@ pub use frf_type::{
     candidate_types, frf_type_at, frf_type_at_algebraic, frf_type_of, frf_type_over, Feature,
     FrfType, ParseFrfTypeError, Token,
 };
+pub use limits::gathers_into;
 #[cfg(test)]
-pub(crate) use limits::{collapses, limits_of_generic_types};
+pub(crate) use limits::limits_of_generic_types;
 pub use pole_signs::{BlockPoleSigns, BlockSign, PoleSigns, RemainderFactor};
 pub use prover::{
     ConditionRule, Definiteness, FactorProof, OpenProof, Proof, RegionSample, SearchLimits,
