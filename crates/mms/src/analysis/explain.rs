@@ -306,8 +306,16 @@ pub fn explain(analysis: &ModelAnalysis, t: &FrfType, format: ExplainFormat) -> 
             }
         }
         Status::Impossible => {
-            w.para("Verdict: **impossible** on the whole positive orthant. The proof cuts the parameter space into strata; on each, the open part (off its walls) and every wall are covered.");
-            proof(&mut w, v.certificate.as_ref()?, 1);
+            let c = v.certificate.as_ref()?;
+            if matches!(c.open, OpenProof::Limits { .. }) {
+                // One argument for every point at once: no strata.
+                w.para("Verdict: **impossible** on the whole positive orthant, walls included, as a limit of generic types.");
+                w.heading(1, "On the whole positive orthant");
+                open(&mut w, &c.open);
+            } else {
+                w.para("Verdict: **impossible** on the whole positive orthant. The proof cuts the parameter space into strata; on each, the open part (off its walls) and every wall are covered.");
+                proof(&mut w, c, 1);
+            }
         }
         Status::Unknown => {
             w.para("Verdict: **unknown**: neither a witness nor a certificate was found.");
