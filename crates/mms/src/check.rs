@@ -1335,19 +1335,6 @@ fn a_priori_types(a: u32, r: u32) -> Vec<Ty> {
 /// `A^(z-p)`, `R^(p-z)` or nothing. Apart from the prover's recursion,
 /// which matches `g` against one wanted type.
 fn limit_images(g: &Ty, a: u32) -> Vec<Ty> {
-    fn compositions(n: u32) -> Vec<Vec<u32>> {
-        if n == 0 {
-            return vec![Vec::new()];
-        }
-        let mut out = Vec::new();
-        for first in 1..=n {
-            for mut rest in compositions(n - first) {
-                rest.insert(0, first);
-                out.push(rest);
-            }
-        }
-        out
-    }
     let zeros = g.toks.iter().filter(|k| k.zero).count() as u32;
     let off = a.saturating_sub(zeros);
     let n = g.toks.len();
@@ -1382,15 +1369,16 @@ fn limit_images(g: &Ty, a: u32) -> Vec<Ty> {
                 continue;
             }
             if slot % 2 == 0 {
-                for used in 0..=left {
-                    for parts in compositions(used) {
-                        let mut t = toks.clone();
-                        t.extend(parts.iter().map(|&e| Tok {
-                            zero: true,
-                            mult: 2 * e,
-                        }));
-                        stack.push((slot + 1, left - used, t));
-                    }
+                // Close the gap, or land `e` more pairs at one more point
+                // in it and stay.
+                stack.push((slot + 1, left, toks.clone()));
+                for e in 1..=left {
+                    let mut t = toks.clone();
+                    t.push(Tok {
+                        zero: true,
+                        mult: 2 * e,
+                    });
+                    stack.push((slot, left - e, t));
                 }
             } else {
                 let (z, p) = groups[slot / 2];
