@@ -98,7 +98,7 @@ pub fn run(path: &Path, opts: &Options) -> Result<String, String> {
             let (r, z) = (r.unwrap_or(0), z.unwrap_or(0));
             let generic: Vec<FrfType> = with(Status::Possible)
                 .into_iter()
-                .filter(|g| g.resonances() == r && g.tokens.iter().all(|k| k.multiplicity == 1))
+                .filter(|g| g.is_generic(r))
                 .collect();
             limit_of.push(
                 unknown

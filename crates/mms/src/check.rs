@@ -4826,9 +4826,7 @@ mod tests {
         let mut a = analyze(&m, &SearchLimits::default());
         let r = a.denominator.degree(OMEGA);
         for v in a.types.iter_mut() {
-            let generic = v.frf_type.resonances() == r
-                && v.frf_type.tokens.iter().all(|k| k.multiplicity == 1);
-            if v.status == Status::Impossible && !generic {
+            if v.status == Status::Impossible && !v.frf_type.is_generic(r) {
                 v.status = Status::Unknown;
                 v.certificate = None;
             }

@@ -72,6 +72,21 @@ impl FrfType {
         self.count(Feature::Antiresonance)
     }
 
+    /// True when every token is simple and the type shows all `poles`
+    /// poles of its model: what a point with every root simple and none
+    /// cancelled shows, and what every other type is a limit of.
+    ///
+    /// ```
+    /// use mms::analysis::FrfType;
+    /// let t = |s: &str| s.parse::<FrfType>().unwrap();
+    /// assert!(t("ARAR").is_generic(2));
+    /// assert!(!t("ARAR").is_generic(3)); // a pole cancelled
+    /// assert!(!t("A^2RR").is_generic(2)); // a double zero
+    /// ```
+    pub fn is_generic(&self, poles: u32) -> bool {
+        self.resonances() == poles && self.tokens.iter().all(|k| k.multiplicity == 1)
+    }
+
     fn count(&self, f: Feature) -> u32 {
         self.tokens
             .iter()

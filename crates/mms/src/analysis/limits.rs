@@ -22,7 +22,7 @@
 //! the types every other rule and search left open.
 
 use super::frf_type::{Feature, FrfType, Token};
-use super::{ModelAnalysis, OpenProof, Proof, Status};
+use super::{ModelAnalysis, OpenProof, Proof, Status, TypeVerdict};
 use crate::model::Model;
 use crate::tf::OMEGA;
 use poly::{gcd, Poly, Rat};
@@ -134,12 +134,6 @@ fn runs(
     ok
 }
 
-/// True for a type with simple tokens and all `r` poles: what a point
-/// with every root simple and none shared shows.
-pub(crate) fn is_generic(t: &FrfType, r: u32) -> bool {
-    t.resonances() == r && t.tokens.iter().all(|k| k.multiplicity == 1)
-}
-
 /// The reduced TF of `model` (its polynomial gcd divided out).
 fn reduced(model: &Model) -> (Poly, Poly) {
     let tf = model.undamped_tf();
@@ -178,33 +172,39 @@ fn premises_hold(num: &Poly, den: &Poly, point: &BTreeMap<String, Rat>) -> bool 
 /// types certified impossible collapse to certified impossible as their
 /// limit.
 pub(crate) fn limits_of_generic_types(model: &Model, mut analysis: ModelAnalysis) -> ModelAnalysis {
-    if analysis.unknown().is_empty() {
-        return analysis;
+    if certify_limits(model, &mut analysis.types) {
+        analysis.types.sort_by_key(|v| super::status_rank(v.status)); // stable
+    }
+    analysis
+}
+
+/// The rule of [`limits_of_generic_types`] on a model's verdicts, left in
+/// their order; true when it certified any.
+pub(crate) fn certify_limits(model: &Model, types: &mut [TypeVerdict]) -> bool {
+    if types.iter().all(|v| v.status != Status::Unknown) {
+        return false;
     }
     let (num, den) = reduced(model);
     let (a, r) = (num.degree(OMEGA), den.degree(OMEGA));
-    let Some(point) = analysis
-        .types
+    let Some(point) = types
         .iter()
-        .filter(|v| v.status == Status::Possible && is_generic(&v.frf_type, r))
+        .filter(|v| v.status == Status::Possible && v.frf_type.is_generic(r))
         .find_map(|v| v.witness.clone())
     else {
-        return analysis;
+        return false;
     };
     if !premises_hold(&num, &den, &point) {
-        return analysis;
+        return false;
     }
-    let generic: Vec<(FrfType, Status)> = analysis
-        .types
+    let generic: Vec<(FrfType, Status)> = types
         .iter()
-        .filter(|v| is_generic(&v.frf_type, r))
+        .filter(|v| v.frf_type.is_generic(r))
         .map(|v| (v.frf_type.clone(), v.status))
         .collect();
     let mut changed = false;
-    for v in analysis
-        .types
+    for v in types
         .iter_mut()
-        .filter(|v| v.status == Status::Unknown && !is_generic(&v.frf_type, r))
+        .filter(|v| v.status == Status::Unknown && !v.frf_type.is_generic(r))
     {
         let mut limit_of = Vec::new();
         let mut all_impossible = true;
@@ -229,10 +229,7 @@ pub(crate) fn limits_of_generic_types(model: &Model, mut analysis: ModelAnalysis
             changed = true;
         }
     }
-    if changed {
-        analysis.types.sort_by_key(|v| super::status_rank(v.status)); // stable
-    }
-    analysis
+    changed
 }
 
 #[cfg(test)]
@@ -276,7 +273,7 @@ mod tests {
             let full = analyze(&m, &SearchLimits::default());
             let r = full.denominator.degree(OMEGA);
             for (i, v) in full.types.iter().enumerate() {
-                if is_generic(&v.frf_type, r) || v.status == Status::Unknown {
+                if v.frf_type.is_generic(r) || v.status == Status::Unknown {
                     continue;
                 }
                 let mut open = full.clone();
@@ -344,7 +341,7 @@ mod tests {
         let (a, r) = (num.degree(OMEGA), den.degree(OMEGA));
         let limit_of: Vec<FrfType> = super::super::candidate_types(a, r)
             .into_iter()
-            .filter(|g| is_generic(g, r) && gathers_into(g, &t("RAARR"), a, r))
+            .filter(|g| g.is_generic(r) && gathers_into(g, &t("RAARR"), a, r))
             .collect();
         assert!(!limit_of.is_empty());
         for g in &limit_of {

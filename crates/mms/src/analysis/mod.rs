@@ -434,7 +434,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 38;
+pub const ENGINE_VERSION: u32 = 39;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
@@ -618,7 +618,7 @@ fn completion(model: &Model, a: ModelAnalysis, search: Completion) -> ModelAnaly
 }
 
 /// The witness searches of `mirror` (the other member of the class of
-/// `own`'s model) for every type `own` does not certify, as verdicts of
+/// `own`'s model) for every type `own` leaves unknown, as verdicts of
 /// `own`'s model. Its random draws go by its own parameters, so they fall
 /// elsewhere. Its proof rules are not run again: they work on the same
 /// polynomials under other names.
@@ -632,10 +632,13 @@ fn mirror_witnesses(
     prover.search(limits);
     let top = prover.stratum(&[]);
     let candidates = candidate_types(top.num.degree(OMEGA), top.den.degree(OMEGA));
-    let certified: BTreeSet<&FrfType> = own.with_status(Status::Impossible).into_iter().collect();
+    // Only what `own` leaves open: a type `own` witnessed would be searched
+    // for nothing, and such searches were half the time of the slowest
+    // models.
+    let open: BTreeSet<&FrfType> = own.unknown().into_iter().collect();
     let wanted: Vec<FrfType> = candidates
         .iter()
-        .filter(|t| !prover.witnesses.contains_key(t) && !certified.contains(t))
+        .filter(|t| !prover.witnesses.contains_key(t) && open.contains(t))
         .cloned()
         .collect();
     search_unknown(&mut prover, &wanted, limits);
@@ -779,6 +782,9 @@ fn analyze_rational(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
             isolated: None,
         });
     }
+    // Before the searches, so that none is spent on a type the limits of
+    // generic types already decide; they run once more at the end.
+    limits::certify_limits(model, &mut verdicts);
     // Rare generic types: a targeted search, then the verdicts it changes.
     let unknown: Vec<FrfType> = verdicts
         .iter()
