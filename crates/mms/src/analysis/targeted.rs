@@ -386,14 +386,13 @@ fn complex_roots_near(c: &[f64], near: &[(f64, f64)]) -> Option<Vec<(f64, f64)>>
             // error: where p is below it, z_i is a root of a polynomial
             // within rounding of this one and no step makes it better.
             let (mut p, mut dp) = ((1.0, 0.0), (0.0, 0.0));
-            let (modulus, mut bound) = (zi.0.hypot(zi.1), 1.0);
             for v in a[..n].iter().rev() {
                 let d = mul(dp, zi);
                 dp = (d.0 + p.0, d.1 + p.1);
                 p = mul(p, zi);
                 p.0 += v;
-                bound = bound * modulus + v.abs();
             }
+            let bound = horner_abs(&a, zi.0.hypot(zi.1));
             let at_rounding = p.0.hypot(p.1) <= ROUNDING_RESIDUAL * bound;
             if p == (0.0, 0.0) {
                 settled[i] = true;
