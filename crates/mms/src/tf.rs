@@ -446,6 +446,7 @@ impl UndampedTf {
 mod tests {
     use super::*;
     use crate::Port;
+    use std::collections::BTreeMap;
 
     /// The inlined power is the runtime's `powi`, bit for bit, so the
     /// sampler's draws do not move.
@@ -487,6 +488,54 @@ mod tests {
     fn normal_form_removes_joint_content_and_fixes_sign() {
         let (n, d) = normalize(p("-6*x + 4"), p("-2*x^2 + 8"), "x");
         assert_eq!((n, d), (p("3*x - 2"), p("x^2 - 4")));
+    }
+
+    /// The compiled coefficients against the exact polynomials evaluated
+    /// over the rationals, and their log-gradients against central
+    /// differences, on a 4-mass chain (powers up to the fourth).
+    #[test]
+    fn compiled_coefficients_match_exact_values_and_differences() {
+        let m = Model::from_id("N4-g1-a2.1-s4.1").unwrap();
+        let tf = m.undamped_tf();
+        let names = m.undamped_parameters();
+        let compiled = UndampedCoefficients::new(&m);
+        let x: Vec<f64> = (0..names.len()).map(|i| 0.5 + 0.37 * i as f64).collect();
+        let exact_at = |p: &Poly| -> Vec<f64> {
+            p.coeffs_in(OMEGA)
+                .iter()
+                .map(|c| {
+                    let point: BTreeMap<String, Rat> = names
+                        .iter()
+                        .zip(&x)
+                        .map(|(n, v)| (n.clone(), Rat::from_f64(*v).unwrap()))
+                        .collect();
+                    c.subs_point(&point).as_constant().unwrap().to_f64()
+                })
+                .collect()
+        };
+        let (num, den) = compiled.eval(&x);
+        let with = compiled.eval_with_log_gradients(&x);
+        for (got, want) in [(&num, exact_at(&tf.num)), (&den, exact_at(&tf.den))] {
+            assert_eq!(got.len(), want.len());
+            for (g, w) in got.iter().zip(&want) {
+                assert!((g - w).abs() <= 1e-13 * w.abs().max(1.0), "{g} vs {w}");
+            }
+        }
+        assert_eq!((&with.num, &with.den), (&num, &den));
+        // d c / d log x_j = x_j d c / d x_j, by central differences in log x_j.
+        let h = 1e-6;
+        for j in 0..x.len() {
+            let shifted = |s: f64| {
+                let mut y = x.clone();
+                y[j] *= s.exp();
+                compiled.eval(&y).1
+            };
+            let (up, down) = (shifted(h), shifted(-h));
+            for (i, g) in (0..den.len()).map(|i| (i, with.den_gradient.row(i)[j])) {
+                let fd = (up[i] - down[i]) / (2.0 * h);
+                assert!((g - fd).abs() <= 1e-6 * fd.abs().max(1.0), "coefficient {i}, {j}: {g} vs {fd}");
+            }
+        }
     }
 
     #[test]
@@ -548,13 +597,47 @@ impl Gradients {
 /// parameters.
 pub(crate) fn eval_with_log_gradients(cs: &[Compiled], x: &[f64]) -> (Vec<f64>, Gradients) {
     let width = x.len();
+    let powers = Powers::new(cs, x);
     let mut data = vec![0.0; cs.len() * width];
     let values = cs
         .iter()
         .enumerate()
-        .map(|(i, c)| c.eval_with_log_gradient(x, &mut data[i * width..(i + 1) * width]))
+        .map(|(i, c)| c.eval_with_log_gradient_at(&powers, &mut data[i * width..(i + 1) * width]))
         .collect();
     (values, Gradients { width, data })
+}
+
+/// Every power of every parameter that a list of [`Compiled`] raises it
+/// to, each by [`power`] once per point instead of once per term (the
+/// same bits: a term multiplies the same factors in the same order).
+struct Powers {
+    stride: usize,
+    data: Vec<f64>,
+}
+
+impl Powers {
+    fn new(cs: &[Compiled], x: &[f64]) -> Powers {
+        let top = cs.iter().map(|c| c.top).max().unwrap_or(0) as usize;
+        let stride = top + 1;
+        let mut data = vec![1.0; x.len() * stride];
+        for (i, &v) in x.iter().enumerate() {
+            for e in 1..=top {
+                data[i * stride + e] = power(v, e as i32);
+            }
+        }
+        Powers { stride, data }
+    }
+
+    #[inline]
+    fn get(&self, i: u32, e: i32) -> f64 {
+        self.data[i as usize * self.stride + e as usize]
+    }
+
+    /// A term's value: its coefficient times its factors, in order.
+    #[inline]
+    fn term(&self, c: f64, factors: &[(u32, i32)]) -> f64 {
+        factors.iter().fold(c, |acc, &(i, e)| acc * self.get(i, e))
+    }
 }
 
 /// A polynomial in the parameters, its terms' coefficients with the end of
@@ -564,6 +647,8 @@ pub(crate) fn eval_with_log_gradients(cs: &[Compiled], x: &[f64]) -> (Vec<f64>, 
 pub(crate) struct Compiled {
     terms: Vec<(f64, u32)>,
     factors: Vec<(u32, i32)>,
+    /// The largest power of a parameter.
+    top: u32,
 }
 
 /// `x^e` by the square-and-multiply of the runtime's `powi`
@@ -622,21 +707,27 @@ impl Compiled {
             );
             terms.push((t.coef.to_f64(), factors.len() as u32));
         }
-        Compiled { terms, factors }
+        let top = factors.iter().map(|&(_, e)| e as u32).max().unwrap_or(0);
+        Compiled {
+            terms,
+            factors,
+            top,
+        }
     }
 
     pub(crate) fn eval(&self, x: &[f64]) -> f64 {
         self.terms(x).sum()
     }
 
-    /// The value at `x` and, added into `grad`, its derivatives in the
-    /// logarithms of the parameters (each term's value times its power).
-    pub(crate) fn eval_with_log_gradient(&self, x: &[f64], grad: &mut [f64]) -> f64 {
+    /// The value and, added into `grad`, its derivatives in the logarithms
+    /// of the parameters (each term's value times its power), at the point
+    /// whose `powers` are given.
+    fn eval_with_log_gradient_at(&self, powers: &Powers, grad: &mut [f64]) -> f64 {
         let mut sum = 0.0;
-        for (c, powers) in self.each_term() {
-            let t = term_value(c, powers, x);
+        for (c, factors) in self.each_term() {
+            let t = powers.term(c, factors);
             sum += t;
-            for &(i, e) in powers {
+            for &(i, e) in factors {
                 grad[i as usize] += f64::from(e) * t;
             }
         }
@@ -694,10 +785,13 @@ impl UndampedCoefficients {
 
     /// Numerator and denominator coefficients at `x`, ascending.
     pub fn eval(&self, x: &[f64]) -> (Vec<f64>, Vec<f64>) {
-        (
-            self.num.iter().map(|c| c.eval(x)).collect(),
-            self.den.iter().map(|c| c.eval(x)).collect(),
-        )
+        let values = |cs: &[Compiled]| {
+            let powers = Powers::new(cs, x);
+            cs.iter()
+                .map(|c| c.each_term().map(|(a, f)| powers.term(a, f)).sum())
+                .collect()
+        };
+        (values(&self.num), values(&self.den))
     }
 
     /// As [`Self::eval`], with each coefficient's derivatives in the

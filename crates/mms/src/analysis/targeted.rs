@@ -75,29 +75,38 @@ fn horner_abs(c: &[f64], x: f64) -> f64 {
     c.iter().rev().fold(0.0, |acc, v| acc * x + v.abs())
 }
 
+/// [`horner`] and [`horner_abs`] in one pass.
+fn horner_with_bound(c: &[f64], x: f64) -> (f64, f64) {
+    let ax = x.abs();
+    c.iter().rev().fold((0.0, 0.0), |(acc, abs), v| {
+        (acc * x + v, abs * ax + v.abs())
+    })
+}
+
 fn roots_in(c: &[f64], lo: f64, hi: f64) -> Vec<f64> {
     let deg = c.len().saturating_sub(1);
     if deg == 0 {
         return Vec::new();
     }
     // Every derivative down to the constant one: the roots of each cut
-    // the next lower one's range into monotone pieces.
-    let mut chain: Vec<Vec<f64>> = Vec::with_capacity(deg + 1);
-    chain.push(c.to_vec());
-    for _ in 0..deg {
-        let last = &chain[chain.len() - 1];
-        let d = last
-            .iter()
-            .enumerate()
-            .skip(1)
-            .map(|(k, v)| v * k as f64)
-            .collect();
-        chain.push(d);
+    // the next lower one's range into monotone pieces. One buffer, the
+    // derivative of order `j` (degree `deg - j`) from `start(j)` on: the
+    // search calls this at every point it evaluates.
+    let start = |j: usize| j * (deg + 1) - j * j.saturating_sub(1) / 2;
+    let mut chain: Vec<f64> = Vec::with_capacity(start(deg) + 1);
+    chain.extend_from_slice(c);
+    for j in 1..=deg {
+        let last = start(j - 1)..start(j);
+        for k in 1..last.len() {
+            let v = chain[last.start + k] * k as f64;
+            chain.push(v);
+        }
     }
+    let level_of = |j: usize| &chain[start(j)..start(j) + deg + 1 - j];
     let mut roots: Vec<f64> = Vec::new();
     let mut cuts: Vec<f64> = Vec::with_capacity(deg + 1);
     for level in (0..deg).rev() {
-        let (p, dp) = (&chain[level], &chain[level + 1]);
+        let (p, dp) = (level_of(level), level_of(level + 1));
         cuts.clear();
         cuts.push(lo);
         cuts.extend_from_slice(&roots);
@@ -146,9 +155,9 @@ fn monotone_root(c: &[f64], derivative: &[f64], mut a: f64, mut b: f64, fa: f64)
     let mut x = split(a, b);
     let mut step = b - a;
     for _ in 0..200 {
-        let f = horner(c, x);
+        let (f, bound) = horner_with_bound(c, x);
         // Within Horner's rounding error of zero, no step can do better.
-        let noise = 2.0 * c.len() as f64 * f64::EPSILON * horner_abs(c, x);
+        let noise = 2.0 * c.len() as f64 * f64::EPSILON * bound;
         if f.abs() <= noise {
             return x;
         }

@@ -166,9 +166,9 @@ impl<'a> Variety<'a> {
     }
 
     /// The normalised conditions at `x` and, if asked, their Jacobian in
-    /// `x` (rows of [`Self::unknowns`] entries); `None` where a value is
-    /// not finite.
-    fn residual(&self, x: &[f64], jacobian: Option<&mut Vec<Vec<f64>>>) -> Option<Vec<f64>> {
+    /// `x` (row after row of [`Self::unknowns`] entries, in one buffer);
+    /// `None` where a value is not finite.
+    fn residual(&self, x: &[f64], jacobian: Option<&mut Vec<f64>>) -> Option<Vec<f64>> {
         let k = self.params;
         let values: Vec<f64> = x[..k].iter().map(|v| v.exp()).collect();
         let c = self.tf.eval_with_log_gradients(&values);
@@ -178,14 +178,17 @@ impl<'a> Variety<'a> {
             (_, None) => return None,
         };
         let mut f = Vec::with_capacity(self.conditions());
-        let mut rows: Vec<Vec<f64>> = Vec::with_capacity(self.conditions());
+        let width = self.unknowns();
+        let mut rows: Vec<f64> = Vec::with_capacity(self.conditions() * width);
         let mut condition = |coeffs: &[f64], gradient: &Gradients, order: usize, at: f64, col| {
             // The `order`-th derivative at `at`, its scale, its slope in
             // log `at` and its gradient in the log parameters.
             let mut value = 0.0;
             let mut scale = 0.0;
             let mut slope = 0.0;
-            let mut row = vec![0.0; self.unknowns()];
+            let start = rows.len();
+            rows.resize(start + width, 0.0);
+            let row = &mut rows[start..];
             for (i, a) in coeffs.iter().enumerate().skip(order) {
                 let falling = falling(i, order);
                 let power = tf::power(at, (i - order) as i32);
@@ -200,11 +203,10 @@ impl<'a> Variety<'a> {
                 return None;
             }
             row[col] += slope;
-            for r in &mut row {
+            for r in row.iter_mut() {
                 *r /= scale;
             }
             f.push(value / scale);
-            rows.push(row);
             Some(())
         };
         for i in 0..self.cancelled {
@@ -228,7 +230,7 @@ impl<'a> Variety<'a> {
                 condition(&c.num, &c.num_gradient, order, at, col)?;
             }
         }
-        if rows.iter().flatten().any(|v| !v.is_finite()) {
+        if rows.iter().any(|v| !v.is_finite()) {
             return None;
         }
         if let Some(j) = jacobian {
@@ -247,7 +249,7 @@ impl<'a> Variety<'a> {
         let mut jac = Vec::new();
         self.residual(x, Some(&mut jac))?;
         let rows: Vec<Vec<f64>> = jac
-            .into_iter()
+            .chunks(self.unknowns())
             .map(|row| row[..self.params].to_vec())
             .collect();
         independent_columns(&rows, self.conditions())
@@ -272,8 +274,9 @@ impl<'a> Variety<'a> {
             }
             // J J^T, regularised by a trace fraction as the script does.
             let e = f.len();
+            let rows: Vec<&[f64]> = jac.chunks(x.len()).collect();
             let mut a: Vec<Vec<f64>> = (0..e)
-                .map(|i| (0..e).map(|j| dot(&jac[i], &jac[j])).collect())
+                .map(|i| (0..e).map(|j| dot(rows[i], rows[j])).collect())
                 .collect();
             let trace: f64 = (0..e).map(|i| a[i][i]).sum();
             for (i, row) in a.iter_mut().enumerate() {
@@ -283,8 +286,8 @@ impl<'a> Variety<'a> {
                 return false;
             };
             let mut step = vec![0.0; x.len()];
-            for (row, yi) in jac.iter().zip(&y) {
-                for (s, j) in step.iter_mut().zip(row) {
+            for (row, yi) in rows.iter().zip(&y) {
+                for (s, j) in step.iter_mut().zip(row.iter()) {
                     *s += j * yi;
                 }
             }
