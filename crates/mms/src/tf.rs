@@ -533,7 +533,10 @@ mod tests {
             let (up, down) = (shifted(h), shifted(-h));
             for (i, g) in (0..den.len()).map(|i| (i, with.den_gradient.row(i)[j])) {
                 let fd = (up[i] - down[i]) / (2.0 * h);
-                assert!((g - fd).abs() <= 1e-6 * fd.abs().max(1.0), "coefficient {i}, {j}: {g} vs {fd}");
+                assert!(
+                    (g - fd).abs() <= 1e-6 * fd.abs().max(1.0),
+                    "coefficient {i}, {j}: {g} vs {fd}"
+                );
             }
         }
     }
