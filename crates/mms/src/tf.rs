@@ -500,17 +500,15 @@ mod tests {
         let names = m.undamped_parameters();
         let compiled = UndampedCoefficients::new(&m);
         let x: Vec<f64> = (0..names.len()).map(|i| 0.5 + 0.37 * i as f64).collect();
+        let point: BTreeMap<String, Rat> = names
+            .iter()
+            .zip(&x)
+            .map(|(n, v)| (n.clone(), Rat::from_f64(*v).unwrap()))
+            .collect();
         let exact_at = |p: &Poly| -> Vec<f64> {
             p.coeffs_in(OMEGA)
                 .iter()
-                .map(|c| {
-                    let point: BTreeMap<String, Rat> = names
-                        .iter()
-                        .zip(&x)
-                        .map(|(n, v)| (n.clone(), Rat::from_f64(*v).unwrap()))
-                        .collect();
-                    c.subs_point(&point).as_constant().unwrap().to_f64()
-                })
+                .map(|c| c.subs_point(&point).as_constant().unwrap().to_f64())
                 .collect()
         };
         let (num, den) = compiled.eval(&x);
@@ -722,6 +720,11 @@ impl Compiled {
         self.terms(x).sum()
     }
 
+    /// The value at the point whose `powers` are given.
+    fn eval_at(&self, powers: &Powers) -> f64 {
+        self.each_term().map(|(c, f)| powers.term(c, f)).sum()
+    }
+
     /// The value and, added into `grad`, its derivatives in the logarithms
     /// of the parameters (each term's value times its power), at the point
     /// whose `powers` are given.
@@ -790,9 +793,7 @@ impl UndampedCoefficients {
     pub fn eval(&self, x: &[f64]) -> (Vec<f64>, Vec<f64>) {
         let values = |cs: &[Compiled]| {
             let powers = Powers::new(cs, x);
-            cs.iter()
-                .map(|c| c.each_term().map(|(a, f)| powers.term(a, f)).sum())
-                .collect()
+            cs.iter().map(|c| c.eval_at(&powers)).collect()
         };
         (values(&self.num), values(&self.den))
     }

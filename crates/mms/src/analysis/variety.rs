@@ -274,9 +274,9 @@ impl<'a> Variety<'a> {
             }
             // J J^T, regularised by a trace fraction as the script does.
             let e = f.len();
-            let rows: Vec<&[f64]> = jac.chunks(x.len()).collect();
+            let row = |i: usize| &jac[i * x.len()..(i + 1) * x.len()];
             let mut a: Vec<Vec<f64>> = (0..e)
-                .map(|i| (0..e).map(|j| dot(rows[i], rows[j])).collect())
+                .map(|i| (0..e).map(|j| dot(row(i), row(j))).collect())
                 .collect();
             let trace: f64 = (0..e).map(|i| a[i][i]).sum();
             for (i, row) in a.iter_mut().enumerate() {
@@ -286,8 +286,8 @@ impl<'a> Variety<'a> {
                 return false;
             };
             let mut step = vec![0.0; x.len()];
-            for (row, yi) in rows.iter().zip(&y) {
-                for (s, j) in step.iter_mut().zip(row.iter()) {
+            for (row, yi) in jac.chunks(x.len()).zip(&y) {
+                for (s, j) in step.iter_mut().zip(row) {
                     *s += j * yi;
                 }
             }
