@@ -3257,6 +3257,8 @@ impl ModelChecker {
                 collocated,
                 omega_power,
                 degree: n.degree(OMEGA),
+                n_lead: one_sign(&n.coeffs_in(OMEGA)[n.degree(OMEGA) as usize]),
+                n_low: one_sign(&n.coeffs_in(OMEGA)[omega_power as usize]),
             });
         }
         if infos.len() > 2 {
@@ -3530,6 +3532,10 @@ struct CheckBlock {
     omega_power: u32,
     /// The degree of `n_B` in `Omega`.
     degree: u32,
+    /// The signs of `n_B`'s leading and lowest coefficients in `Omega`,
+    /// where they have one on the orthant.
+    n_lead: Option<i64>,
+    n_low: Option<i64>,
 }
 
 impl CheckBlock {
@@ -4007,13 +4013,63 @@ fn configuration_fits(
             _ => None,
         }
     };
-    let cap_below = |i: usize| -> Option<u32> {
-        let signs: Vec<Option<i64>> = (0..blocks.len()).map(|k| term_sign(i, k)).collect();
-        if blocks.len() == 2 && signs[0].is_some() && signs[0] == signs[1] {
-            return Some(0);
+    // The reduced numerator's sign at a pole two blocks share that cancels
+    // once (events i and i + 1): the numerator's derivative there, `-c
+    // (n_B q_B + n_B' q_B')` with `q` the derivative of the other block's
+    // pole polynomial, up to positive factors. Each product has the sign
+    // of its block's residue times both `q`, so the sign is known where
+    // the residues agree, or where a run's eigenvalue on one block's pole
+    // takes its product away.
+    let shared_pole_sign = |i: usize| -> Option<i64> {
+        let product = |j: usize| -> Option<i64> {
+            let (k, e) = &order[j];
+            let CheckEvent::Pole { on, n_sign, .. } = e else {
+                return None;
+            };
+            if !on.is_empty() {
+                return Some(0);
+            }
+            let o = 1 - *k;
+            let other_above = order[i + 2..]
+                .iter()
+                .filter(|(kk, ee)| *kk == o && matches!(ee, CheckEvent::Pole { .. }))
+                .count();
+            Some(minus_c * n_sign * blocks[o].lead * sgn(other_above))
+        };
+        let (a, b) = (product(i)?, product(i + 1)?);
+        let s = match (a, b) {
+            (0, 0) => return None,
+            (0, x) | (x, 0) => x,
+            (x, y) if x == y => x,
+            _ => return None,
+        };
+        Some(reduced(i, s))
+    };
+    // At most so many zeros on the open interval from the gap below
+    // position `from` to the gap below `to`, across the events `passed`
+    // between them that gave no sample (eigenvalues of runs, poles a run's
+    // eigenvalue cancels): no term has a pole there, so each is continuous
+    // across them. None when every term has one and the same sign on every
+    // gap and one term has no event inside (no zero there either); one when
+    // every term is strictly monotone one way on every gap, and so on the
+    // interval, with a simple zero if one term's derivative never vanishes
+    // there (a collocated one, or one with no event inside).
+    let cap_between = |from: usize, to: usize, passed: &[usize]| -> Option<u32> {
+        let free_inside = |k: usize| passed.iter().all(|&j| order[j].0 != k);
+        if blocks.len() == 2 && (free_inside(0) || free_inside(1)) {
+            let first = term_sign(from, 0);
+            if first.is_some()
+                && (from..=to).all(|i| term_sign(i, 0) == first && term_sign(i, 1) == first)
+            {
+                return Some(0);
+            }
         }
-        let dirs: Vec<Option<i64>> = (0..blocks.len()).map(|k| direction(i, k)).collect();
-        if dirs.iter().all(|d| d.is_some() && *d == dirs[0]) {
+        let strict = (0..blocks.len()).any(|k| blocks[k].collocated != 0 || free_inside(k));
+        let first = direction(from, 0);
+        if strict
+            && first.is_some()
+            && (from..=to).all(|i| (0..blocks.len()).all(|k| direction(i, k) == first))
+        {
             return Some(1);
         }
         None
@@ -4021,24 +4077,22 @@ fn configuration_fits(
     let mut samples: Vec<CheckSample> = Vec::new();
     // Where the poles that stay are: the type's resonances.
     let mut resonances: Vec<usize> = Vec::new();
-    // The position the next event must have for the interval from the
-    // last sample to it to hold no other event.
-    let mut adjacent: Option<usize> = None;
+    // Where the open interval from the last sample starts (the gap below
+    // that event), the events since then that gave no sample, and whether
+    // one of them is a pole of a term (a double cancellation).
+    let mut open: Option<usize> = None;
+    let mut passed: Vec<usize> = Vec::new();
+    let mut pole_inside = false;
     if !exact {
         let odd = cancel.iter().filter(|&&(_, k)| k % 2 == 1).count();
         samples.push(CheckSample::Sign(at_zero * sgn(odd)));
-        adjacent = Some(0);
+        open = Some(0);
     }
     for (i, (k, e)) in order.iter().enumerate() {
         if partner(i) {
             continue;
         }
         let before = samples.len();
-        let cap = if !exact && adjacent == Some(i) {
-            cap_below(i)
-        } else {
-            None
-        };
         let width = if shared.iter().any(|&(j, _)| j == i) {
             2
         } else {
@@ -4046,15 +4100,24 @@ fn configuration_fits(
         };
         let mut mark = |samples: &mut Vec<CheckSample>| {
             if samples.len() > before {
+                let cap = match open {
+                    Some(from) if !exact && !pole_inside => cap_between(from, i, &passed),
+                    _ => None,
+                };
                 if let Some(z) = cap {
                     samples.insert(before, CheckSample::Cap(z));
                 }
-                adjacent = Some(i + width);
+                open = Some(i + width);
+                passed.clear();
+                pole_inside = false;
+            } else {
+                passed.push(i);
+                pole_inside |= width == 2;
             }
         };
         if let Some(&(_, double)) = shared.iter().find(|&&(j, _)| j == i) {
             if !double {
-                samples.push(CheckSample::Pole(None));
+                samples.push(CheckSample::Pole(shared_pole_sign(i)));
                 resonances.push(i);
             }
             mark(&mut samples);
@@ -4110,6 +4173,7 @@ fn configuration_fits(
                 let before = (0..i).rev().find(|&j| !is_own_eig(j));
                 if !other.direct || after.is_some_and(may_vanish) || before.is_some_and(may_vanish)
                 {
+                    mark(&mut samples);
                     continue;
                 }
                 let mut n_other = other.base;
@@ -4125,8 +4189,8 @@ fn configuration_fits(
         }
     }
     if !exact {
-        if adjacent == Some(order.len()) {
-            if let Some(z) = cap_below(order.len()) {
+        if let (Some(from), false) = (open, pole_inside) {
+            if let Some(z) = cap_between(from, order.len(), &passed) {
                 samples.push(CheckSample::Cap(z));
             }
         }
@@ -4280,18 +4344,66 @@ fn rolle_allows(
             }
         }
         let degree = bh.degree as usize + bl.size;
-        if roots.len() != degree || k >= degree {
+        if roots.len() != degree || k > degree {
             continue;
         }
         roots.sort_unstable();
+        // The lower product A = n_low d_high has degree k - 1 and at least
+        // `za` roots at 0; P's leading and lowest signs, and A's.
+        let sign_at_zero = |b: &CheckBlock| b.lead * (-1i64).pow((b.pole_count() % 2) as u32);
+        let signs = bl.n_lead.zip(bl.n_low).zip(bh.n_lead.zip(bh.n_low));
+        let za = bl.omega_power as usize + usize::from(bh.free);
+        // P's nonzero roots, largest first: the roots of u^degree P(1/u)
+        // are their inverses, in increasing order.
+        let inverted: Vec<usize> = roots.iter().rev().copied().filter(|&r| r > 0).collect();
         for from in 0..bounds.len() {
             for to in from + 1..bounds.len() {
                 let (lo, hi) = (bounds[from], bounds[to]);
-                let derivative_roots = (0..degree - k)
-                    .filter(|&i| roots[i] < hi && roots[i + k] > lo)
+                let zeros = counts[from..to].iter().sum::<u32>() as usize;
+                // E^(k) = P^(k): its i-th root lies between P's i-th and
+                // (i + k)-th.
+                if k < degree {
+                    let derivative_roots = (0..degree - k)
+                        .filter(|&i| roots[i] < hi && roots[i + k] > lo)
+                        .count();
+                    if zeros > k + derivative_roots {
+                        return false;
+                    }
+                }
+                let Some(((low_lead, low_low), (high_lead, high_low))) = signs else {
+                    continue;
+                };
+                // E^(k-1) = P^(k-1) + a constant of A's leading sign: no
+                // zero where P^(k-1) has that sign throughout.
+                let j = k - 1;
+                let clear = (0..degree - j).all(|i| roots[i + j] <= lo || roots[i] >= hi);
+                if clear {
+                    let above = (0..degree - j).filter(|&i| roots[i] >= hi).count();
+                    let p_sign = high_lead * bl.lead * (-1i64).pow((above % 2) as u32);
+                    if p_sign == low_lead * bh.lead && zeros > j {
+                        return false;
+                    }
+                }
+                // The same for u^degree E(1/u) on (1/hi, 1/lo), where A's
+                // part has degree degree - za, below P's when za exceeds
+                // P's roots at 0; leading signs those at 0+.
+                if za + inverted.len() <= degree {
+                    continue;
+                }
+                let j = degree - za;
+                let n = inverted.len();
+                let clear = (0..n - j).all(|i| inverted[i] <= lo || inverted[i + j] >= hi);
+                if clear {
+                    let below = (0..n - j).filter(|&i| inverted[i] <= lo).count();
+                    let p_sign = high_low * sign_at_zero(bl) * (-1i64).pow((below % 2) as u32);
+                    if p_sign == low_low * sign_at_zero(bh) && zeros > j {
+                        return false;
+                    }
+                }
+                let derivative_roots = (0..n.saturating_sub(j + 1))
+                    .filter(|&i| inverted[i] > lo && inverted[i + j + 1] < hi)
                     .count();
-                let zeros: u32 = counts[from..to].iter().sum();
-                if zeros as usize > k + derivative_roots {
+                if zeros > j + 1 + derivative_roots {
                     return false;
                 }
             }

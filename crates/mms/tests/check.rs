@@ -1589,6 +1589,49 @@ fn block_certificate_holds_up_to_a_witness(
     );
 }
 
+/// Rolle one order lower (docs/analysis.md): N5-g3-a4.1-s5.3, the grounded
+/// chain m1-m2-m3 driven at m1 and seen at m3 beside the free m4-m5
+/// driven at m4 and seen at m5; both terms' numerators are constants. The
+/// numerator's zeros are those of `E = c12 c23 d_R + c45 d_L`, the
+/// quadratic `d_R = -Omega m4 m5 (b - Omega)` (convex) plus the cubic
+/// `c45 d_L` with the chain's eigenvalues as roots. `E''` is the cubic's
+/// second derivative, whose root lies between the chain's first and third
+/// eigenvalue, plus a positive constant: positive below the first
+/// eigenvalue, so at most two zeros lie below the first resonance,
+/// although the parities (and Rolle at the cubic's degree) allow three.
+/// For the zeros above the last resonance the same holds for `u^3 E(1/u)`,
+/// where the constants' roles are the roots at `0`: at most two. Types at
+/// either bound have witnesses, which the certificate must not exclude.
+#[test]
+fn rolle_one_order_lower_bounds_both_ends() {
+    let id = "N5-g3-a4.1-s5.3";
+    let cert = json!({
+        "factors": [],
+        "stratum": [],
+        "open": {"kind": "block_pole_signs", "blocks": [
+            {"factors": [{"exponent": 1, "factor": "c12"}, {"exponent": 1, "factor": "c23"}],
+             "masses": [1, 2, 3], "numerator": "c12*c23", "remainder": false, "unit": "1"},
+            {"factors": [{"exponent": 1, "factor": "c45"}],
+             "masses": [4, 5], "numerator": "c45", "remainder": false, "unit": "1"}]}
+    });
+    let below = json!({"c1": "11/16", "c12": "7/4", "c23": "88", "c45": "9/128", "m1": "26",
+        "m2": "8", "m3": "5/128", "m4": "72", "m5": "15/4"});
+    block_certificate_holds_up_to_a_witness(
+        id,
+        &cert,
+        &["AAARRRR", "AA^2RRRR", "A^2ARRRR", "A^3RRRR"],
+        ("AARRRRA", below),
+    );
+    let above = json!({"c1": "5/128", "c12": "7", "c23": "15/512", "c45": "64",
+        "m1": "901/3072", "m2": "7/16", "m3": "5/4096", "m4": "3/2", "m5": "13/2"});
+    block_certificate_holds_up_to_a_witness(
+        id,
+        &cert,
+        &["RRRRAAA", "RRRRAA^2", "RRRRA^2A", "RRRRA^3"],
+        ("ARRRRAA", above),
+    );
+}
+
 /// A term's direction on a gap from its zeros and poles paired across it
 /// (docs/analysis.md): N5-g4-a5.1-s5.3, the grounded chain m1-m4 driven at
 /// m1 and seen at m3 beside the lone free m5. Below the first pole the
@@ -1621,6 +1664,164 @@ fn paired_zeros_and_poles_make_a_term_monotone() {
         &["AAARARRR", "AAARRARR", "AAARRRAR", "AA^2RARRR", "A^3RARRR"],
         ("ARRAAARR", witness),
     );
+}
+
+/// The block pole-sign certificate of N5-g2-a3.1-s3.2: the grounded m1-m2
+/// with the term `c12 / det P_L`, the free chain m3-m4-m5 driven and seen
+/// at m3, whose term's numerator is the determinant of m4-m5 held at m3.
+fn gap_two_certificate() -> Value {
+    json!({
+        "factors": [],
+        "stratum": [],
+        "open": {"kind": "block_pole_signs", "blocks": [
+            {"factors": [{"exponent": 1, "factor": "c12"}], "masses": [1, 2],
+             "numerator": "c12", "remainder": false, "unit": "1"},
+            {"factors": [{"exponent": 1,
+               "factor": "Omega^2*m4*m5 - Omega*c34*m5 - Omega*c45*m4 - Omega*c45*m5 + c34*c45"}],
+             "masses": [3, 4, 5],
+             "numerator": "Omega^2*m4*m5 - Omega*c34*m5 - Omega*c45*m4 - Omega*c45*m5 + c34*c45",
+             "remainder": false, "unit": "1"}]}
+    })
+}
+
+/// A log-uniform rational in about `[1/16, 16]`, three decimals.
+fn short_rational(rng: &mut mms::xorshift::XorShift) -> poly::Rat {
+    let v = rng.log_uniform(1.0 / 16.0, 16.0);
+    poly::Rat::new(((v * 1000.0).round() as i64).into(), 1000.into())
+}
+
+/// The exact type of N5-g2-a3.1-s3.2 (`tf`) at `[c1, c12, c34, c45, m1,
+/// ..., m5]`, and the point.
+fn gap_two_type(
+    tf: &mms::UndampedTf,
+    values: [poly::Rat; 9],
+) -> (String, std::collections::BTreeMap<String, poly::Rat>) {
+    let names = ["c1", "c12", "c34", "c45", "m1", "m2", "m3", "m4", "m5"];
+    let point: std::collections::BTreeMap<String, poly::Rat> =
+        names.into_iter().map(String::from).zip(values).collect();
+    let t = mms::analysis::frf_type_at(&tf.num, &tf.den, mms::OMEGA, &point).unwrap();
+    (t.to_string(), point)
+}
+
+/// Monotone terms across the points between samples (docs/analysis.md):
+/// N5-g2-a3.1-s3.2, the grounded m1-m2 (c1, c12) behind the gap, the free
+/// chain m3-m4-m5 in front, the actuator between m3 and m1, the sensor
+/// between m3 and m2. By hand: `c^T P^-1 b = c12 / det P_L + T_R` with
+/// `T_R` the driving-point receptance of the free chain at m3. Below the
+/// lowest pole both terms rise (`det P_L` is a product of positive falling
+/// factors there, `T_R` is collocated), zero of `T_R` (the eigenvalue of
+/// m4-m5 with m3 held) or not: one zero at most lies there, also when the
+/// lowest pole is one both blocks share, where the zero of `T_R` below it
+/// gives no sign and the parities alone allow three. A type with one zero
+/// there has a witness, which the certificate must not exclude; and on
+/// exact points where the blocks share an eigenvalue (m1 and m3 solved
+/// for it by hand), every type shown escapes the certificate.
+#[test]
+fn monotone_terms_span_the_points_between_samples() {
+    use poly::Rat;
+    let id = "N5-g2-a3.1-s3.2";
+    let cert = gap_two_certificate();
+    let witness = json!({"c1": "6", "c12": "3/2", "c34": "8", "c45": "9/16", "m1": "7/2",
+        "m2": "1712/417", "m3": "3", "m4": "36", "m5": "9012/4277"});
+    let excluded = ["AAARRR", "AA^2RRR", "A^2ARRR", "A^3RRR", "AARR", "A^2RR"];
+    block_certificate_holds_up_to_a_witness(id, &cert, &excluded, ("ARAARR", witness));
+    let m = Model::from_id(id).unwrap();
+    let tf = m.undamped_tf();
+    let mut rng = mms::xorshift::XorShift::new(11);
+    let mut draw = || short_rational(&mut rng);
+    let mut shown = std::collections::BTreeSet::new();
+    for _ in 0..400 {
+        let [l, c1, c12, c34, c45, m2, m4, m5] = [(); 8].map(|_| draw());
+        // det P_L(l) = (c1 + c12 - l m1)(c12 - l m2) - c12^2 = 0.
+        let m1 = &(&(&c1 + &c12) - &(&(&c12 * &c12) / &(&c12 - &(&l * &m2)))) / &l;
+        // det P_R(l) = (c34 - l m3) D - c34^2 (c45 - l m5) = 0, with D the
+        // determinant of m4-m5 held at m3.
+        let d = &(&(&(&c34 + &c45) - &(&l * &m4)) * &(&c45 - &(&l * &m5))) - &(&c45 * &c45);
+        if d.is_zero() {
+            continue;
+        }
+        let m3 = &(&c34 - &(&(&(&c34 * &c34) * &(&c45 - &(&l * &m5))) / &d)) / &l;
+        if m1 <= Rat::ZERO || m3 <= Rat::ZERO {
+            continue;
+        }
+        let (t, _) = gap_two_type(&tf, [c1, c12, c34, c45, m1, m2, m3, m4, m5]);
+        shown.insert(t);
+    }
+    // The shared eigenvalue cancels once: three resonances.
+    assert!(shown.len() >= 5, "{shown:?}");
+    for t in &shown {
+        assert_eq!(t.matches('R').count(), 3, "{t}");
+        assert!(!excluded.contains(&t.as_str()), "{t}");
+        let forged = json!({"type": t, "status": "impossible", "certificate": cert});
+        assert!(check_analysis(&one_verdict(id, forged)).is_err(), "{t}");
+    }
+}
+
+/// A pole both blocks share, cancelled once, where their residues agree
+/// (docs/analysis.md): N5-g2-a3.1-s3.2 with both eigenvalues of m1-m2
+/// equal to the free chain's two. The numerator's derivative there is a
+/// sum of two products, each with the sign of its block's residue (times
+/// the same factor), so where the residues agree its sign is known: at
+/// the lower shared pole both are positive (m1-m2's first mode moves
+/// both masses one way, the chain's term is collocated). Below it the
+/// TF runs from the rigid body's minus infinity to plus infinity, with
+/// one zero (the terms rise together): a type that starts with a
+/// resonance is out, which the parities with an unknown sign allowed.
+/// The points are built by hand: the chain's pole polynomial `q` fixed,
+/// `c12` and `m2` drawn, `c1` and `m1` solved so that `det P_L` is a
+/// multiple of `q` (its two coefficient ratios are linear in `1/c1` once
+/// `m1 = A c1 c12 / m2`). Every type they show escapes the certificate,
+/// and each shown point is an exact witness of its type.
+#[test]
+fn a_shared_pole_with_agreeing_residues_has_a_sign() {
+    use poly::Rat;
+    let id = "N5-g2-a3.1-s3.2";
+    let cert = gap_two_certificate();
+    let m = Model::from_id(id).unwrap();
+    let tf = m.undamped_tf();
+    let mut rng = mms::xorshift::XorShift::new(5);
+    let mut draw = || short_rational(&mut rng);
+    let mut shown = std::collections::BTreeMap::new();
+    for _ in 0..400 {
+        let [c12, c34, c45, m2, m3, m4, m5] = [(); 7].map(|_| draw());
+        // q = m3 m4 m5 W^2 - (c34 m5 (m3 + m4) + c45 m3 (m4 + m5)) W + c34
+        // c45 (m3 + m4 + m5); det P_L / (c1 c12) = (m1 m2 / (c1 c12)) W^2 -
+        // (m2 / c12 + (m1 + m2) / c1) W + 1 must be q / q(0).
+        let q0 = &(&c34 * &c45) * &(&(&m3 + &m4) + &m5);
+        let a = &(&(&m3 * &m4) * &m5) / &q0;
+        let b = &(&(&(&c34 * &m5) * &(&m3 + &m4)) + &(&(&c45 * &m3) * &(&m4 + &m5))) / &q0;
+        let inv_c1 = &(&(&b - &(&m2 / &c12)) - &(&(&a * &c12) / &m2)) / &m2;
+        if inv_c1 <= Rat::ZERO {
+            continue;
+        }
+        let c1 = &Rat::ONE / &inv_c1;
+        let m1 = &(&(&a * &c1) * &c12) / &m2;
+        let (t, point) = gap_two_type(&tf, [c1, c12, c34, c45, m1, m2, m3, m4, m5]);
+        shown.entry(t).or_insert(point);
+    }
+    let excluded = ["RAAR", "RRAA", "RA^2R", "RRA^2", "RA", "RR (nm)"];
+    for t in excluded {
+        let certified = json!({"type": t, "status": "impossible", "certificate": cert});
+        check_analysis(&one_verdict(id, certified)).unwrap_or_else(|e| panic!("{t}: {e}"));
+    }
+    // Both shared poles cancel once: two resonances, a zero below the first.
+    assert!(shown.len() >= 2, "{shown:?}");
+    for (t, point) in &shown {
+        assert_eq!(t.matches('R').count(), 2, "{t}");
+        assert!(t.starts_with('A'), "{t}");
+        let w: serde_json::Map<String, Value> = point
+            .iter()
+            .map(|(k, v)| (k.clone(), json!(v.to_string())))
+            .collect();
+        let possible = json!({"type": t, "status": "possible", "witness": w});
+        check_analysis(&one_verdict(id, possible)).unwrap_or_else(|e| panic!("{t}: {e}"));
+        let forged = json!({"type": t, "status": "impossible", "certificate": cert});
+        let e = check_analysis(&one_verdict(id, forged)).unwrap_err();
+        assert!(
+            e.to_string().contains("the type fits the configuration"),
+            "{t}: {e}"
+        );
+    }
 }
 
 /// A double zero shown by continuity (docs/analysis.md): N5-g2-a3.1-s4.1,

@@ -389,6 +389,8 @@ enum Merged {
     /// cancels once (`double == false`: a pole stays) or twice.
     Shared {
         tied: [Vec<usize>; 2],
+        /// `n_B`'s sign there, per block (meaningful where untied).
+        signs: [i32; 2],
         double: bool,
     },
 }
@@ -443,6 +445,7 @@ fn merge(
         for &double in options {
             cur.push(Merged::Shared {
                 tied: [t0.clone(), t1.clone()],
+                signs: [*s0, *s1],
                 double,
             });
             merge(seqs, leads, [pos[0] + 1, pos[1] + 1], cur, out, budget)?;
@@ -608,6 +611,23 @@ fn samples(
             .fold(s, |s, _| -s)
     };
     let odd_divisions = divided.iter().filter(|(_, k)| k % 2 == 1).count();
+    // The numerator's sign at a pole of block `b` where `n_B` has the sign
+    // `sign`, before the reduction: `-c n_B p_B'` with `p_B'` the other
+    // block's pole polynomial, of its leading sign flipped once per pole
+    // of it above.
+    let pole_sign = |p: usize, b: usize, sign: i32| -> i32 {
+        let mut s = scale * sign;
+        for (o, blk) in blocks.iter().enumerate() {
+            if o != b {
+                s *= blk.lead * flip(poles_after(p, o));
+            }
+        }
+        s
+    };
+    // The sign of block `b`'s residue at a pole of it where `n_B` has the
+    // sign `sign` (as in [`merge`]).
+    let residue =
+        |p: usize, b: usize, sign: i32| -> i32 { sign * blocks[b].lead * flip(poles_after(p, b)) };
     // On the open gap below `seq[g]` (above the last token when `g` is
     // the length) the TF's zeros are those of `S = sum_B T_B`, `T_B = n_B /
     // d_B` (`d_B = Omega^free p_B`). If every term has one sign there, the
@@ -619,85 +639,113 @@ fn samples(
     // 1/(Omega - r)`, of one sign when all of `n_B`'s zeros (and `0` as
     // often as `Omega` divides it) lie on one side of the gap and all of
     // `d_B`'s on the other.
-    let cap = |g: usize| -> Option<u32> {
-        let term_sign = |b: usize| -> Option<i32> {
-            let poles_above = seq[g..].iter().filter(|t| is_pole(t, b)).count();
-            Some(n_sign(g, b)? * blocks[b].lead * flip(poles_above))
-        };
-        let direction = |b: usize| -> Option<i32> {
-            let blk = &blocks[b];
-            if blk.collocated != 0 {
-                return Some(blk.collocated);
-            }
-            let sign = term_sign(b)?;
-            if !paired {
-                let poles_below = seq[..g].iter().filter(|t| is_pole(t, b)).count();
-                let poles = blk.size + 1 - blk.first_pole();
-                let eigs: Vec<(usize, usize)> = (0..blk.minors.len())
-                    .map(|m| (eigs_before(g, b, m), blk.minors[m].len))
-                    .collect();
-                let free = u32::from(blk.free);
-                // n_B's zeros below, d_B's above (0 as often as in n_B at least).
-                let rising = blk.omega_power >= free
-                    && eigs.iter().all(|&(below, all)| below == all)
-                    && poles_below == 0;
-                // n_B's zeros above, d_B's below (0 as often as in n_B at most).
-                let falling = blk.omega_power <= free
-                    && eigs.iter().all(|&(below, _)| below == 0)
-                    && poles_below == poles;
-                return match (rising, falling) {
-                    (true, false) => Some(sign),
-                    (false, true) => Some(-sign),
-                    _ => None,
-                };
-            }
-            // n_B's zeros less d_B's roots at each place (0 first), a
-            // zero on a pole cancelling it.
-            let mut net: Vec<i64> = vec![i64::from(blk.omega_power) - i64::from(blk.free)];
-            for t in seq {
-                let exp = |m: &usize| i64::from(blk.minors[*m].exponent);
-                net.push(match t {
-                    Merged::One(x, Tok::Pole { tied, .. }) if *x == b => {
-                        tied.iter().map(exp).sum::<i64>() - 1
-                    }
-                    Merged::Shared { tied, .. } => tied[b].iter().map(exp).sum::<i64>() - 1,
-                    Merged::One(x, Tok::Eig { minor }) if *x == b => exp(minor),
-                    Merged::One(..) => 0,
-                });
-            }
-            let (below, above) = net.split_at(g + 1);
-            match monotone(below, above) {
-                Some(true) => Some(sign),
-                Some(false) => Some(-sign),
-                None => None,
-            }
-        };
-        let signs: Option<Vec<i32>> = (0..blocks.len()).map(term_sign).collect();
-        if blocks.len() >= 2 && signs.is_some_and(|v| v.windows(2).all(|w| w[0] == w[1])) {
-            return Some(0);
+    let term_signs = |g: usize| -> Option<Vec<i32>> {
+        (0..blocks.len())
+            .map(|b| {
+                let poles_above = seq[g..].iter().filter(|t| is_pole(t, b)).count();
+                Some(n_sign(g, b)? * blocks[b].lead * flip(poles_above))
+            })
+            .collect()
+    };
+    let direction = |g: usize, b: usize| -> Option<i32> {
+        let blk = &blocks[b];
+        if blk.collocated != 0 {
+            return Some(blk.collocated);
         }
-        let dirs: Option<Vec<i32>> = (0..blocks.len()).map(direction).collect();
-        dirs.is_some_and(|v| v.windows(2).all(|w| w[0] == w[1]))
+        let poles_above = seq[g..].iter().filter(|t| is_pole(t, b)).count();
+        let sign = n_sign(g, b)? * blk.lead * flip(poles_above);
+        if !paired {
+            let poles_below = seq[..g].iter().filter(|t| is_pole(t, b)).count();
+            let poles = blk.size + 1 - blk.first_pole();
+            let eigs: Vec<(usize, usize)> = (0..blk.minors.len())
+                .map(|m| (eigs_before(g, b, m), blk.minors[m].len))
+                .collect();
+            let free = u32::from(blk.free);
+            // n_B's zeros below, d_B's above (0 as often as in n_B at least).
+            let rising = blk.omega_power >= free
+                && eigs.iter().all(|&(below, all)| below == all)
+                && poles_below == 0;
+            // n_B's zeros above, d_B's below (0 as often as in n_B at most).
+            let falling = blk.omega_power <= free
+                && eigs.iter().all(|&(below, _)| below == 0)
+                && poles_below == poles;
+            return match (rising, falling) {
+                (true, false) => Some(sign),
+                (false, true) => Some(-sign),
+                _ => None,
+            };
+        }
+        // n_B's zeros less d_B's roots at each place (0 first), a
+        // zero on a pole cancelling it.
+        let mut net: Vec<i64> = vec![i64::from(blk.omega_power) - i64::from(blk.free)];
+        for t in seq {
+            let exp = |m: &usize| i64::from(blk.minors[*m].exponent);
+            net.push(match t {
+                Merged::One(x, Tok::Pole { tied, .. }) if *x == b => {
+                    tied.iter().map(exp).sum::<i64>() - 1
+                }
+                Merged::Shared { tied, .. } => tied[b].iter().map(exp).sum::<i64>() - 1,
+                Merged::One(x, Tok::Eig { minor }) if *x == b => exp(minor),
+                Merged::One(..) => 0,
+            });
+        }
+        let (below, above) = net.split_at(g + 1);
+        match monotone(below, above) {
+            Some(true) => Some(sign),
+            Some(false) => Some(-sign),
+            None => None,
+        }
+    };
+    // The open interval from the gap below `seq[from]` to the gap below
+    // `seq[to]`, across the tokens between them that give no sample
+    // (`skipped`: eigenvalues of minors and poles a minor's eigenvalue
+    // cancels, where no term has a pole, so each term is continuous
+    // there). If every term has one sign on every gap of it, the same, and
+    // one term has no token inside (so no zero either), `S` has no zero;
+    // if every term is strictly monotone in one direction on every gap,
+    // `S` is on the whole interval, with at most one zero, and a simple
+    // one when one term's derivative has no zero inside: a collocated
+    // term's never has, another's not where it has no token.
+    let cap = |from: usize, to: usize, skipped: &[usize]| -> Option<u32> {
+        let untouched = |b: usize| {
+            !skipped
+                .iter()
+                .any(|&p| matches!(&seq[p], Merged::One(x, _) if *x == b))
+        };
+        let gaps = from..=to;
+        if blocks.len() >= 2 && (0..blocks.len()).any(untouched) {
+            let signs: Option<Vec<Vec<i32>>> = gaps.clone().map(term_signs).collect();
+            if let Some(v) = signs {
+                let s = v[0][0];
+                if v.iter().all(|w| w.iter().all(|&x| x == s)) {
+                    return Some(0);
+                }
+            }
+        }
+        if !(0..blocks.len()).any(|b| blocks[b].collocated != 0 || untouched(b)) {
+            return None;
+        }
+        let mut dirs = gaps.flat_map(|g| (0..blocks.len()).map(move |b| (g, b)));
+        let first = dirs.next().and_then(|(g, b)| direction(g, b))?;
+        dirs.all(|(g, b)| direction(g, b) == Some(first))
             .then_some(1)
     };
     let mut out = Vec::with_capacity(seq.len() + 2);
     // Positions of the poles that stay: the type's resonances.
     let mut resonances: Vec<usize> = Vec::new();
-    // The gap index just past the last sample pushed: only a gap between
-    // two samples at consecutive tokens is one open interval of the
-    // sequence (a token without a sample may hide a zero).
+    // The gap index just past the last sample pushed, and the tokens
+    // since then that gave none: the open interval from that sample to
+    // the next is bounded only if no term has a pole inside it (a double
+    // cancellation is two poles whose sum is regular).
     let mut next_gap: Option<usize> = None;
+    let mut skipped: Vec<usize> = Vec::new();
+    let mut broken = false;
     if !exact {
         out.push(Sample::Point((at_zero * flip(odd_divisions)) as i8));
         next_gap = Some(0);
     }
     for (p, t) in seq.iter().enumerate() {
         let len = out.len();
-        let at_most = if !exact && next_gap == Some(p) {
-            cap(p)
-        } else {
-            None
-        };
         match t {
             Merged::One(b, Tok::Pole { tied, sign }) => {
                 if exact {
@@ -711,21 +759,35 @@ fn samples(
                     }
                     continue;
                 }
-                if !tied.is_empty() {
-                    continue; // cancelled: an unknown point
+                // A cancelled pole is an unknown point, where no term has
+                // a pole.
+                if tied.is_empty() {
+                    out.push(Sample::Pole(Some(reduce(p, pole_sign(p, *b, *sign)) as i8)));
+                    resonances.push(p);
                 }
-                let mut s = scale * sign;
-                for (o, blk) in blocks.iter().enumerate() {
-                    if o != *b {
-                        s *= blk.lead * flip(poles_after(p, o));
-                    }
-                }
-                out.push(Sample::Pole(Some(reduce(p, s) as i8)));
-                resonances.push(p);
             }
-            Merged::Shared { double, .. } => {
+            Merged::Shared {
+                tied,
+                signs,
+                double,
+            } => {
                 if !double {
-                    out.push(Sample::Pole(None));
+                    // The reduced numerator there is `num'` there: with
+                    // two blocks `-c (n_B p_B'' + n_B' p_B)` up to positive
+                    // factors, `p` the blocks' pole polynomials, whose terms
+                    // have the signs of the blocks' residues times `p_B'
+                    // p_B''`: known where those agree, or where one block's
+                    // term has no pole (tied).
+                    let from = match (tied[0].is_empty(), tied[1].is_empty()) {
+                        (true, true) if residue(p, 0, signs[0]) == residue(p, 1, signs[1]) => {
+                            Some(0)
+                        }
+                        (true, false) => Some(0),
+                        (false, true) => Some(1),
+                        _ => None,
+                    };
+                    let s = from.map(|b| reduce(p, pole_sign(p, b, signs[b])) as i8);
+                    out.push(Sample::Pole(s));
                     resonances.push(p);
                 }
             }
@@ -750,24 +812,35 @@ fn samples(
                     |t: &&Merged| matches!(t, Merged::One(x, Tok::Eig { .. }) if *x == *b);
                 let right = seq[p + 1..].iter().find(|t| !own_eig(t));
                 let left = seq[..p].iter().rev().find(|t| !own_eig(t));
-                if right.is_some_and(vanishing) || left.is_some_and(vanishing) {
-                    continue;
+                let other = n_sign(p, o);
+                if let (false, Some(other)) = (
+                    right.is_some_and(vanishing) || left.is_some_and(vanishing),
+                    other,
+                ) {
+                    let s = scale * blocks[*b].lead * flip(poles_after(p, *b)) * other;
+                    out.push(Sample::Point(reduce(p, s) as i8));
                 }
-                let Some(other) = n_sign(p, o) else { continue };
-                let s = scale * blocks[*b].lead * flip(poles_after(p, *b)) * other;
-                out.push(Sample::Point(reduce(p, s) as i8));
             }
         }
         if out.len() > len {
+            let at_most = match next_gap {
+                Some(g) if !broken => cap(g, p, &skipped),
+                _ => None,
+            };
             if let Some(k) = at_most {
                 out.insert(len, Sample::AtMost(k));
             }
             next_gap = Some(p + 1);
+            skipped.clear();
+            broken = false;
+        } else {
+            skipped.push(p);
+            broken |= matches!(t, Merged::Shared { .. });
         }
     }
     if !exact {
-        if next_gap == Some(seq.len()) {
-            if let Some(k) = cap(seq.len()) {
+        if let (Some(g), false) = (next_gap, broken) {
+            if let Some(k) = cap(g, seq.len(), &skipped) {
                 out.push(Sample::AtMost(k));
             }
         }
@@ -791,6 +864,23 @@ fn samples(
 /// beside a free chain seen end to end, `k = 2` and no four zeros fit
 /// below the first resonance.
 fn rolle_spans(blocks: &[BlockEvents], seq: &[Merged], resonances: &[usize]) -> Vec<Sample> {
+    let flip = |k: usize| if k % 2 == 1 { -1 } else { 1 };
+    // The signs of `n_B`'s leading and lowest coefficients in `Omega`, when
+    // its factors are its own: a run's determinant leads with `(-1)^len`
+    // and is positive at `0` (a proper run is held by a spring).
+    let n_signs = |b: &BlockEvents| -> Option<(i32, i32)> {
+        b.direct.then(|| {
+            b.minors.iter().fold((b.base, b.base), |(lead, low), m| {
+                let run_lead = m.sign * flip(m.len);
+                (
+                    lead * run_lead.pow(m.exponent),
+                    low * m.sign.pow(m.exponent),
+                )
+            })
+        })
+    };
+    // The sign of `d_B` at `0+`: `p_B` has all its roots above `0`.
+    let at_zero = |b: &BlockEvents| b.lead * flip(b.size - usize::from(b.free));
     // Positions on the sequence, shifted by one: `0` is the root at
     // `Omega = 0`, `seq.len() + 1` stands for infinity.
     let mut ends: Vec<usize> = vec![0];
@@ -827,19 +917,63 @@ fn rolle_spans(blocks: &[BlockEvents], seq: &[Merged], resonances: &[usize]) -> 
             }
         }
         let d = roots.len();
-        if d != bo.degree as usize + ba.size || k >= d {
+        if d != bo.degree as usize + ba.size || k > d {
             continue;
         }
         roots.sort_unstable();
+        let mut bound = |i: usize, j: usize, b: usize| {
+            if b < d {
+                most[i][j] = most[i][j].min(b as u32);
+            }
+        };
         for i in 0..ends.len() {
             for j in i + 1..ends.len() {
                 let inside = (0..d - k)
                     .filter(|&t| roots[t] < ends[j] && roots[t + k] > ends[i])
                     .count();
-                let bound = (k + inside) as u32;
-                if bound < d as u32 {
-                    most[i][j] = most[i][j].min(bound);
+                bound(i, j, k + inside);
+            }
+        }
+        // One order lower, `E^(k-1) = B^(k-1) + (k-1)! lc(A)`: on an
+        // interval no root of `B^(k-1)` reaches into, `B^(k-1)` has the sign
+        // of `lc(B)` flipped once per root above; where that is the sign of
+        // `lc(A)`, `E^(k-1)` has no zero there, so `E` has at most `k - 1`.
+        // The same for `u^d E(1/u)` (the zeros `1/Omega`), whose `A` part
+        // has the lower degree `d - z_A` when `A` has more roots at `0`
+        // than `B` (`z_A > z_B`); its leading signs are `A`'s and `B`'s
+        // at `0+`, and the roots of its `B` part are `1/x` for `B`'s
+        // nonzero roots `x`.
+        let (Some(na), Some(no)) = (n_signs(ba), n_signs(bo)) else {
+            continue;
+        };
+        let k0 = k - 1;
+        let (a_lead, b_lead) = (na.0 * bo.lead, no.0 * ba.lead);
+        let za = ba.omega_power as usize + usize::from(bo.free);
+        let ys: Vec<usize> = roots.iter().rev().filter(|&&r| r > 0).copied().collect();
+        let (a_low, b_low) = (na.1 * at_zero(bo), no.1 * at_zero(ba));
+        for i in 0..ends.len() {
+            for j in i + 1..ends.len() {
+                let (lo, hi) = (ends[i], ends[j]);
+                if (0..d - k0).all(|t| roots[t + k0] <= lo || roots[t] >= hi) {
+                    let above = (0..d - k0).filter(|&t| roots[t] >= hi).count();
+                    if b_lead * flip(above) == a_lead {
+                        bound(i, j, k0);
+                    }
                 }
+                if za + ys.len() <= d {
+                    continue; // the reversed A has no lower degree
+                }
+                let kt = d - za;
+                if (0..ys.len() - kt).all(|t| ys[t] <= lo || ys[t + kt] >= hi) {
+                    let below = (0..ys.len() - kt).filter(|&t| ys[t] <= lo).count();
+                    if b_low * flip(below) == a_low {
+                        bound(i, j, kt);
+                    }
+                }
+                let inside = (0..ys.len().saturating_sub(kt + 1))
+                    .filter(|&t| ys[t] > lo && ys[t + kt + 1] < hi)
+                    .count();
+                bound(i, j, kt + 1 + inside);
             }
         }
     }

@@ -494,7 +494,7 @@ mod tests {
     use crate::analysis::frf_type_at;
     use crate::xorshift::XorShift;
     use crate::{enumerate, Model, OMEGA};
-    use poly::Rat;
+    use poly::{det, Poly, Rat};
     use std::collections::BTreeMap;
 
     /// A second route to every block pole-sign configuration: the type at
@@ -511,8 +511,14 @@ mod tests {
                 .into_iter()
                 .step_by(9),
         );
-        // Where Rolle's bound across resonances decides types.
-        for id in ["N5-g1-a2.1-s5.1", "N5-g4-a5.1-s5.4"] {
+        // Where Rolle's bound across resonances decides types, and one
+        // order lower (also for the zeros' inverses).
+        for id in [
+            "N5-g1-a2.1-s5.1",
+            "N5-g4-a5.1-s5.4",
+            "N5-g3-a4.1-s5.3",
+            "N5-g3-a4.3-s5.1",
+        ] {
             models.push(Model::from_id(id).unwrap());
         }
         let mut rng = XorShift::new(97);
@@ -546,5 +552,82 @@ mod tests {
             }
         }
         assert!(checked >= 1000, "{checked}");
+    }
+
+    /// The same second route where the configurations matter most: on
+    /// the varieties where the two blocks share an eigenvalue (the
+    /// cancellations), which random points of the orthant never hit. Each
+    /// point puts a rational `lambda` on both blocks exactly, one mass of
+    /// each solved for (a block's determinant is linear in each of its
+    /// masses); its type, with the cancelled pole, must fit some
+    /// configuration. The bounds across the eigenvalues between samples
+    /// exclude types here (three zeros below a shared first pole of
+    /// N5-g2-a3.1-s3.2); a slip in them would show.
+    #[test]
+    fn types_on_shared_eigenvalues_fit_some_configuration() {
+        let mut models: Vec<Model> = enumerate::degradation_free_models(4).unwrap();
+        models.extend(enumerate::degradation_free_models(5).unwrap());
+        let mut rng = XorShift::new(2027);
+        let (mut checked, mut cancelled) = (0, 0);
+        for m in &models {
+            let tf = m.undamped_tf();
+            let Some(d) = super::block_pole_sign_data(m, &tf.num, &tf.den) else {
+                continue;
+            };
+            let (mass, stiff) = (m.mass_matrix(), m.stiffness_matrix());
+            let blocks = super::chain_blocks(&stiff);
+            if blocks.len() != 2 || d.inputs.blocks.len() != 2 {
+                continue;
+            }
+            let Some(paired) = d.inputs.configurations(true) else {
+                continue;
+            };
+            let dets: Vec<Poly> = blocks
+                .iter()
+                .map(|b| det(&super::pencil(&mass, &stiff, b)))
+                .collect();
+            let params = m.undamped_parameters();
+            for _ in 0..40 {
+                let draw = |rng: &mut XorShift| {
+                    let v = rng.log_uniform(1.0 / 16.0, 16.0);
+                    Rat::new(((v * 1000.0).round() as i64).into(), 1000.into())
+                };
+                let lambda = draw(&mut rng);
+                let solved: Vec<String> = blocks
+                    .iter()
+                    .map(|b| format!("m{}", b[(rng.next_u64() % b.len() as u64) as usize] + 1))
+                    .collect();
+                let mut point: BTreeMap<String, Rat> = params
+                    .iter()
+                    .filter(|p| !solved.contains(p))
+                    .map(|p| (p.clone(), draw(&mut rng)))
+                    .collect();
+                let mut ok = true;
+                for (k, x) in solved.iter().enumerate() {
+                    // det_B(lambda) = a + b x, linear in the mass x.
+                    let mut q = dets[k].subs(OMEGA, &lambda);
+                    for (p, v) in &point {
+                        q = q.subs(p, v);
+                    }
+                    let c = q.coeffs_in(x);
+                    let (a, b) = (c[0].as_constant().unwrap(), c[1].as_constant().unwrap());
+                    let root = &(-&a) / &b;
+                    ok &= root > Rat::ZERO;
+                    point.insert(x.clone(), root);
+                }
+                if !ok {
+                    continue;
+                }
+                let t = frf_type_at(&tf.num, &tf.den, OMEGA, &point).unwrap();
+                let poles = tf.den.degree(OMEGA) as usize;
+                cancelled += usize::from((t.resonances() as usize) < poles);
+                assert!(
+                    paired.fits(&t, d.zeros),
+                    "{m}: {t} at {point:?} fits no configuration"
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked >= 1000 && cancelled >= 500, "{checked} {cancelled}");
     }
 }
