@@ -4291,7 +4291,10 @@ fn configuration_fits(
 /// runs' eigenvalues of its `n` when those give all of `n`'s zeros, `0` as
 /// often as `Omega` divides `n`); between two of its roots `x_i <=
 /// x_(i+k)` lies the `i`-th root of `P^(k)`, and an open interval holds at
-/// most `k` zeros more than the `k`-th derivative has there.
+/// most `k` zeros more than the `k`-th derivative has there. With the
+/// other product of degree exactly `k - 1`, the `(k-1)`-th derivative is
+/// `P^(k-1)` plus a constant: no zero where the two have one sign. The
+/// same for the reversed polynomials, whose zeros are the inverses.
 fn rolle_allows(
     blocks: &[CheckBlock],
     order: &[(usize, CheckEvent)],

@@ -862,7 +862,10 @@ fn samples(
 /// `E` has at most `k` zeros more than `E^(k)` in an open interval. The
 /// bound spans poles, which the gap rules cannot: for the grounded mass
 /// beside a free chain seen end to end, `k = 2` and no four zeros fit
-/// below the first resonance.
+/// below the first resonance. One order lower, `E^(k-1)` is `B^(k-1)`
+/// plus a constant of `A`'s leading sign, and where `B^(k-1)` has that
+/// sign throughout, `E` has at most `k - 1` zeros; both bounds also for
+/// `u^D E(1/u)`, whose zeros are the inverses.
 fn rolle_spans(blocks: &[BlockEvents], seq: &[Merged], resonances: &[usize]) -> Vec<Sample> {
     let flip = |k: usize| if k % 2 == 1 { -1 } else { 1 };
     // The signs of `n_B`'s leading and lowest coefficients in `Omega`, when
