@@ -324,6 +324,16 @@ impl<'a> Variety<'a> {
     /// roots within [`SEPARATION`], a pole off the positive axis, values
     /// not finite).
     pub(crate) fn read(&self, p: &VarietyPoint) -> Option<FrfType> {
+        self.read_apart(p, |_| SEPARATION)
+    }
+
+    /// [`Self::read`], with the marks next to a multiple zero of
+    /// multiplicity `mu` kept `apart(mu)` (relative) instead.
+    pub(crate) fn read_apart(
+        &self,
+        p: &VarietyPoint,
+        apart: impl Fn(u32) -> f64,
+    ) -> Option<FrfType> {
         let (mut n, mut d) = self.tf.eval(&p.params);
         for &r in p.cancelled.iter().chain(&p.doubles).chain(&p.doubles) {
             n = deflate(&n, r);
@@ -362,10 +372,11 @@ impl<'a> Variety<'a> {
             return None;
         }
         marks.sort_by(|a, b| a.0.total_cmp(&b.0));
-        if marks
-            .windows(2)
-            .any(|w| w[1].0 - w[0].0 <= SEPARATION * (w[0].0.abs() + w[1].0.abs()))
-        {
+        let mu = |m: &(f64, Option<Token>)| m.1.as_ref().map_or(1, |t| t.multiplicity);
+        if marks.windows(2).any(|w| {
+            let sep = apart(mu(&w[0]).max(mu(&w[1]))).max(SEPARATION);
+            w[1].0 - w[0].0 <= sep * (w[0].0.abs() + w[1].0.abs())
+        }) {
             return None;
         }
         Some(FrfType {
