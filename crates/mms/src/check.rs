@@ -4359,6 +4359,8 @@ fn rolle_allows(
         // P's nonzero roots, largest first: the roots of u^degree P(1/u)
         // are their inverses, in increasing order.
         let inverted: Vec<usize> = roots.iter().rev().copied().filter(|&r| r > 0).collect();
+        // The reversed A part's degree, where it is below the reversed P's.
+        let reversed = (za + inverted.len() > degree).then(|| degree - za);
         for from in 0..bounds.len() {
             for to in from + 1..bounds.len() {
                 let (lo, hi) = (bounds[from], bounds[to]);
@@ -4390,10 +4392,7 @@ fn rolle_allows(
                 // The same for u^degree E(1/u) on (1/hi, 1/lo), where A's
                 // part has degree degree - za, below P's when za exceeds
                 // P's roots at 0; leading signs those at 0+.
-                if za + inverted.len() <= degree {
-                    continue;
-                }
-                let j = degree - za;
+                let Some(j) = reversed else { continue };
                 let n = inverted.len();
                 let clear = (0..n - j).all(|i| inverted[i] <= lo || inverted[i + j] >= hi);
                 if clear {

@@ -639,21 +639,17 @@ fn samples(
     // 1/(Omega - r)`, of one sign when all of `n_B`'s zeros (and `0` as
     // often as `Omega` divides it) lie on one side of the gap and all of
     // `d_B`'s on the other.
-    let term_signs = |g: usize| -> Option<Vec<i32>> {
-        (0..blocks.len())
-            .map(|b| {
-                let poles_above = seq[g..].iter().filter(|t| is_pole(t, b)).count();
-                Some(n_sign(g, b)? * blocks[b].lead * flip(poles_above))
-            })
-            .collect()
+    // The sign of block `b`'s term on the gap below `seq[g]`.
+    let term_sign = |g: usize, b: usize| -> Option<i32> {
+        let poles_above = seq[g..].iter().filter(|t| is_pole(t, b)).count();
+        Some(n_sign(g, b)? * blocks[b].lead * flip(poles_above))
     };
     let direction = |g: usize, b: usize| -> Option<i32> {
         let blk = &blocks[b];
         if blk.collocated != 0 {
             return Some(blk.collocated);
         }
-        let poles_above = seq[g..].iter().filter(|t| is_pole(t, b)).count();
-        let sign = n_sign(g, b)? * blk.lead * flip(poles_above);
+        let sign = term_sign(g, b)?;
         if !paired {
             let poles_below = seq[..g].iter().filter(|t| is_pole(t, b)).count();
             let poles = blk.size + 1 - blk.first_pole();
@@ -714,12 +710,10 @@ fn samples(
         };
         let gaps = from..=to;
         if blocks.len() >= 2 && (0..blocks.len()).any(untouched) {
-            let signs: Option<Vec<Vec<i32>>> = gaps.clone().map(term_signs).collect();
-            if let Some(v) = signs {
-                let s = v[0][0];
-                if v.iter().all(|w| w.iter().all(|&x| x == s)) {
-                    return Some(0);
-                }
+            let first = term_sign(from, 0);
+            let same = |g: usize| (0..blocks.len()).all(|b| term_sign(g, b) == first);
+            if first.is_some() && gaps.clone().all(same) {
+                return Some(0);
             }
         }
         if !(0..blocks.len()).any(|b| blocks[b].collocated != 0 || untouched(b)) {
@@ -812,13 +806,11 @@ fn samples(
                     |t: &&Merged| matches!(t, Merged::One(x, Tok::Eig { .. }) if *x == *b);
                 let right = seq[p + 1..].iter().find(|t| !own_eig(t));
                 let left = seq[..p].iter().rev().find(|t| !own_eig(t));
-                let other = n_sign(p, o);
-                if let (false, Some(other)) = (
-                    right.is_some_and(vanishing) || left.is_some_and(vanishing),
-                    other,
-                ) {
-                    let s = scale * blocks[*b].lead * flip(poles_after(p, *b)) * other;
-                    out.push(Sample::Point(reduce(p, s) as i8));
+                if !(right.is_some_and(vanishing) || left.is_some_and(vanishing)) {
+                    if let Some(other) = n_sign(p, o) {
+                        let s = scale * blocks[*b].lead * flip(poles_after(p, *b)) * other;
+                        out.push(Sample::Point(reduce(p, s) as i8));
+                    }
                 }
             }
         }
@@ -953,6 +945,8 @@ fn rolle_spans(blocks: &[BlockEvents], seq: &[Merged], resonances: &[usize]) -> 
         let (a_lead, b_lead) = (na.0 * bo.lead, no.0 * ba.lead);
         let za = ba.omega_power as usize + usize::from(bo.free);
         let ys: Vec<usize> = roots.iter().rev().filter(|&&r| r > 0).copied().collect();
+        // The reversed A's degree, where it is below the reversed B's.
+        let kt = (za + ys.len() > d).then(|| d - za);
         let (a_low, b_low) = (na.1 * at_zero(bo), no.1 * at_zero(ba));
         for i in 0..ends.len() {
             for j in i + 1..ends.len() {
@@ -963,10 +957,7 @@ fn rolle_spans(blocks: &[BlockEvents], seq: &[Merged], resonances: &[usize]) -> 
                         bound(i, j, k0);
                     }
                 }
-                if za + ys.len() <= d {
-                    continue; // the reversed A has no lower degree
-                }
-                let kt = d - za;
+                let Some(kt) = kt else { continue };
                 if (0..ys.len() - kt).all(|t| ys[t] <= lo || ys[t + kt] >= hi) {
                     let below = (0..ys.len() - kt).filter(|&t| ys[t] <= lo).count();
                     if b_low * flip(below) == a_low {
