@@ -108,6 +108,18 @@
 
 mod isolated;
 
+/// The checker's reading of a box witness (its JSON form), as text: for
+/// the prover's tests, which compare a box they find with this reading.
+#[cfg(test)]
+pub(crate) fn isolated_type(
+    num: &Poly,
+    den: &Poly,
+    params: &[String],
+    v: &Value,
+) -> Result<String, String> {
+    isolated::read_isolated(num, den, params, v).map(|t| t.to_string())
+}
+
 use crate::model::{Model, Port};
 use crate::table::{AnalysisTable, TableError};
 use poly::{

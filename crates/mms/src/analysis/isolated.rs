@@ -56,7 +56,7 @@
 use super::frf_type::{Feature, FrfType, Token};
 use super::pole_signs::{block_ranges, run_det};
 use super::prover::Prover;
-use super::targeted::{positive_roots, short_rational};
+use super::targeted::{nelder_mead_for, positive_roots, short_rational};
 use super::variety::{independent_columns, BlockFactors, Variety, VarietyPoint};
 use super::{IsolatedWitness, PolePose};
 use crate::model::Model;
@@ -77,6 +77,22 @@ const POINTS: usize = 12;
 /// the rest without patience, and what their seeds differ by.
 const PERSISTENT_STARTS: usize = 10_000;
 const PERSISTENT_SEED: u64 = 0x5BD1_E995_0000_0001;
+/// Projected draws per structure for the descents, descents per type
+/// (from the draws nearest to it), Nelder-Mead's evaluations per descent
+/// and first step (in logarithms), the score of a point that fits no
+/// reading, and what the descents' seeds differ by.
+const DESCENT_DRAWS: usize = 4000;
+const DESCENTS: usize = 48;
+const DESCENT_EVALUATIONS: usize = 600;
+const DESCENT_STEP: f64 = 0.3;
+const UNFIT: f64 = 1e6;
+const DESCENT_SEED: u64 = 0xD35C_E4D0_0000_0001;
+/// The moves of [`Prover::split_boxes`] (relative size, significant
+/// digits of the moved parameters), points per box and size, and what
+/// its seed differs by.
+const SPLIT_MOVES: [(f64, i32); 3] = [(1e-3, 9), (1e-5, 11), (1e-7, 13)];
+const SPLIT_POINTS: usize = 8;
+const SPLIT_SEED: u64 = 0x5B11_7000_0000_0001;
 /// Significant digits of the fixed parameters and the posed roots.
 const DIGITS: i32 = 6;
 /// Bits kept of the coordinates after each Newton step.
@@ -201,7 +217,132 @@ impl Prover<'_> {
                 self.isolated.insert(t.clone(), w);
             }
         }
+        // Last of all, a descent on the variety toward each type that no
+        // draw showed: types rarer than one start in ten thousand, but
+        // next to points the draws do reach.
+        for &(cancelled, doubles, mults, types) in &structures {
+            if types.iter().all(|t| self.shown(t)) {
+                continue;
+            }
+            let variety = structure_variety(&tf, n_params, (cancelled, doubles, mults), &compiled);
+            let mut rng = XorShift::new(seed ^ key(cancelled, doubles, mults) ^ DESCENT_SEED);
+            self.descend(&variety, &mut rng, types, (&derivatives, poses));
+        }
+        self.split_boxes(wanted, seed ^ SPLIT_SEED);
         wanted.iter().filter(|t| self.shown(t)).count()
+    }
+
+    /// Rational points next to every box witness, each parameter moved by
+    /// a relative `SPLIT_MOVES` at most: off the box's variety its
+    /// multiple zeros split (two real zeros on one side of the
+    /// discriminant, a complex pair on the other) and its cancelled poles
+    /// part, the other roots keep their order, so a generic type next to a
+    /// box shows there, however thin its region elsewhere. Each point's
+    /// type is read exactly; one of `wanted` still without a witness
+    /// keeps it.
+    fn split_boxes(&mut self, wanted: &[FrfType], seed: u64) {
+        let mut rng = XorShift::new(seed);
+        let boxes: Vec<IsolatedWitness> = self.isolated.values().cloned().collect();
+        for w in &boxes {
+            let centre: BTreeMap<String, f64> = w
+                .fixed
+                .iter()
+                .map(|(k, v)| (k.clone(), v.to_f64()))
+                .chain(
+                    w.free
+                        .iter()
+                        .map(|(k, [lo, hi])| (k.clone(), (lo.to_f64() + hi.to_f64()) / 2.0)),
+                )
+                .collect();
+            for &(size, digits) in &SPLIT_MOVES {
+                for _ in 0..SPLIT_POINTS {
+                    if wanted.iter().all(|t| self.shown(t)) {
+                        return;
+                    }
+                    let point: Option<BTreeMap<String, Rat>> = centre
+                        .iter()
+                        .map(|(k, v)| {
+                            let moved = v * (1.0 + size * (2.0 * rng.uniform() - 1.0));
+                            Some((k.clone(), short_rational(moved, digits)?))
+                        })
+                        .collect();
+                    let Some(point) = point else {
+                        continue;
+                    };
+                    if let Some(t) = self.type_at(&point) {
+                        if wanted.contains(&t) && !self.shown(&t) {
+                            self.witnesses.insert(t, point);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// For each type of `types` still without a witness: Nelder-Mead in
+    /// the unknowns' logarithms, each point projected onto `variety` and
+    /// scored by how far it is from reading the type
+    /// ([`Variety::violation`]), from the `DESCENTS` best of
+    /// `DESCENT_DRAWS` projected draws; where a descent ends at a point
+    /// that reads the type, a box is isolated next to it as for a draw.
+    fn descend(
+        &mut self,
+        variety: &Variety,
+        rng: &mut XorShift,
+        types: &[FrfType],
+        context: (&[Poly], (Option<&PolePose>, &[PolePose])),
+    ) {
+        let mut draws: Vec<Vec<f64>> = Vec::new();
+        for _ in 0..DESCENT_DRAWS {
+            let Some(mut x) = variety.start(rng, RANGE) else {
+                continue;
+            };
+            if variety.project(&mut x, RANGE) {
+                draws.push(x);
+            }
+        }
+        for t in types {
+            if self.shown(t) {
+                continue;
+            }
+            let mut near = Vec::new();
+            let mut scored: Vec<(f64, usize)> = draws
+                .iter()
+                .enumerate()
+                .filter_map(|(i, x)| Some((variety.violation(&variety.point(x), t, &mut near)?, i)))
+                .collect();
+            scored.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            for &(_, i) in scored.iter().take(DESCENTS) {
+                let mut cost = |x: &[f64]| -> f64 {
+                    let mut y = x.to_vec();
+                    if !variety.project(&mut y, RANGE) {
+                        return UNFIT;
+                    }
+                    variety
+                        .violation(&variety.point(&y), t, &mut near)
+                        .unwrap_or(UNFIT)
+                };
+                let mut y = nelder_mead_for(
+                    &mut cost,
+                    &draws[i],
+                    DESCENT_STEP,
+                    f64::MIN_POSITIVE,
+                    DESCENT_EVALUATIONS,
+                );
+                if !variety.project(&mut y, RANGE) {
+                    continue;
+                }
+                let p = variety.point(&y);
+                if variety.read(&p).as_ref() != Some(t) {
+                    continue;
+                }
+                let chosen = variety.free_parameters(&y);
+                if let Some(w) = self.isolate(&p, chosen.as_deref(), context, t) {
+                    self.isolated.insert(t.clone(), w);
+                    break;
+                }
+            }
+        }
     }
 
     /// Draws up to `starts` points of `variety` (stopping after `patience`
@@ -1009,6 +1150,71 @@ mod tests {
         );
     }
 
+    /// Next to the box of B2's double zero (`A^2RR`, the poles at 3/2 and
+    /// 2), the moves split the zero into two real ones on one side of the
+    /// discriminant and a complex pair on the other: both `AARR` and
+    /// `RR (nm)` get rational witnesses, and at each the numerator's
+    /// discriminant, in `f64`, has the sign its type needs.
+    #[test]
+    fn moves_off_a_box_split_its_double_zero() {
+        let (w, _) = b2_double_zero_box();
+        let model = crate::Model::from_id("B2").unwrap();
+        let tf = model.undamped_tf();
+        let mut prover = Prover::new(&model, tf.num.clone(), tf.den.clone());
+        let double: FrfType = "A^2RR".parse().unwrap();
+        prover.isolated.insert(double, w);
+        let split: Vec<FrfType> = ["AARR", "RR (nm)"]
+            .iter()
+            .map(|t| t.parse().unwrap())
+            .collect();
+        prover.split_boxes(&split, 5);
+        for (t, sign) in split.iter().zip([1.0, -1.0]) {
+            let point = prover.witnesses.get(t).unwrap_or_else(|| panic!("{t}"));
+            let v = |k: &str| point[k].to_f64();
+            // N = m2 m3 W^2 - c23 (m1 + m2 + m3) W + c1 c23.
+            let b = v("c23") * (v("m1") + v("m2") + v("m3"));
+            let discriminant = b * b - 4.0 * v("m2") * v("m3") * v("c1") * v("c23");
+            assert!(discriminant * sign > 0.0, "{t}: {discriminant}");
+        }
+    }
+
+    /// `RRRA^3` of N5-g2-a3.2-s4.2 (a pole cancelled, a triple zero):
+    /// `mms sample` reads it about once in 20000 starts on its structure,
+    /// and one search's draws show it not; the descent from the best of
+    /// its own draws reaches it, and the checker's own reading of the box
+    /// agrees.
+    #[test]
+    fn the_descent_reaches_a_type_the_draws_miss() {
+        let model = crate::Model::from_id("N5-g2-a3.2-s4.2").unwrap();
+        let tf = model.undamped_tf();
+        let mut prover = Prover::new(&model, tf.num.clone(), tf.den.clone());
+        let t: FrfType = "RRRA^3".parse().unwrap();
+        let (_, derivatives) = prover.pencil_signatures(std::slice::from_ref(&t));
+        let coeffs = UndampedCoefficients::new(&model);
+        let mults = [3];
+        let variety = Variety::new(&coeffs, prover.params.len(), 1, &mults);
+        let blocks = block_pose(&model, &tf.num, &tf.den);
+        let nodes = node_poses(&model, &tf.num, &tf.den);
+        let context = (&derivatives[..], (blocks.as_ref(), nodes.as_slice()));
+        let types = std::slice::from_ref(&t);
+        let mut singular = Vec::new();
+        let mut rng = XorShift::new(3);
+        prover.draw(
+            &variety,
+            &mut rng,
+            types,
+            (STARTS, STARTS),
+            context,
+            &mut singular,
+        );
+        assert!(!prover.shown(&t));
+        prover.descend(&variety, &mut XorShift::new(3), types, context);
+        let w = prover.isolated.get(&t).expect("the descent finds a box");
+        let json = serde_json::to_value(w).unwrap();
+        let read = crate::check::isolated_type(&tf.num, &tf.den, &prover.params, &json);
+        assert_eq!(read, Ok(t.to_string()));
+    }
+
     #[test]
     fn krawczyk_isolates_the_one_root_and_refuses_a_box_without_it() {
         // x^2 + y^2 = 4, x = y: the positive root (sqrt 2, sqrt 2).
@@ -1037,8 +1243,8 @@ mod tests {
     /// double zero at 1 for c1 = 2, c23 = 1/2, m1 = 1 where m2 m3 = 1 and
     /// m2 + m3 = 3 (by hand: N(1) = N'(1) = 0), i.e. m2 = (3 + sqrt 5)/2;
     /// there the denominator is W^2 - 7/2 W + 3 = (W - 3/2)(W - 2).
-    #[test]
-    fn a_box_reads_the_type_the_number_field_gives() {
+    /// The box of B2's double zero (see the next test), with its centre.
+    fn b2_double_zero_box() -> (IsolatedWitness, Vec<Rat>) {
         let model = crate::Model::from_id("B2").unwrap();
         let tf = model.undamped_tf();
         let fixed = BTreeMap::from([
@@ -1069,6 +1275,15 @@ mod tests {
             poses: Vec::new(),
             partition: Vec::new(),
         };
+        (w, centre)
+    }
+
+    #[test]
+    fn a_box_reads_the_type_the_number_field_gives() {
+        let (w, centre) = b2_double_zero_box();
+        let tf = crate::Model::from_id("B2").unwrap().undamped_tf();
+        let fixed = w.fixed.clone();
+        let free: Vec<String> = w.free.keys().cloned().collect();
         let rests = Rests::new(&tf.num, &tf.den, &w).unwrap();
         let partition = rests
             .first_partition(&centre_point(&free, &centre), &w.multiple)

@@ -434,7 +434,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 41;
+pub const ENGINE_VERSION: u32 = 42;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///

@@ -255,7 +255,7 @@ const VIOLATION_SAMPLES: usize = 2000;
 const VIOLATION_STARTS: usize = 12;
 const VIOLATION_EVALUATIONS: usize = 3000;
 /// The log-gap the violation search asks between neighbouring tokens.
-const VIOLATION_GAP: f64 = 1e-3;
+pub(super) const VIOLATION_GAP: f64 = 1e-3;
 
 /// How far the roots at one point are from showing the simple type `t`
 /// (zero exactly when it shows, with log-gaps of at least
@@ -285,13 +285,35 @@ pub(super) fn violation_near(
     if poles.len() as u32 != t.resonances() {
         return None;
     }
+    let k = t.antiresonances() as usize;
+    let (mut cost, moduli) = zeros_near_the_axis(num, k, t.nonminimum_phase, near)?;
+    let seq = log_sequence(t, &moduli, &poles);
+    cost += seq
+        .windows(2)
+        .map(|w| (VIOLATION_GAP - (w[1] - w[0])).max(0.0))
+        .sum::<f64>();
+    cost.is_finite().then_some(cost)
+}
+
+/// The zeros of `num` (ascending coefficients) as the violation search
+/// scores them: the `k` nearest the positive axis by angle are to be
+/// antiresonances, each adding its angle, the others (there must be some
+/// exactly when `nonminimum_phase`) adding how far they fall short of
+/// [`VIOLATION_GAP`] off the axis. Returns that cost and the `k` zeros'
+/// moduli, ascending; `None` where `num` has fewer than `k` zeros or the
+/// phase cannot fit. `near` is as for [`violation_near`].
+pub(super) fn zeros_near_the_axis(
+    num: &[f64],
+    k: usize,
+    nonminimum_phase: bool,
+    near: &mut Vec<(f64, f64)>,
+) -> Option<(f64, Vec<f64>)> {
     let zeros = match complex_roots_near(num, near) {
         Some(z) => z,
         None => complex_roots_near(num, &[])?,
     };
     near.clone_from(&zeros);
-    let k = t.antiresonances() as usize;
-    if zeros.len() < k || (zeros.len() > k) != t.nonminimum_phase {
+    if zeros.len() < k || (zeros.len() > k) != nonminimum_phase {
         return None;
     }
     // A real root keeps a rounding-level imaginary part.
@@ -314,12 +336,7 @@ pub(super) fn violation_near(
     }
     let mut moduli: Vec<f64> = by_angle[..k].iter().map(|z| z.1).collect();
     moduli.sort_by(|a, b| a.total_cmp(b));
-    let seq = log_sequence(t, &moduli, &poles);
-    cost += seq
-        .windows(2)
-        .map(|w| (VIOLATION_GAP - (w[1] - w[0])).max(0.0))
-        .sum::<f64>();
-    cost.is_finite().then_some(cost)
+    Some((cost, moduli))
 }
 
 /// All roots of `sum c[k] x^k` as `(re, im)` (Aberth-Ehrlich on the

@@ -24,7 +24,7 @@
 //! witness by exact arithmetic.
 
 use super::frf_type::{Feature, FrfType, Token};
-use super::targeted::positive_roots;
+use super::targeted::{positive_roots, zeros_near_the_axis, VIOLATION_GAP};
 use crate::tf::{self, Compiled, Gradients, UndampedCoefficients, OMEGA};
 use crate::xorshift::XorShift;
 use poly::Poly;
@@ -334,16 +334,7 @@ impl<'a> Variety<'a> {
         p: &VarietyPoint,
         apart: impl Fn(u32) -> f64,
     ) -> Option<FrfType> {
-        let (mut n, mut d) = self.tf.eval(&p.params);
-        for &r in p.cancelled.iter().chain(&p.doubles).chain(&p.doubles) {
-            n = deflate(&n, r);
-            d = deflate(&d, r);
-        }
-        for &(s, mu) in &p.multiple {
-            for _ in 0..mu {
-                n = deflate(&n, s);
-            }
-        }
+        let (n, d) = self.rests(p);
         let zeros = positive_roots(&n)?;
         let poles = positive_roots(&d)?;
         if poles.len() + 1 != d.len() {
@@ -383,6 +374,103 @@ impl<'a> Variety<'a> {
             tokens: marks.into_iter().filter_map(|m| m.1).collect(),
             nonminimum_phase: zeros.len() + 1 < n.len(),
         })
+    }
+
+    /// The numerator and the denominator at `p` with its posed roots
+    /// divided out: each cancelled pole from both (twice where cancelled
+    /// in a pair), each multiple zero from the numerator as often as its
+    /// multiplicity.
+    fn rests(&self, p: &VarietyPoint) -> (Vec<f64>, Vec<f64>) {
+        let (mut n, mut d) = self.tf.eval(&p.params);
+        for &r in p.cancelled.iter().chain(&p.doubles).chain(&p.doubles) {
+            n = deflate(&n, r);
+            d = deflate(&d, r);
+        }
+        for &(s, mu) in &p.multiple {
+            for _ in 0..mu {
+                n = deflate(&n, s);
+            }
+        }
+        (n, d)
+    }
+
+    /// How far the converged point `p` is from reading `t`: zero where the
+    /// rests' roots and the posed zeros stand in `t`'s order with log-gaps
+    /// of at least [`VIOLATION_GAP`]; `None` where the denominator's rest
+    /// has other than `t`'s resonances, all real and positive, or the
+    /// numerator's rest fits neither `t`'s simple antiresonances nor its
+    /// phase. As for a generic type (`targeted::violation_near`), every
+    /// shortfall adds: the simple antiresonances are the rest's zeros
+    /// nearest the positive axis by angle, each adding its angle, the
+    /// other zeros keep off the axis, and each pair of neighbouring tokens
+    /// adds how far its log-gap falls short; the posed zeros of one
+    /// multiplicity stand for `t`'s tokens of that multiplicity in
+    /// ascending order. Each cancelled pole adds how far it falls short of
+    /// the gap from every antiresonance and every other cancelled pole, as
+    /// a point where it meets another root is not read (a resonance may
+    /// stand on it: the blocks' shared eigenvalue). `near` holds the rest's zeros at a
+    /// nearby point, where the iteration for them starts, and afterwards
+    /// those found here.
+    pub(crate) fn violation(
+        &self,
+        p: &VarietyPoint,
+        t: &FrfType,
+        near: &mut Vec<(f64, f64)>,
+    ) -> Option<f64> {
+        let (n, d) = self.rests(p);
+        let poles = positive_roots(&d)?;
+        if poles.len() + 1 != d.len() || poles.len() as u32 != t.resonances() {
+            return None;
+        }
+        let simple = t
+            .tokens
+            .iter()
+            .filter(|k| k.feature == Feature::Antiresonance && k.multiplicity == 1)
+            .count();
+        let (mut cost, moduli) = zeros_near_the_axis(&n, simple, t.nonminimum_phase, near)?;
+        let mut posed = p.multiple.clone();
+        posed.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let (mut zeros, mut poles) = (moduli.into_iter(), poles.into_iter());
+        let mut seq = Vec::with_capacity(t.tokens.len());
+        for tok in &t.tokens {
+            let v = match (tok.feature, tok.multiplicity) {
+                (Feature::Resonance, _) => poles.next()?,
+                (Feature::Antiresonance, 1) => zeros.next()?,
+                (Feature::Antiresonance, mu) => {
+                    let i = posed.iter().position(|s| s.1 == mu)?;
+                    posed.remove(i).0
+                }
+            };
+            seq.push(v.max(f64::MIN_POSITIVE).ln());
+        }
+        cost += seq
+            .windows(2)
+            .map(|w| (VIOLATION_GAP - (w[1] - w[0])).max(0.0))
+            .sum::<f64>();
+        // Each cancelled pole apart from every zero and every other
+        // cancelled pole, not from the resonances: where the blocks share
+        // an eigenvalue, a pole cancelled once leaves a resonance there.
+        let cancelled: Vec<f64> = p
+            .cancelled
+            .iter()
+            .chain(&p.doubles)
+            .map(|r| r.max(f64::MIN_POSITIVE).ln())
+            .collect();
+        let zeros: Vec<f64> = t
+            .tokens
+            .iter()
+            .zip(&seq)
+            .filter(|(k, _)| k.feature == Feature::Antiresonance)
+            .map(|(_, v)| *v)
+            .collect();
+        for (i, r) in cancelled.iter().enumerate() {
+            cost += zeros
+                .iter()
+                .chain(&cancelled[i + 1..])
+                .map(|v| (VIOLATION_GAP - (v - r).abs()).max(0.0))
+                .sum::<f64>();
+        }
+        cost.is_finite().then_some(cost)
     }
 }
 
@@ -520,6 +608,59 @@ mod tests {
         assert_eq!(found.len(), 2);
         assert!((found[0] / 1e-4 - 1.0).abs() < 1e-9, "{found:?}");
         assert!((found[1] / 2.0 - 1.0).abs() < 1e-9, "{found:?}");
+    }
+
+    /// The descent's score against the reading, by their own routes (the
+    /// reading sorts the marks, the score assigns the tokens in the type's
+    /// order): on points of two structures, one with two cancelled poles
+    /// and one with a cancelled pole and a double zero, a point scores
+    /// zero only for the type it reads, and most points read score zero
+    /// for their type (the rest have two marks closer than the gap).
+    #[test]
+    fn a_point_scores_zero_only_for_the_type_it_reads() {
+        for (id, cancelled, multiple) in [
+            ("N5-g3-a4.2-s5.2", 2, vec![]),
+            ("N5-g1-a2.1-s5.1", 1, vec![2]),
+        ] {
+            let m = crate::Model::from_id(id).unwrap();
+            let tf = UndampedCoefficients::new(&m);
+            let names = m.undamped_parameters();
+            let variety = Variety::new(&tf, names.len(), cancelled, &multiple);
+            let mut rng = XorShift::new(17);
+            let mut points = Vec::new();
+            for _ in 0..3000 {
+                let Some(mut x) = variety.start(&mut rng, 3.0) else {
+                    continue;
+                };
+                if variety.project(&mut x, 3.0) {
+                    let p = variety.point(&x);
+                    if let Some(t) = variety.read(&p) {
+                        points.push((p, t));
+                    }
+                }
+            }
+            let types: std::collections::BTreeSet<FrfType> =
+                points.iter().map(|(_, t)| t.clone()).collect();
+            assert!(
+                points.len() > 50 && types.len() > 1,
+                "{id}: {} points, {} types",
+                points.len(),
+                types.len()
+            );
+            let mut zero = 0;
+            for (p, read) in &points {
+                for t in &types {
+                    let score = variety.violation(p, t, &mut Vec::new());
+                    if t == read {
+                        assert!(score.is_some_and(|s| s >= 0.0), "{id} {t}");
+                        zero += usize::from(score == Some(0.0));
+                    } else {
+                        assert!(score != Some(0.0), "{id}: reads {read}, scores 0 for {t}");
+                    }
+                }
+            }
+            assert!(2 * zero > points.len(), "{id}: {zero} of {}", points.len());
+        }
     }
 
     #[test]
