@@ -408,9 +408,9 @@ impl<'a> Variety<'a> {
     /// ascending order. Each cancelled pole adds how far it falls short of
     /// the gap from every antiresonance and every other cancelled pole, as
     /// a point where it meets another root is not read (a resonance may
-    /// stand on it: the blocks' shared eigenvalue). `near` holds the rest's zeros at a
-    /// nearby point, where the iteration for them starts, and afterwards
-    /// those found here.
+    /// stand on it: the blocks' shared eigenvalue). `near` holds the
+    /// rest's zeros at a nearby point, where the iteration for them
+    /// starts, and afterwards those found here.
     pub(crate) fn violation(
         &self,
         p: &VarietyPoint,
@@ -430,12 +430,12 @@ impl<'a> Variety<'a> {
         let (mut cost, moduli) = zeros_near_the_axis(&n, simple, t.nonminimum_phase, near)?;
         let mut posed = p.multiple.clone();
         posed.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let (mut zeros, mut poles) = (moduli.into_iter(), poles.into_iter());
+        let (mut moduli, mut poles) = (moduli.into_iter(), poles.into_iter());
         let mut seq = Vec::with_capacity(t.tokens.len());
         for tok in &t.tokens {
             let v = match (tok.feature, tok.multiplicity) {
                 (Feature::Resonance, _) => poles.next()?,
-                (Feature::Antiresonance, 1) => zeros.next()?,
+                (Feature::Antiresonance, 1) => moduli.next()?,
                 (Feature::Antiresonance, mu) => {
                     let i = posed.iter().position(|s| s.1 == mu)?;
                     posed.remove(i).0
@@ -456,7 +456,7 @@ impl<'a> Variety<'a> {
             .chain(&p.doubles)
             .map(|r| r.max(f64::MIN_POSITIVE).ln())
             .collect();
-        let zeros: Vec<f64> = t
+        let antiresonances: Vec<f64> = t
             .tokens
             .iter()
             .zip(&seq)
@@ -464,7 +464,7 @@ impl<'a> Variety<'a> {
             .map(|(_, v)| *v)
             .collect();
         for (i, r) in cancelled.iter().enumerate() {
-            cost += zeros
+            cost += antiresonances
                 .iter()
                 .chain(&cancelled[i + 1..])
                 .map(|v| (VIOLATION_GAP - (v - r).abs()).max(0.0))
