@@ -56,7 +56,7 @@ def roots_of(poly, omega):
         c.pop(0)
     if len(c) <= 1:
         return []
-    return list(mp.polyroots(c, maxsteps=2000, extraprec=400))
+    return list(mp.polyroots(c, maxsteps=20000, extraprec=800))
 
 
 def read_type(num_roots, den_roots):

@@ -1562,7 +1562,7 @@ fn read_type(roots: &[poly::SharedRoot], zeros: usize) -> Result<Ty, String> {
 /// has the claimed cancelled poles and multiple zeros: each divided out
 /// exactly, then the rests' positive roots isolated together by Descartes'
 /// rule over the field, every one simple (so the rests share none), every
-/// pole among them, and no claimed root a root of the rests.
+/// pole among them, and no multiple zero a root of the rests.
 fn classify_posed(
     nf: &RealField,
     num: &Poly,
@@ -1598,11 +1598,9 @@ fn classify_posed(
                 .ok_or_else(|| format!("{r} is no zero of multiplicity {k}"))?;
         }
     }
-    for r in cancelled {
-        if nf.sign_at(&d, r) == 0 {
-            return Err(format!("the cancelled pole {r} is a multiple pole"));
-        }
-    }
+    // A cancelled pole may stay a pole of the rest (a double pole
+    // cancelled once): its root is read below as a resonance, and were it
+    // a zero of the rest as well, the product's root there is not simple.
     for (r, k) in multiple {
         if nf.sign_at(&n, r) == 0 {
             return Err(format!("the zero at {r} has a multiplicity above {k}"));
@@ -4307,12 +4305,32 @@ fn configuration_fits(
 /// other product of degree exactly `k - 1`, the `(k-1)`-th derivative is
 /// `P^(k-1)` plus a constant: no zero where the two have one sign. The
 /// same for the reversed polynomials, whose zeros are the inverses.
+///
+/// Also for the sum divided by `Omega - lambda` at each pole `lambda` two
+/// blocks share: it divides both products (each holds one block's `d`),
+/// so the lower product's degree and `k` drop by one per shared pole and
+/// `P` keeps its other roots; where such a pole cancels twice the
+/// quotient vanishes there besides the type's zeros.
 fn rolle_allows(
     blocks: &[CheckBlock],
     order: &[(usize, CheckEvent)],
     shared: &[(usize, bool)],
     resonances: &[usize],
     counts: &[u32],
+) -> bool {
+    rolle_allows_on(blocks, order, shared, resonances, counts, false)
+        && (shared.is_empty() || rolle_allows_on(blocks, order, shared, resonances, counts, true))
+}
+
+/// [`rolle_allows`] on the sum itself or, `divided`, on its quotient by
+/// the shared poles' factors.
+fn rolle_allows_on(
+    blocks: &[CheckBlock],
+    order: &[(usize, CheckEvent)],
+    shared: &[(usize, bool)],
+    resonances: &[usize],
+    counts: &[u32],
+    divided: bool,
 ) -> bool {
     // A coincident pair is one point: its second event takes the first's
     // place. Places are shifted by one so that 0 is Omega = 0.
@@ -4334,13 +4352,19 @@ fn rolle_allows(
         if !bh.direct {
             continue;
         }
-        let k = bl.degree as usize + bh.size + 1;
+        let cut = if divided { shared.len() } else { 0 };
+        let Some(k) = (bl.degree as usize + bh.size + 1).checked_sub(cut) else {
+            continue;
+        };
+        let in_pair = |i: usize| shared.iter().any(|&(j, _)| i == j || i == j + 1);
         let mut roots: Vec<usize> = vec![0; bh.omega_power as usize + usize::from(bl.free)];
         for (i, (b, e)) in order.iter().enumerate() {
             match e {
                 CheckEvent::Pole { on, .. } => {
                     if *b == low {
-                        roots.push(place(i));
+                        if !(divided && in_pair(i)) {
+                            roots.push(place(i));
+                        }
                     } else {
                         for &r in on {
                             for _ in 0..bh.runs[r].exponent {
@@ -4358,8 +4382,8 @@ fn rolle_allows(
                 }
             }
         }
-        let degree = bh.degree as usize + bl.size;
-        if roots.len() != degree || k > degree {
+        let degree = bh.degree as usize + bl.size - cut;
+        if roots.len() != degree || k == 0 || k > degree {
             continue;
         }
         roots.sort_unstable();
@@ -4376,7 +4400,14 @@ fn rolle_allows(
         for from in 0..bounds.len() {
             for to in from + 1..bounds.len() {
                 let (lo, hi) = (bounds[from], bounds[to]);
-                let zeros = counts[from..to].iter().sum::<u32>() as usize;
+                let mut zeros = counts[from..to].iter().sum::<u32>() as usize;
+                if divided {
+                    // The quotient's own zero at a pole cancelled twice.
+                    zeros += shared
+                        .iter()
+                        .filter(|&&(j, twice)| twice && lo < j + 1 && j + 1 < hi)
+                        .count();
+                }
                 // E^(k) = P^(k): its i-th root lies between P's i-th and
                 // (i + k)-th.
                 if k < degree {

@@ -1564,6 +1564,50 @@ fn rolle_bound_spans_resonances() {
     );
 }
 
+/// Rolle on the numerator divided by a shared pole (docs/analysis.md):
+/// in N5-g1-a2.1-s5.1 the grounded m1's pole `c1/m1` on the chain's `i`-th
+/// eigenvalue `l_i` divides `E = -c23 c34 c45 m1 (c1/m1 - Omega) + Omega
+/// p_R(Omega)` (up to signs) by `Omega - l_i`, leaving a constant plus
+/// `Omega` times the chain's other two pole factors: its derivative's
+/// roots lie one below the lower of those and one between them, and
+/// between them it has one sign. So with one cancellation the only type
+/// with two resonances below every zero has a single zero above the
+/// last of them (`RRAR (nm)` with the pole on the third eigenvalue,
+/// `RRRA (nm)` otherwise), and with the pole cancelled twice (the
+/// residues adding up to zero) the quotient's zero on the cancelled pole
+/// is not the type's: `RRAA` and `RRA^2` are out, `ARRA` stays. The
+/// parities and Rolle on `E` itself allow all ten types below, which the
+/// sampler never read in 10^6 starts.
+#[test]
+fn rolle_bound_less_a_shared_pole() {
+    let id = "N5-g1-a2.1-s5.1";
+    let cert = json!({
+        "factors": [],
+        "stratum": [],
+        "open": {"kind": "block_pole_signs", "blocks": [
+            {"factors": [], "masses": [1], "numerator": "1", "remainder": false, "unit": "1"},
+            {"factors": [
+                {"exponent": 1, "factor": "c23"},
+                {"exponent": 1, "factor": "c34"},
+                {"exponent": 1, "factor": "c45"}],
+             "masses": [2, 3, 4, 5], "numerator": "c23*c34*c45", "remainder": false, "unit": "1"}]}
+    });
+    let impossible = [
+        "RRAAAR", "RRAARA", "RRARAA", "RRAA^2R", "RRARA^2", "RRA^2AR", "RRA^2RA", "RRA^3R", "RRAA",
+        "RRA^2",
+    ];
+    // c1/m1 = 15, the chain's third eigenvalue (c34 solved for it).
+    let once = json!({"c1": "9/4", "c23": "64", "c34": "1/4", "c45": "1", "m1": "3/20",
+        "m2": "36", "m3": "1413775/291074", "m4": "3", "m5": "1"});
+    block_certificate_holds_up_to_a_witness(id, &cert, &impossible, ("RRAR (nm)", once));
+    // The pole cancelled twice, on the chain's first eigenvalue.
+    let twice = json!({"c1": "213358129792913083/980314713147572224", "c23": "88",
+        "c34": "11/64", "c45": "63232286051/239088999104512",
+        "m1": "19396193617537553/3829354348232704", "m2": "3/8", "m3": "7", "m4": "11/4",
+        "m5": "5748389641/934900963924"});
+    block_certificate_holds_up_to_a_witness(id, &cert, &impossible, ("ARRA", twice));
+}
+
 /// The block pole-sign certificate `cert` of model `id` is accepted for
 /// each type of `impossible`, the `witnessed` type's witness is valid, and
 /// the certificate moved onto that type is rejected because the type fits

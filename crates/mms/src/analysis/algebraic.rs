@@ -29,12 +29,11 @@ use std::collections::BTreeMap;
 
 /// Fields of higher degree than this are not tried: their arithmetic
 /// grows with the square of the degree, and a root of such a factor is
-/// met again at another draw of lower degree.
+/// met again at another draw of lower degree. Two short, a draw whose
+/// resultant may exceed it in `x` (Bezout's bound from the two minors) is
+/// not eliminated either: its fields would be of about that degree, and
+/// its cost grows faster still.
 const MAX_FIELD_DEGREE: usize = 16;
-/// Two short, a draw whose resultant may exceed this degree in `x`
-/// (Bezout's bound from the two minors) is not eliminated: its fields
-/// would be of about that degree, and its cost grows faster still.
-const MAX_ELIMINANT_DEGREE: u32 = 16;
 /// Random draws (linear set, parameters short of it, their fixed values,
 /// roots) per root signature and number of parameters short.
 const ALGEBRAIC_TRIALS: usize = 60;
@@ -638,7 +637,7 @@ impl Prover<'_> {
     /// The posed coincidences `(cancel, multiple)` are divided out exactly
     /// first and the rest read in `f64`: only a point whose type so
     /// predicted is wanted is classified exactly, which costs far more.
-    fn record_algebraic(
+    pub(super) fn record_algebraic(
         &mut self,
         types: &[FrfType],
         fixed: &BTreeMap<String, Rat>,
@@ -717,8 +716,10 @@ fn posed_rests(
 /// Descartes' rule over the field, each simple, so that `Q` and `P` share
 /// none; the multiple zeros, roots of neither, put back in their places.
 /// `None` where the point does not have that structure: a posed root that
-/// does not divide, a multiple zero or a cancelled pole met again by the
-/// rests, a multiple root of `Q P`, or a pole off the positive axis.
+/// does not divide, a multiple zero met again by the rests, a multiple
+/// root of `Q P`, or a pole off the positive axis. A cancelled pole that
+/// stays a simple pole of `P` (a double root of the denominator cancelled
+/// once) is a resonance.
 pub(super) fn posed_type(
     field: &RealField,
     num: &Poly,
@@ -728,10 +729,12 @@ pub(super) fn posed_type(
     multiple: &[(Rat, u32)],
 ) -> Option<FrfType> {
     let (q, p) = posed_rests(field, num, den, point, cancel, multiple)?;
-    if cancel.iter().any(|r| field.sign_at(&p, r) == 0)
-        || multiple
-            .iter()
-            .any(|(r, _)| field.sign_at(&q, r) == 0 || field.sign_at(&p, r) == 0)
+    // A cancelled pole may stay a pole of the rest: two blocks' poles on
+    // one point, cancelled once. It is then read as a resonance; were it a
+    // zero of the rest too, the product's root there would not be simple.
+    if multiple
+        .iter()
+        .any(|(r, _)| field.sign_at(&q, r) == 0 || field.sign_at(&p, r) == 0)
     {
         return None;
     }
@@ -840,6 +843,17 @@ pub(super) fn algebraic_points(
     vars: &[String],
     xs: &[String],
 ) -> Vec<FieldPoint> {
+    algebraic_points_up_to(equations, vars, xs, MAX_FIELD_DEGREE)
+}
+
+/// [`algebraic_points`] with fields, and two short eliminants, of degree
+/// up to `max_degree`.
+pub(super) fn algebraic_points_up_to(
+    equations: &[Poly],
+    vars: &[String],
+    xs: &[String],
+    max_degree: usize,
+) -> Vec<FieldPoint> {
     if equations.len() != vars.len() + xs.len() || xs.is_empty() || xs.len() > 2 {
         return Vec::new();
     }
@@ -878,7 +892,7 @@ pub(super) fn algebraic_points(
         };
         let (a, b) = (minor(n - 1), minor(n - 2));
         let (y, dx) = (&xs[1], |p: &Poly| p.degree(x));
-        if dx(&a) * b.degree(y) + a.degree(y) * dx(&b) > MAX_ELIMINANT_DEGREE {
+        if (dx(&a) * b.degree(y) + a.degree(y) * dx(&b)) as usize > max_degree {
             return Vec::new();
         }
         let r = poly::resultant(&a, &b, y);
@@ -893,10 +907,7 @@ pub(super) fn algebraic_points(
     let mut out = Vec::new();
     for field in RealField::real_roots_of(&u) {
         let (lo, _) = field.interval();
-        if lo.signum() < 0
-            || field.degree() > MAX_FIELD_DEGREE
-            || field.sign(&field.generator()) <= 0
-        {
+        if lo.signum() < 0 || field.degree() > max_degree || field.sign(&field.generator()) <= 0 {
             continue;
         }
         if let Some(point) = complete(&field, &rows, equations, vars, xs) {

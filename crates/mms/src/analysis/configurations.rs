@@ -456,7 +456,7 @@ fn merge(
 }
 
 /// What the configurations are enumerated from, kept so that they can be
-/// enumerated again with the paired directions without the algebra.
+/// enumerated again with the late rules without the algebra.
 #[derive(Clone, Debug)]
 pub(crate) struct ConfigurationInputs {
     pub blocks: Vec<BlockEvents>,
@@ -468,14 +468,14 @@ pub(crate) struct ConfigurationInputs {
 
 impl ConfigurationInputs {
     /// [`configurations`] of these inputs.
-    pub(crate) fn configurations(&self, paired: bool) -> Option<Configurations> {
+    pub(crate) fn configurations(&self, late: bool) -> Option<Configurations> {
         configurations(
             &self.blocks,
             self.scale,
             self.at_zero,
             self.at_inf,
             self.nm_exact,
-            paired,
+            late,
         )
     }
 }
@@ -483,17 +483,19 @@ impl ConfigurationInputs {
 /// The configurations of `blocks` (one or two with a term in the TF):
 /// `scale` is the sign of `-c`, `at_zero` and `at_inf` the numerator's
 /// signs at `0` and infinity, `nm_exact` whether it vanishes at `0`.
-/// `paired`: a term's direction on a gap from its zeros and poles paired
-/// across the gap ([`monotone`]); else only where all its zeros lie on
-/// one side and all its poles on the other, the rule that decides which
-/// types the witness searches are given (see `Prover::paired_block_proof`).
+/// `late`: the rules applied only to the types the witness searches leave
+/// unknown (see `Prover::late_block_proof`): a term's direction on a gap
+/// from its zeros and poles paired across the gap ([`monotone`]), else
+/// only where all its zeros lie on one side and all its poles on the
+/// other; and Rolle's bound also on the numerator divided by the shared
+/// poles ([`rolle_spans`]).
 fn configurations(
     blocks: &[BlockEvents],
     scale: i32,
     at_zero: i32,
     at_inf: i32,
     nm_exact: bool,
-    paired: bool,
+    late: bool,
 ) -> Option<Configurations> {
     let mut budget = MAX_CONFIGURATIONS;
     let seqs: Vec<Vec<Vec<Tok>>> = blocks
@@ -511,7 +513,7 @@ fn configurations(
             for s in &seqs[0] {
                 let merged: Vec<Merged> = s.iter().map(|t| Merged::One(0, t.clone())).collect();
                 patterns.insert(samples(
-                    blocks, &merged, scale, at_zero, at_inf, exact, paired,
+                    blocks, &merged, scale, at_zero, at_inf, exact, late,
                 ));
             }
             Some(Configurations {
@@ -534,7 +536,7 @@ fn configurations(
                         &mut budget,
                     )?;
                     for m in out {
-                        patterns.insert(samples(blocks, &m, scale, at_zero, at_inf, false, paired));
+                        patterns.insert(samples(blocks, &m, scale, at_zero, at_inf, false, late));
                     }
                 }
             }
@@ -557,7 +559,7 @@ fn samples(
     at_zero: i32,
     at_inf: i32,
     exact: bool,
-    paired: bool,
+    late: bool,
 ) -> Vec<Sample> {
     let flip = |k: usize| if k % 2 == 1 { -1 } else { 1 };
     let is_pole = |t: &Merged, b: usize| match t {
@@ -650,7 +652,7 @@ fn samples(
             return Some(blk.collocated);
         }
         let sign = term_sign(g, b)?;
-        if !paired {
+        if !late {
             let poles_below = seq[..g].iter().filter(|t| is_pole(t, b)).count();
             let poles = blk.size + 1 - blk.first_pole();
             let eigs: Vec<(usize, usize)> = (0..blk.minors.len())
@@ -838,7 +840,7 @@ fn samples(
         }
         out.push(Sample::Point(at_inf as i8));
         if blocks.len() == 2 {
-            out.extend(rolle_spans(blocks, seq, &resonances));
+            out.extend(rolle_spans(blocks, seq, &resonances, late));
         }
     }
     out
@@ -858,7 +860,59 @@ fn samples(
 /// plus a constant of `A`'s leading sign, and where `B^(k-1)` has that
 /// sign throughout, `E` has at most `k - 1` zeros; both bounds also for
 /// `u^D E(1/u)`, whose zeros are the inverses.
-fn rolle_spans(blocks: &[BlockEvents], seq: &[Merged], resonances: &[usize]) -> Vec<Sample> {
+///
+/// With `late`, also on `E` divided by `Omega - lambda` for every pole
+/// `lambda` the two blocks share: both products keep a factor of it (each
+/// has one block's `d` as a factor), so `A`'s degree, and `k`, drop by
+/// the number of shared poles, and `B`'s roots lose one copy of each. A
+/// pole cancelled twice stays a zero of the quotient, not of the reduced
+/// numerator, and is taken off the bound of the intervals it lies in. For
+/// the grounded mass beside a free chain seen end to end, with the mass's
+/// pole on the chain's `i`-th, the quotient is a constant plus `Omega`
+/// times the chain's other two pole factors: no zero between those two.
+fn rolle_spans(
+    blocks: &[BlockEvents],
+    seq: &[Merged],
+    resonances: &[usize],
+    late: bool,
+) -> Vec<Sample> {
+    let shared = seq
+        .iter()
+        .filter(|t| matches!(t, Merged::Shared { .. }))
+        .count();
+    let mut most = rolle_bounds(blocks, seq, resonances, false);
+    if late && shared > 0 {
+        let reduced = rolle_bounds(blocks, seq, resonances, true);
+        for (row, other) in most.iter_mut().zip(reduced) {
+            for (m, r) in row.iter_mut().zip(other) {
+                *m = (*m).min(r);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for (i, row) in most.iter().enumerate() {
+        for (j, &m) in row.iter().enumerate() {
+            if m != u32::MAX {
+                out.push(Sample::Span {
+                    from: i as u32,
+                    to: j as u32,
+                    most: m,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The bounds of [`rolle_spans`] between every two ends (`u32::MAX`:
+/// none), on `E` itself or, `reduced`, on `E` divided by the shared poles'
+/// factors.
+fn rolle_bounds(
+    blocks: &[BlockEvents],
+    seq: &[Merged],
+    resonances: &[usize],
+    reduced: bool,
+) -> Vec<Vec<u32>> {
     let flip = |k: usize| if k % 2 == 1 { -1 } else { 1 };
     // The signs of `n_B`'s leading and lowest coefficients in `Omega`, when
     // its factors are its own: a run's determinant leads with `(-1)^len`
@@ -882,13 +936,29 @@ fn rolle_spans(blocks: &[BlockEvents], seq: &[Merged], resonances: &[usize]) -> 
     ends.extend(resonances.iter().map(|p| p + 1));
     ends.push(seq.len() + 1);
     let mut most: Vec<Vec<u32>> = vec![vec![u32::MAX; ends.len()]; ends.len()];
+    // The shared poles divided out, and the places of those cancelled
+    // twice (the quotient's own zeros there).
+    let mut divided = 0;
+    let mut doubles: Vec<usize> = Vec::new();
+    if reduced {
+        for (p, t) in seq.iter().enumerate() {
+            if let Merged::Shared { double, .. } = t {
+                divided += 1;
+                if *double {
+                    doubles.push(p + 1);
+                }
+            }
+        }
+    }
     for a in 0..2 {
         let o = 1 - a;
         let (ba, bo) = (&blocks[a], &blocks[o]);
         if !bo.direct {
             continue;
         }
-        let k = (ba.degree + bo.size as u32 + 1) as usize;
+        let Some(k) = ((ba.degree + bo.size as u32 + 1) as usize).checked_sub(divided) else {
+            continue;
+        };
         let mut roots: Vec<usize> = vec![0; usize::from(ba.free) + bo.omega_power as usize];
         let exp = |m: usize| bo.minors[m].exponent as usize;
         for (p, t) in seq.iter().enumerate() {
@@ -906,18 +976,24 @@ fn rolle_spans(blocks: &[BlockEvents], seq: &[Merged], resonances: &[usize]) -> 
                 }
                 Merged::One(..) => {}
                 Merged::Shared { tied, .. } => {
-                    roots.push(at);
+                    if !reduced {
+                        roots.push(at);
+                    }
                     tied[o].iter().for_each(|&m| roots.extend(vec![at; exp(m)]));
                 }
             }
         }
         let d = roots.len();
-        if d != bo.degree as usize + ba.size || k > d {
+        if d + divided != bo.degree as usize + ba.size || k == 0 || k > d {
             continue;
         }
         roots.sort_unstable();
         let mut bound = |i: usize, j: usize, b: usize| {
             if b < d {
+                // The quotient's zeros at poles cancelled twice inside.
+                let (lo, hi) = (ends[i], ends[j]);
+                let own = doubles.iter().filter(|&&at| lo < at && at < hi).count();
+                let b = b.saturating_sub(own);
                 most[i][j] = most[i][j].min(b as u32);
             }
         };
@@ -971,19 +1047,7 @@ fn rolle_spans(blocks: &[BlockEvents], seq: &[Merged], resonances: &[usize]) -> 
             }
         }
     }
-    let mut out = Vec::new();
-    for (i, row) in most.iter().enumerate() {
-        for (j, &m) in row.iter().enumerate() {
-            if m != u32::MAX {
-                out.push(Sample::Span {
-                    from: i as u32,
-                    to: j as u32,
-                    most: m,
-                });
-            }
-        }
-    }
-    out
+    most
 }
 
 /// Whether a term `T = n / d` rises (`Some(true)`) or falls on an open

@@ -23,6 +23,7 @@
 //! ```
 
 mod algebraic;
+mod block_scale;
 mod cancellations;
 mod configurations;
 mod continuity;
@@ -434,7 +435,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 42;
+pub const ENGINE_VERSION: u32 = 44;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
@@ -577,7 +578,9 @@ fn completion(model: &Model, a: ModelAnalysis, search: Completion) -> ModelAnaly
     }
     match search {
         Completion::Algebraic => prover.algebraic_search(&open, ALGEBRAIC_SEED),
-        Completion::Isolated => prover.isolated_search(&open, ISOLATED_SEED),
+        Completion::Isolated => {
+            prover.isolated_search(&open, ISOLATED_SEED) + prover.block_scale_search(&open)
+        }
     };
     let found: Vec<TypeVerdict> = open
         .iter()
@@ -791,7 +794,7 @@ fn analyze_rational(model: &Model, limits: &SearchLimits) -> ModelAnalysis {
         }
     }
     for v in verdicts.iter_mut().filter(|v| v.status == Status::Unknown) {
-        if let Some(p) = prover.paired_block_proof(&v.frf_type) {
+        if let Some(p) = prover.late_block_proof(&v.frf_type) {
             v.status = Status::Impossible;
             v.certificate = Some(p);
         }

@@ -701,9 +701,9 @@ pub(crate) struct Prover<'a> {
     pole_signs: Option<Option<PoleSignData>>,
     /// The same for the block-product premise.
     block_pole_signs: Option<Option<BlockSignData>>,
-    /// Its configurations with the terms' directions from paired zeros
-    /// and poles.
-    paired_configurations: Option<Option<Configurations>>,
+    /// Its configurations with the late rules (directions from paired
+    /// zeros and poles, Rolle on the numerator less the shared poles).
+    late_configurations: Option<Option<Configurations>>,
     /// Sign conditions recur across sign cases, types and strata.
     conditions: ConditionCache,
     /// The partial walls the witness search visited, in order.
@@ -799,7 +799,7 @@ impl<'a> Prover<'a> {
             memo: HashMap::new(),
             pole_signs: None,
             block_pole_signs: None,
-            paired_configurations: None,
+            late_configurations: None,
             conditions: ConditionCache::default(),
             partial_walls: Vec::new(),
         }
@@ -994,24 +994,25 @@ impl<'a> Prover<'a> {
         })
     }
 
-    /// The block pole-sign certificate with each term's direction on a gap
-    /// read from its zeros and poles paired across the gap (see
-    /// `configurations::monotone`), for a type the witness searches have
-    /// left unknown. It comes after them, not with the other proofs: the
+    /// The block pole-sign certificate with the late rules (each term's
+    /// direction on a gap read from its zeros and poles paired across the
+    /// gap, Rolle's bound on the numerator divided by the shared poles; see
+    /// `configurations::monotone` and `configurations::rolle_spans`), for
+    /// a type the witness searches have left unknown. It comes after them, not with the other proofs: the
     /// searches draw their random points per wanted type in turn, so a
     /// type proved before them would change what they find for others
     /// (this rule first made one witness of N5-g4-a5.1-s5.3 disappear).
-    pub(crate) fn paired_block_proof(&mut self, t: &FrfType) -> Option<Proof> {
+    pub(crate) fn late_block_proof(&mut self, t: &FrfType) -> Option<Proof> {
         let (model, num, den) = (self.model, &self.num, &self.den);
         let d = self
             .block_pole_signs
             .get_or_insert_with(|| block_pole_sign_data(model, num, den))
             .as_ref()?;
-        let paired = self
-            .paired_configurations
+        let late = self
+            .late_configurations
             .get_or_insert_with(|| d.inputs.configurations(true))
             .as_ref()?;
-        if t.has_multiple_resonance() || paired.fits(t, d.zeros) {
+        if t.has_multiple_resonance() || late.fits(t, d.zeros) {
             return None;
         }
         Some(Proof {

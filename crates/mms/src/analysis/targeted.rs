@@ -65,7 +65,7 @@ pub(super) fn positive_roots(c: &[f64]) -> Option<Vec<f64>> {
     Some(roots_in(c, 0.0, bound))
 }
 
-fn horner(c: &[f64], x: f64) -> f64 {
+pub(super) fn horner(c: &[f64], x: f64) -> f64 {
     c.iter().rev().fold(0.0, |acc, v| acc * x + v)
 }
 
