@@ -1530,6 +1530,23 @@ fn one_verdict(id: &str, verdict: Value) -> Value {
            "types": [verdict]})
 }
 
+/// The block certificate of N5-g1-a2.1-s5.1: the grounded m1's term
+/// (numerator 1) and the free chain m2-m5's end-to-end term (numerator
+/// `c23 c34 c45`).
+fn grounded_mass_beside_a_chain() -> Value {
+    json!({
+        "factors": [],
+        "stratum": [],
+        "open": {"kind": "block_pole_signs", "blocks": [
+            {"factors": [], "masses": [1], "numerator": "1", "remainder": false, "unit": "1"},
+            {"factors": [
+                {"exponent": 1, "factor": "c23"},
+                {"exponent": 1, "factor": "c34"},
+                {"exponent": 1, "factor": "c45"}],
+             "masses": [2, 3, 4, 5], "numerator": "c23*c34*c45", "remainder": false, "unit": "1"}]}
+    })
+}
+
 /// Rolle's bound across resonances (docs/analysis.md): N5-g1-a2.1-s5.1, a
 /// grounded mass beside a free chain of four seen end to end, has the
 /// numerator `Omega p(Omega) + c23 c34 c45 (c1 - m1 Omega)` up to signs,
@@ -1542,17 +1559,7 @@ fn one_verdict(id: &str, verdict: Value) -> Value {
 #[test]
 fn rolle_bound_spans_resonances() {
     let id = "N5-g1-a2.1-s5.1";
-    let cert = json!({
-        "factors": [],
-        "stratum": [],
-        "open": {"kind": "block_pole_signs", "blocks": [
-            {"factors": [], "masses": [1], "numerator": "1", "remainder": false, "unit": "1"},
-            {"factors": [
-                {"exponent": 1, "factor": "c23"},
-                {"exponent": 1, "factor": "c34"},
-                {"exponent": 1, "factor": "c45"}],
-             "masses": [2, 3, 4, 5], "numerator": "c23*c34*c45", "remainder": false, "unit": "1"}]}
-    });
+    let cert = grounded_mass_beside_a_chain();
     // Three zeros below the first resonance: an exact witness.
     let witness = json!({"c1": "27/5", "c23": "9/500", "c34": "13/5", "c45": "6/25",
         "m1": "12/5", "m2": "39/5000", "m3": "73/1000", "m4": "97/10", "m5": "1/10"});
@@ -1581,17 +1588,7 @@ fn rolle_bound_spans_resonances() {
 #[test]
 fn rolle_bound_less_a_shared_pole() {
     let id = "N5-g1-a2.1-s5.1";
-    let cert = json!({
-        "factors": [],
-        "stratum": [],
-        "open": {"kind": "block_pole_signs", "blocks": [
-            {"factors": [], "masses": [1], "numerator": "1", "remainder": false, "unit": "1"},
-            {"factors": [
-                {"exponent": 1, "factor": "c23"},
-                {"exponent": 1, "factor": "c34"},
-                {"exponent": 1, "factor": "c45"}],
-             "masses": [2, 3, 4, 5], "numerator": "c23*c34*c45", "remainder": false, "unit": "1"}]}
-    });
+    let cert = grounded_mass_beside_a_chain();
     let impossible = [
         "RRAAAR", "RRAARA", "RRARAA", "RRAA^2R", "RRARA^2", "RRA^2AR", "RRA^2RA", "RRA^3R", "RRAA",
         "RRA^2",

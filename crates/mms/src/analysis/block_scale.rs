@@ -30,7 +30,9 @@ use super::algebraic::algebraic_points_up_to;
 use super::frf_type::{Feature, FrfType};
 use super::prover::Prover;
 use super::targeted::{horner, positive_roots, short_rational, MERGE_FRACTIONS};
-use super::targeted::{linear_sets, multiple_antiresonances, solve_linear, split_type};
+use super::targeted::{
+    linear_sets, multiple_antiresonances, solve_linear, split_type, zero_groups,
+};
 use crate::tf::OMEGA;
 use crate::xorshift::XorShift;
 use poly::{Poly, Rat};
@@ -284,9 +286,10 @@ impl Prover<'_> {
             let Some((shared, zeros)) = self.split_zeros(&w, cancelled) else {
                 continue;
             };
-            let Some(groups) = groups_of(t, &zeros) else {
+            let (groups, all) = zero_groups(t, &zeros);
+            if !all {
                 continue;
-            };
+            }
             'found: for scaled in blocks {
                 let num = scaled_numerator(&self.num, scaled);
                 let derivatives: Vec<Poly> = (0..mults.iter().max().copied().unwrap_or(1))
@@ -475,29 +478,6 @@ impl Prover<'_> {
             .collect::<Option<_>>()?;
         Some((shared, positive_roots(&coeffs)?))
     }
-}
-
-/// The log-range and multiplicity of each group of `zeros` that `t`
-/// merges into a multiple antiresonance (`zeros` those of its split type,
-/// in increasing order).
-fn groups_of(t: &FrfType, zeros: &[f64]) -> Option<Vec<(f64, f64, u32)>> {
-    let mut groups = Vec::new();
-    let mut next = 0;
-    for k in t
-        .tokens
-        .iter()
-        .filter(|k| k.feature == Feature::Antiresonance)
-    {
-        let m = k.multiplicity as usize;
-        if next + m > zeros.len() {
-            return None;
-        }
-        if m > 1 {
-            groups.push((zeros[next].ln(), zeros[next + m - 1].ln(), k.multiplicity));
-        }
-        next += m;
-    }
-    (next == zeros.len()).then_some(groups)
 }
 
 /// The numerator with the parameters of `block` scaled by [`SCALE`] and

@@ -1634,6 +1634,14 @@ fn merged_groups(
     x: &[f64],
 ) -> Option<Vec<(f64, f64, u32)>> {
     let (zeros, _, _) = tf_roots(tf, x)?;
+    Some(zero_groups(t, &zeros).0)
+}
+
+/// `zeros` (increasing) grouped as `t`'s antiresonances merge them: the
+/// log-range and multiplicity of each multiple one, up to the first token
+/// the zeros left do not fill; and whether they filled every token and
+/// were all used.
+pub(super) fn zero_groups(t: &FrfType, zeros: &[f64]) -> (Vec<(f64, f64, u32)>, bool) {
     let mut groups = Vec::new();
     let mut next = 0;
     for k in t
@@ -1643,14 +1651,14 @@ fn merged_groups(
     {
         let m = k.multiplicity as usize;
         if next + m > zeros.len() {
-            break;
+            return (groups, false);
         }
         if m > 1 {
             groups.push((zeros[next].ln(), zeros[next + m - 1].ln(), k.multiplicity));
         }
         next += m;
     }
-    Some(groups)
+    (groups, next == zeros.len())
 }
 
 /// The merged roots of `groups` (see [`merged_groups`]), each at `frac`
