@@ -4382,7 +4382,9 @@ fn rolle_allows_on(
                 }
             }
         }
-        let degree = bh.degree as usize + bl.size - cut;
+        let Some(degree) = (bh.degree as usize + bl.size).checked_sub(cut) else {
+            continue;
+        };
         if roots.len() != degree || k == 0 || k > degree {
             continue;
         }
