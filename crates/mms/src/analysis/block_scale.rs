@@ -200,20 +200,18 @@ impl Prover<'_> {
         else {
             return shown;
         };
-        let floats = |p: &Poly| -> Option<Vec<f64>> {
-            p.coeffs_in(OMEGA)
-                .iter()
-                .map(|c| c.as_constant().map(|c| c.to_f64()))
-                .collect()
-        };
-        let (Some(fa), Some(fb), Some(fd)) = (floats(&a), floats(&b), floats(&den)) else {
+        let (Some(fa), Some(fb), Some(fd)) = (
+            float_coefficients(&a),
+            float_coefficients(&b),
+            float_coefficients(&den),
+        ) else {
             return shown;
         };
         let Some(poles) = positive_roots(&fd) else {
             return shown;
         };
         let critical = (&a * &b.derivative(OMEGA)) - (&a.derivative(OMEGA) * &b);
-        let Some(fc) = floats(&critical) else {
+        let Some(fc) = float_coefficients(&critical) else {
             return shown;
         };
         let mut values: Vec<f64> = positive_roots(&fc)
@@ -257,7 +255,7 @@ impl Prover<'_> {
                 })
                 .collect();
             if let Some(t) = self.type_at(&scaled) {
-                self.record(scaled);
+                self.offer(t.clone(), scaled);
                 shown.push(t);
             }
         }
@@ -333,92 +331,84 @@ impl Prover<'_> {
                                 derivatives[..*k as usize].iter().map(|d| d.subs(OMEGA, r)),
                             );
                         }
-                        if short > 0 {
-                            let others: Vec<&String> =
-                                free.iter().filter(|p| !vars.contains(p)).collect();
-                            let choices: Vec<Vec<String>> = if short == 1 {
-                                others.iter().map(|x| vec![(*x).clone()]).collect()
-                            } else {
-                                others
-                                    .iter()
-                                    .enumerate()
-                                    .flat_map(|(i, x)| {
-                                        others[i + 1..]
-                                            .iter()
-                                            .map(move |y| vec![(*x).clone(), (*y).clone()])
-                                    })
-                                    .collect()
-                            };
-                            for xs in choices.iter().take(SHORT_TRIES) {
-                                let fixed: BTreeMap<String, Rat> = w
-                                    .iter()
-                                    .filter(|(p, _)| !vars.contains(p) && !xs.contains(p))
-                                    .map(|(p, v)| (p.clone(), v.clone()))
-                                    .collect();
-                                let eqs: Vec<Poly> =
-                                    equations.iter().map(|e| e.subs_point(&fixed)).collect();
-                                for (field, mut point) in
-                                    algebraic_points_up_to(&eqs, vars, xs, SCALE_FIELD_DEGREE)
-                                {
-                                    let Some(s) = point.remove(SCALE) else {
-                                        continue;
-                                    };
-                                    // The scaled block's parameters over the
-                                    // field, the others as they were.
-                                    let mut rest = fixed.clone();
-                                    for p in scaled {
-                                        if let Some(v) = rest.remove(p) {
-                                            point.insert(p.clone(), field.scale(&s, &v));
-                                        }
-                                    }
-                                    self.record_algebraic(
-                                        wanted,
-                                        &rest,
-                                        (&shared, &posed),
-                                        field,
-                                        point,
-                                    );
-                                }
-                                if self.shown(t) {
-                                    break 'found;
-                                }
+                        for xs in short_choices(&free, vars, short).iter().take(SHORT_TRIES) {
+                            self.solve_merge(
+                                wanted,
+                                &w,
+                                (vars, xs),
+                                &equations,
+                                scaled,
+                                (&shared, &posed),
+                            );
+                            if self.shown(t) {
+                                break 'found;
                             }
-                            continue;
-                        }
-                        let fixed: BTreeMap<String, Rat> = w
-                            .iter()
-                            .filter(|(p, _)| !vars.contains(p))
-                            .map(|(p, v)| (p.clone(), v.clone()))
-                            .collect();
-                        let equations: Vec<Poly> =
-                            equations.iter().map(|e| e.subs_point(&fixed)).collect();
-                        let Some(solution) = solve_linear(&equations, vars) else {
-                            continue;
-                        };
-                        if solution.iter().any(|v| v.signum() <= 0) {
-                            continue;
-                        }
-                        let solved: BTreeMap<&String, &Rat> = vars.iter().zip(&solution).collect();
-                        let s = solved[&SCALE.to_string()];
-                        let point: BTreeMap<String, Rat> = w
-                            .iter()
-                            .map(|(p, v)| {
-                                let v = match solved.get(p) {
-                                    Some(x) => (*x).clone(),
-                                    None if scaled.contains(p) => v * s,
-                                    None => v.clone(),
-                                };
-                                (p.clone(), v)
-                            })
-                            .collect();
-                        self.record(point);
-                        if self.witnesses.contains_key(t) {
-                            break 'found;
                         }
                     }
                 }
             }
         }
+    }
+
+    /// Solves the merge's `equations` for `vars` (with `s` among them)
+    /// and, where `xs` is not empty, the parameters `xs` a set is short
+    /// of, the rest at the split type's witness `w`: over Q, or over a real
+    /// number field; records the point with the scaled block's parameters
+    /// multiplied by `s`.
+    fn solve_merge(
+        &mut self,
+        wanted: &[FrfType],
+        w: &BTreeMap<String, Rat>,
+        (vars, xs): (&[String], &[String]),
+        equations: &[Poly],
+        scaled: &BTreeSet<String>,
+        posed: (&[Rat], &[(Rat, u32)]),
+    ) {
+        let fixed: BTreeMap<String, Rat> = w
+            .iter()
+            .filter(|(p, _)| !vars.contains(p) && !xs.contains(p))
+            .map(|(p, v)| (p.clone(), v.clone()))
+            .collect();
+        let equations: Vec<Poly> = equations.iter().map(|e| e.subs_point(&fixed)).collect();
+        if !xs.is_empty() {
+            for (field, mut point) in
+                algebraic_points_up_to(&equations, vars, xs, SCALE_FIELD_DEGREE)
+            {
+                let Some(s) = point.remove(SCALE) else {
+                    continue;
+                };
+                // The scaled block's parameters over the field, the others
+                // as they were.
+                let mut rest = fixed.clone();
+                for p in scaled {
+                    if let Some(v) = rest.remove(p) {
+                        point.insert(p.clone(), field.scale(&s, &v));
+                    }
+                }
+                self.record_algebraic(wanted, &rest, posed, field, point);
+            }
+            return;
+        }
+        let Some(solution) = solve_linear(&equations, vars) else {
+            return;
+        };
+        if solution.iter().any(|v| v.signum() <= 0) {
+            return;
+        }
+        let solved: BTreeMap<&String, &Rat> = vars.iter().zip(&solution).collect();
+        let s = solved[&SCALE.to_string()];
+        let point: BTreeMap<String, Rat> = w
+            .iter()
+            .map(|(p, v)| {
+                let v = match solved.get(p) {
+                    Some(x) => (*x).clone(),
+                    None if scaled.contains(p) => v * s,
+                    None => v.clone(),
+                };
+                (p.clone(), v)
+            })
+            .collect();
+        self.record(point);
     }
 
     /// The parameters of each block of the chain that the gap splits it
@@ -471,13 +461,36 @@ impl Prover<'_> {
         } else {
             num.div_exact(&common)?
         };
-        let coeffs: Vec<f64> = reduced
-            .coeffs_in(OMEGA)
-            .iter()
-            .map(|c| c.as_constant().map(|c| c.to_f64()))
-            .collect::<Option<_>>()?;
-        Some((shared, positive_roots(&coeffs)?))
+        Some((shared, positive_roots(&float_coefficients(&reduced)?)?))
     }
+}
+
+/// The choices of the `short` parameters (none, one or two) among `free`
+/// outside `vars` that a set is short of, in order.
+fn short_choices(free: &[String], vars: &[String], short: usize) -> Vec<Vec<String>> {
+    let others: Vec<&String> = free.iter().filter(|p| !vars.contains(p)).collect();
+    match short {
+        0 => vec![Vec::new()],
+        1 => others.iter().map(|x| vec![(*x).clone()]).collect(),
+        _ => others
+            .iter()
+            .enumerate()
+            .flat_map(|(i, x)| {
+                others[i + 1..]
+                    .iter()
+                    .map(move |y| vec![(*x).clone(), (*y).clone()])
+            })
+            .collect(),
+    }
+}
+
+/// The coefficients in `Omega` of a polynomial in `Omega` alone, in
+/// `f64`, lowest first.
+fn float_coefficients(p: &Poly) -> Option<Vec<f64>> {
+    p.coeffs_in(OMEGA)
+        .iter()
+        .map(|c| c.as_constant().map(|c| c.to_f64()))
+        .collect()
 }
 
 /// The numerator with the parameters of `block` scaled by [`SCALE`] and

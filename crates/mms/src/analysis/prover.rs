@@ -851,7 +851,9 @@ impl<'a> Prover<'a> {
         }
     }
 
-    fn offer(&mut self, t: FrfType, point: BTreeMap<String, Rat>) {
+    /// Keeps `point` as the witness of `t` (its exact type) if it is the
+    /// simplest one yet.
+    pub(super) fn offer(&mut self, t: FrfType, point: BTreeMap<String, Rat>) {
         let height =
             |p: &BTreeMap<String, Rat>| -> usize { p.values().map(|v| v.to_string().len()).sum() };
         match self.witnesses.get(&t) {
