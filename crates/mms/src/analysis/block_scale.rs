@@ -27,7 +27,7 @@
 //!   parameter more.
 
 use super::algebraic::algebraic_points_up_to;
-use super::frf_type::{Feature, FrfType};
+use super::frf_type::{Feature, FrfType, Token};
 use super::prover::Prover;
 use super::targeted::{horner, positive_roots, short_rational, MERGE_FRACTIONS};
 use super::targeted::{
@@ -57,6 +57,12 @@ const SWEEP_LOW: f64 = 1e-4;
 const SWEEP_HIGH: f64 = 1e4;
 /// The seed of the sweep's draws.
 const SWEEP_SEED: u64 = 0x5CA1_E5EE;
+/// Random points per tie, cancellation count and round of the tied
+/// sweep, its parameters' range and its seed.
+const TIE_TRIALS: usize = 400;
+const TIE_LOW: f64 = 1e-2;
+const TIE_HIGH: f64 = 1e2;
+const TIE_SEED: u64 = 0x71E5_CA1E;
 
 impl Prover<'_> {
     /// Witnesses of the `wanted` types not yet shown with at most one
@@ -71,6 +77,7 @@ impl Prover<'_> {
         }
         self.scale_sweep(wanted, &blocks);
         self.scale_merge(wanted, &blocks);
+        self.tie_sweep(wanted, &blocks);
         wanted.iter().filter(|t| self.shown(t)).count()
     }
 
@@ -111,14 +118,7 @@ impl Prover<'_> {
             .iter()
             .map(|b| poly::det(&super::pole_signs::pencil(&mass, &stiff, b)))
             .collect();
-        let lines: Vec<(Poly, Poly)> = blocks
-            .iter()
-            .map(|b| {
-                let c = scaled_numerator(&self.num, b).coeffs_in(SCALE);
-                let at = |k: usize| c.get(k).cloned().unwrap_or_else(Poly::zero);
-                (at(1), at(0))
-            })
-            .collect();
+        let lines = scale_lines(&self.num, blocks);
         let mut rng = XorShift::new(SWEEP_SEED);
         let draw = |rng: &mut XorShift| short_rational(rng.log_uniform(SWEEP_LOW, SWEEP_HIGH), 3);
         for _ in 0..SWEEP_TRIALS {
@@ -146,20 +146,13 @@ impl Prover<'_> {
                     };
                     let solved = masses.iter().zip(&dets).all(|(b, d)| {
                         let m = format!("m{}", b[(rng.next_u64() % b.len() as u64) as usize] + 1);
-                        let mut at = point.clone();
-                        at.remove(&m);
-                        let q = d.subs(OMEGA, &lambda).subs_point(&at);
-                        let k = q.coeffs_in(&m);
-                        let (Some(a), Some(b)) = (
-                            k.first().and_then(Poly::as_constant),
-                            k.get(1).and_then(Poly::as_constant),
-                        ) else {
-                            return false;
-                        };
-                        let root = -(&a / &b);
-                        let positive = root.signum() > 0;
-                        point.insert(m, root);
-                        positive
+                        match solve_mass(d, &m, &point, &lambda) {
+                            Some(v) => {
+                                point.insert(m, v);
+                                true
+                            }
+                            None => false,
+                        }
                     });
                     if !solved {
                         continue;
@@ -411,6 +404,333 @@ impl Prover<'_> {
         self.record(point);
     }
 
+    /// Double zeros beside a pole the block's own runs cancel: the two
+    /// runs at the ends of a block with one mass between them, both with
+    /// the eigenvalue `lambda_2`, make it an eigenvalue of the block on
+    /// which `n_B` vanishes twice (the determinant expanded across the
+    /// middle mass), so the pole cancels; with one pole of both blocks
+    /// posed too where the type needs two cancelled. Along the scale line
+    /// a double zero sits at every critical point `x` of `-B/A` with `s =
+    /// -B(x)/A(x) > 0`; where the type there, read in `f64`, is wanted,
+    /// the double zero is posed at a rational point next to `x` and solved
+    /// for `s`, one parameter `q` of the other block over the real number
+    /// field of the eliminant, and the mass that keeps the shared pole
+    /// (see [`Self::solve_tie`]). N5-g3-a4.2-s5.2: `RRA^2` with `m1`'s and
+    /// `m3`'s eigenvalues on the middle pole of `m1-m2-m3` and the free
+    /// pair's on its lowest, cancelled once.
+    fn tie_sweep(&mut self, wanted: &[FrfType], blocks: &[BTreeSet<String>]) {
+        let degree = self.den.degree(OMEGA);
+        let mut targets: BTreeSet<FrfType> = wanted
+            .iter()
+            .filter(|t| {
+                let double = multiple_antiresonances(t) == [2];
+                let multiple_pole = t
+                    .tokens
+                    .iter()
+                    .any(|k| k.feature == Feature::Resonance && k.multiplicity > 1);
+                let cancelled = degree.checked_sub(t.resonances());
+                double && !multiple_pole && matches!(cancelled, Some(1 | 2)) && !self.shown(t)
+            })
+            .cloned()
+            .collect();
+        if targets.is_empty() {
+            return;
+        }
+        let (mass, stiff) = (self.model.mass_matrix(), self.model.stiffness_matrix());
+        let chains = super::pole_signs::chain_blocks(&stiff);
+        let det_of = |idx: &[usize]| poly::det(&super::pole_signs::pencil(&mass, &stiff, idx));
+        let dets: Vec<Poly> = chains.iter().map(|b| det_of(b)).collect();
+        // (block, [(run's determinant, its first mass)], the middle mass).
+        let mut ties: Vec<Tie> = Vec::new();
+        for (x, chain) in chains.iter().enumerate() {
+            for middle in 1..chain.len().saturating_sub(1) {
+                let runs = [&chain[..middle], &chain[middle + 1..]]
+                    .iter()
+                    .map(|run| (det_of(run), format!("m{}", run[0] + 1)))
+                    .collect();
+                ties.push(Tie {
+                    block: x,
+                    runs,
+                    middle: format!("m{}", chain[middle] + 1),
+                });
+            }
+        }
+        if ties.is_empty() {
+            return;
+        }
+        let lines = scale_lines(&self.num, blocks);
+        let mut rng = XorShift::new(TIE_SEED);
+        let draw = |rng: &mut XorShift| short_rational(rng.log_uniform(TIE_LOW, TIE_HIGH), 3);
+        for _ in 0..TIE_TRIALS {
+            let cancellations: BTreeSet<u32> = targets
+                .iter()
+                .filter_map(|t| degree.checked_sub(t.resonances()))
+                .collect();
+            if cancellations.is_empty() {
+                return;
+            }
+            for c in cancellations {
+                for tie_at in &ties {
+                    let (x, runs, middle) = (&tie_at.block, &tie_at.runs, &tie_at.middle);
+                    let Some(mut point) = self
+                        .params
+                        .iter()
+                        .map(|p| Some((p.clone(), draw(&mut rng)?)))
+                        .collect::<Option<BTreeMap<String, Rat>>>()
+                    else {
+                        continue;
+                    };
+                    let Some(tie) = draw(&mut rng) else {
+                        continue;
+                    };
+                    let tied = runs
+                        .iter()
+                        .all(|(d, m)| match solve_mass(d, m, &point, &tie) {
+                            Some(v) => {
+                                point.insert(m.clone(), v);
+                                true
+                            }
+                            None => false,
+                        });
+                    if !tied || !dets[*x].subs(OMEGA, &tie).subs_point(&point).is_zero() {
+                        continue;
+                    }
+                    let mut cancelled = vec![tie];
+                    // The mass of each block that keeps the shared pole:
+                    // the middle one in the tied block.
+                    let mut keepers: Vec<String> = Vec::new();
+                    if c == 2 {
+                        let Some(lambda) = draw(&mut rng) else {
+                            continue;
+                        };
+                        let solved = chains.iter().enumerate().all(|(b, chain)| {
+                            let m = if b == *x {
+                                middle.clone()
+                            } else {
+                                format!(
+                                    "m{}",
+                                    chain[(rng.next_u64() % chain.len() as u64) as usize] + 1
+                                )
+                            };
+                            match solve_mass(&dets[b], &m, &point, &lambda) {
+                                Some(v) => {
+                                    point.insert(m.clone(), v);
+                                    keepers.push(m);
+                                    true
+                                }
+                                None => false,
+                            }
+                        });
+                        if !solved || cancelled.contains(&lambda) {
+                            continue;
+                        }
+                        cancelled.push(lambda);
+                    }
+                    for (y, (a_poly, b_poly)) in lines.iter().enumerate() {
+                        let found = self.tie_line(
+                            &point,
+                            (y, blocks),
+                            (a_poly, b_poly),
+                            &cancelled,
+                            (tie_at, &keepers),
+                            &targets,
+                        );
+                        for t in found {
+                            targets.remove(&t);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The critical points of `-B/A` along the scale of block `y` at
+    /// `point` whose double zero makes a target (read in `f64`), each
+    /// solved exactly ([`Self::solve_tie`]); returns the types shown.
+    fn tie_line(
+        &mut self,
+        point: &BTreeMap<String, Rat>,
+        (y, blocks): (usize, &[BTreeSet<String>]),
+        (a, b): (&Poly, &Poly),
+        cancelled: &[Rat],
+        tie: (&Tie, &[String]),
+        targets: &BTreeSet<FrfType>,
+    ) -> Vec<FrfType> {
+        let mut shown = Vec::new();
+        let divide = |p: &Poly| -> Option<Poly> {
+            cancelled.iter().try_fold(p.subs_point(point), |u, l| {
+                u.div_exact(&(&Poly::var(OMEGA) - &Poly::constant(l.clone())))
+            })
+        };
+        let (Some(a), Some(b), Some(den)) = (divide(a), divide(b), divide(&self.den)) else {
+            return shown;
+        };
+        let critical = (&a * &b.derivative(OMEGA)) - (&a.derivative(OMEGA) * &b);
+        let (Some(fa), Some(fb), Some(fd), Some(fc)) = (
+            float_coefficients(&a),
+            float_coefficients(&b),
+            float_coefficients(&den),
+            float_coefficients(&critical),
+        ) else {
+            return shown;
+        };
+        let Some(poles) = positive_roots(&fd) else {
+            return shown;
+        };
+        for x in positive_roots(&fc).unwrap_or_default() {
+            let s = -horner(&fb, x) / horner(&fa, x);
+            if !(s > 0.0 && s.is_finite()) {
+                continue;
+            }
+            let line: Vec<f64> = (0..fa.len().max(fb.len()))
+                .map(|k| s * fa.get(k).unwrap_or(&0.0) + fb.get(k).unwrap_or(&0.0))
+                .collect();
+            // The rest after the double root at `x`.
+            let Some(rest) = deflate(&line, x).and_then(|q| deflate(&q, x)) else {
+                continue;
+            };
+            let Some(zeros) = positive_roots(&rest) else {
+                continue;
+            };
+            let degree = line.iter().rposition(|v| *v != 0.0).unwrap_or(0);
+            let mut tokens: Vec<(f64, Token)> = zeros
+                .iter()
+                .map(|&z| (z, Feature::Antiresonance, 1))
+                .chain(std::iter::once((x, Feature::Antiresonance, 2)))
+                .chain(poles.iter().map(|&p| (p, Feature::Resonance, 1)))
+                .map(|(v, feature, multiplicity)| {
+                    (
+                        v,
+                        Token {
+                            feature,
+                            multiplicity,
+                        },
+                    )
+                })
+                .collect();
+            tokens.sort_by(|p, q| p.0.total_cmp(&q.0));
+            let t = FrfType {
+                tokens: tokens.into_iter().map(|k| k.1).collect(),
+                nonminimum_phase: zeros.len() + 2 < degree,
+            };
+            if !targets.contains(&t) || self.shown(&t) {
+                continue;
+            }
+            for digits in [3, 5, 7] {
+                let Some(r) = short_rational(x, digits) else {
+                    continue;
+                };
+                self.solve_tie(point, (y, blocks), &r, cancelled, tie, targets);
+                if self.shown(&t) {
+                    shown.push(t);
+                    break;
+                }
+            }
+        }
+        shown
+    }
+
+    /// The double zero posed at `r` along the scale of block `y`: `num(r)
+    /// = num'(r) = 0` (and the other block's determinant at the shared
+    /// pole, if one is posed, `0`) solved for `s`, the mass that keeps the
+    /// shared pole, and one parameter `q` of the other block over a real
+    /// number field; where `q` is in a tied run, the run's first mass
+    /// follows it (a run's determinant is linear in each mass, with a
+    /// constant coefficient for a one-mass run) so the tie holds.
+    fn solve_tie(
+        &mut self,
+        point: &BTreeMap<String, Rat>,
+        (y, blocks): (usize, &[BTreeSet<String>]),
+        r: &Rat,
+        cancelled: &[Rat],
+        (tie, keepers): (&Tie, &[String]),
+        targets: &BTreeSet<FrfType>,
+    ) {
+        let (x, runs) = (tie.block, &tie.runs);
+        let scaled = &blocks[y];
+        let num = scaled_numerator(&self.num, scaled);
+        let (mass, stiff) = (self.model.mass_matrix(), self.model.stiffness_matrix());
+        let chains = super::pole_signs::chain_blocks(&stiff);
+        let other = 1 - y;
+        let mut vars = vec![SCALE.to_string()];
+        let mut equations = vec![num.subs(OMEGA, r), num.derivative(OMEGA).subs(OMEGA, r)];
+        if cancelled.len() == 2 {
+            let Some(keeper) = keepers.get(other) else {
+                return;
+            };
+            vars.push(keeper.clone());
+            let d = poly::det(&super::pole_signs::pencil(&mass, &stiff, &chains[other]));
+            equations.push(d.subs(OMEGA, &cancelled[1]));
+        }
+        let run_masses: Vec<&String> = runs.iter().map(|(_, m)| m).collect();
+        let wanted: Vec<FrfType> = targets.iter().cloned().collect();
+        for q in blocks[other].iter() {
+            let mut free = vars.clone();
+            free.push(q.clone());
+            if vars.contains(q) || run_masses.contains(&q) {
+                continue;
+            }
+            // The tied runs' masses as polynomials in `q` (in the other
+            // block only; a run of the scaled block scales with it).
+            let mut follow: BTreeMap<String, Poly> = BTreeMap::new();
+            if x == other {
+                for (d, m) in runs {
+                    let mut rest = point.clone();
+                    rest.remove(m);
+                    rest.remove(q);
+                    let k = d.subs(OMEGA, &cancelled[0]).subs_point(&rest).coeffs_in(m);
+                    let Some(lead) = k.get(1).and_then(Poly::as_constant) else {
+                        break;
+                    };
+                    if k.len() != 2 || lead.signum() == 0 {
+                        break;
+                    }
+                    follow.insert(m.clone(), k[0].scale(&-(Rat::ONE / lead)));
+                }
+                if follow.len() != runs.len() {
+                    continue;
+                }
+            }
+            let fixed: BTreeMap<String, Rat> = point
+                .iter()
+                .filter(|(p, _)| !free.contains(p) && !follow.contains_key(*p))
+                .map(|(p, v)| (p.clone(), v.clone()))
+                .collect();
+            let eqs: Vec<Poly> = equations
+                .iter()
+                .map(|e| {
+                    let e = follow.iter().fold(e.clone(), |e, (m, f)| e.subs_poly(m, f));
+                    e.subs_point(&fixed)
+                })
+                .collect();
+            let q = std::slice::from_ref(q);
+            for (field, mut at) in algebraic_points_up_to(&eqs, &vars, q, SCALE_FIELD_DEGREE) {
+                let Some(s) = at.remove(SCALE) else {
+                    continue;
+                };
+                let mut ok = true;
+                for (m, f) in &follow {
+                    match field.eval(f, &at) {
+                        Ok(v) if field.sign(&v) > 0 => {
+                            at.insert(m.clone(), v);
+                        }
+                        _ => ok = false,
+                    }
+                }
+                if !ok || field.sign(&s) <= 0 {
+                    continue;
+                }
+                let mut rest = fixed.clone();
+                for p in scaled {
+                    if let Some(v) = rest.remove(p) {
+                        at.insert(p.clone(), field.scale(&s, &v));
+                    }
+                }
+                self.record_algebraic(&wanted, &rest, (cancelled, &[(r.clone(), 2)]), field, at);
+            }
+        }
+    }
+
     /// The parameters of each block of the chain that the gap splits it
     /// into (masses joined by springs), by the masses whose diagonal
     /// entries they appear in.
@@ -482,6 +802,54 @@ fn short_choices(free: &[String], vars: &[String], short: usize) -> Vec<Vec<Stri
             })
             .collect(),
     }
+}
+
+/// Each block's scale line: the numerator's coefficients `(A, B)` of
+/// `s^1` and `s^0` with the block scaled by `s`.
+fn scale_lines(num: &Poly, blocks: &[BTreeSet<String>]) -> Vec<(Poly, Poly)> {
+    blocks
+        .iter()
+        .map(|b| {
+            let c = scaled_numerator(num, b).coeffs_in(SCALE);
+            let at = |k: usize| c.get(k).cloned().unwrap_or_else(Poly::zero);
+            (at(1), at(0))
+        })
+        .collect()
+}
+
+/// The positive value of the mass `m` at which `d` (linear in it, as a
+/// determinant is in each mass) vanishes at `Omega = at`, the other
+/// parameters at `point`.
+fn solve_mass(d: &Poly, m: &str, point: &BTreeMap<String, Rat>, at: &Rat) -> Option<Rat> {
+    let mut rest = point.clone();
+    rest.remove(m);
+    let k = d.subs(OMEGA, at).subs_point(&rest).coeffs_in(m);
+    let (a, b) = (k.first()?.as_constant()?, k.get(1)?.as_constant()?);
+    let root = -(&a / &b);
+    (k.len() == 2 && root.signum() > 0).then_some(root)
+}
+
+/// Two runs at the ends of a block with one mass between them, whose
+/// common eigenvalue is a pole of the block that cancels.
+struct Tie {
+    /// The block's index among the chain's blocks.
+    block: usize,
+    /// Each run's determinant and the mass solved for the tie.
+    runs: Vec<(Poly, String)>,
+    /// The mass between the runs.
+    middle: String,
+}
+
+/// `c` (coefficients lowest first) divided by `Omega - x`, the remainder
+/// dropped: the quotient by synthetic division.
+fn deflate(c: &[f64], x: f64) -> Option<Vec<f64>> {
+    let (&lead, rest) = c.split_last()?;
+    let mut out = vec![lead];
+    for &v in rest.iter().rev().take(rest.len().saturating_sub(1)) {
+        out.push(v + x * out.last().copied().unwrap_or(0.0));
+    }
+    out.reverse();
+    Some(out)
 }
 
 /// The coefficients in `Omega` of a polynomial in `Omega` alone, in
@@ -625,5 +993,47 @@ mod tests {
         let shown = prover.sweep_line(&at, free_pair, (&c[1], &c[0]), Some(&lambda), &targets);
         assert_eq!(shown, vec![wanted.clone()]);
         assert_eq!(checked(&model, &prover, &[wanted]), 1);
+    }
+
+    /// N5-g3-a4.2-s5.2 (the grounded m1-m2-m3 and the free m4-m5, driven
+    /// between m4 and m2 and seen between m5 and m2): `RRA^2` needs two
+    /// poles cancelled and a double zero above both resonances. With m1's
+    /// and m3's own eigenvalues equal, the chain's middle pole is theirs
+    /// and cancels; the free pair's eigenvalue on the chain's lowest
+    /// cancels once more; along the pair's scale the double zero is a
+    /// critical point of `-B/A`. Two physical facts of the witness are
+    /// checked by hand, apart from the search: the runs' eigenvalues
+    /// `(c1 + c12)/m1` and `c23/m3` agree, and the pair's `c45 (m4 + m5) /
+    /// (m4 m5)` is a root of the chain's determinant; the checker reads
+    /// the type.
+    #[test]
+    fn a_double_zero_beside_a_pole_the_end_runs_cancel() {
+        let model = Model::from_id("N5-g3-a4.2-s5.2").unwrap();
+        let tf = model.undamped_tf();
+        let mut prover = Prover::new(&model, tf.num.clone(), tf.den.clone());
+        let wanted: FrfType = "RRA^2".parse().unwrap();
+        assert_eq!(prover.block_scale_search(std::slice::from_ref(&wanted)), 1);
+        assert_eq!(checked(&model, &prover, std::slice::from_ref(&wanted)), 1);
+        let w = &prover.witnesses[&wanted];
+        assert_eq!(&(&w["c1"] + &w["c12"]) / &w["m1"], &w["c23"] / &w["m3"]);
+        let pair = &(&w["c45"] * &(&w["m4"] + &w["m5"])) / &(&w["m4"] * &w["m5"]);
+        // det(K - l M) of m1-m2-m3, expanded along the first row.
+        let d = |i: &str, k: &Rat| &w[i] * k;
+        let (k11, k22, k33) = (
+            &(&w["c1"] + &w["c12"]) - &d("m1", &pair),
+            &(&w["c12"] + &w["c23"]) - &d("m2", &pair),
+            &w["c23"] - &d("m3", &pair),
+        );
+        let minor = &(&k22 * &k33) - &(&w["c23"] * &w["c23"]);
+        let det = &(&k11 * &minor) - &(&(&w["c12"] * &w["c12"]) * &k33);
+        assert_eq!(det, Rat::ZERO);
+    }
+
+    /// Synthetic division against a product expanded by hand: `(x - 2)(x^2
+    /// + 3x - 1) = x^3 + x^2 - 7x + 2`.
+    #[test]
+    fn deflation_divides_out_a_root() {
+        let q = deflate(&[2.0, -7.0, 1.0, 1.0], 2.0).unwrap();
+        assert_eq!(q, vec![-1.0, 3.0, 1.0]);
     }
 }
