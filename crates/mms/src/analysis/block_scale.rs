@@ -193,22 +193,16 @@ impl Prover<'_> {
         else {
             return shown;
         };
-        let (Some(fa), Some(fb), Some(fd)) = (
-            float_coefficients(&a),
-            float_coefficients(&b),
-            float_coefficients(&den),
-        ) else {
+        let Some(LineFloats {
+            a: fa,
+            b: fb,
+            poles,
+            critical,
+        }) = line_floats(&a, &b, &den)
+        else {
             return shown;
         };
-        let Some(poles) = positive_roots(&fd) else {
-            return shown;
-        };
-        let critical = (&a * &b.derivative(OMEGA)) - (&a.derivative(OMEGA) * &b);
-        let Some(fc) = float_coefficients(&critical) else {
-            return shown;
-        };
-        let mut values: Vec<f64> = positive_roots(&fc)
-            .unwrap_or_default()
+        let mut values: Vec<f64> = critical
             .into_iter()
             .map(|x| -horner(&fb, x) / horner(&fa, x))
             .filter(|s| *s > 0.0 && s.is_finite())
@@ -565,20 +559,12 @@ impl Prover<'_> {
         let (Some(a), Some(b), Some(den)) = (divide(a), divide(b), divide(&self.den)) else {
             return shown;
         };
-        let critical = (&a * &b.derivative(OMEGA)) - (&a.derivative(OMEGA) * &b);
-        let (Some(fa), Some(fb), Some(fd), Some(fc)) = (
-            float_coefficients(&a),
-            float_coefficients(&b),
-            float_coefficients(&den),
-            float_coefficients(&critical),
-        ) else {
+        let Some(line) = line_floats(&a, &b, &den) else {
             return shown;
         };
-        let Some(poles) = positive_roots(&fd) else {
-            return shown;
-        };
-        for x in positive_roots(&fc).unwrap_or_default() {
-            let s = -horner(&fb, x) / horner(&fa, x);
+        let (fa, fb, poles) = (&line.a, &line.b, &line.poles);
+        for &x in &line.critical {
+            let s = -horner(fb, x) / horner(fa, x);
             if !(s > 0.0 && s.is_finite()) {
                 continue;
             }
@@ -815,6 +801,28 @@ fn scale_lines(num: &Poly, blocks: &[BTreeSet<String>]) -> Vec<(Poly, Poly)> {
             (at(1), at(0))
         })
         .collect()
+}
+
+/// A scale line at a point in `f64`: `A` and `B`'s coefficients, the
+/// positive poles and the positive critical points of `-B/A` (the roots
+/// of `A B' - A' B`).
+struct LineFloats {
+    a: Vec<f64>,
+    b: Vec<f64>,
+    poles: Vec<f64>,
+    critical: Vec<f64>,
+}
+
+/// [`LineFloats`] of `A`, `B` and the denominator, polynomials in `Omega`
+/// alone.
+fn line_floats(a: &Poly, b: &Poly, den: &Poly) -> Option<LineFloats> {
+    let critical = (a * &b.derivative(OMEGA)) - (&a.derivative(OMEGA) * b);
+    Some(LineFloats {
+        a: float_coefficients(a)?,
+        b: float_coefficients(b)?,
+        poles: positive_roots(&float_coefficients(den)?)?,
+        critical: positive_roots(&float_coefficients(&critical)?).unwrap_or_default(),
+    })
 }
 
 /// The positive value of the mass `m` at which `d` (linear in it, as a
