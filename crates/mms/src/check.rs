@@ -3281,12 +3281,17 @@ impl ModelChecker {
         if t.multiple_resonance() {
             return Err("the type has a multiple resonance".into());
         }
+        // Per interval between resonances: the zeros with multiplicity,
+        // and each zero's multiplicity (a multiple zero is one point).
         let mut counts = vec![0u32];
+        let mut points: Vec<Vec<u32>> = vec![Vec::new()];
         for k in &t.toks {
             if k.zero {
                 *counts.last_mut().expect("one") += k.mult;
+                points.last_mut().expect("one").push(k.mult);
             } else {
                 counts.push(0);
+                points.push(Vec::new());
             }
         }
         let res = counts.len() as u32 - 1;
@@ -3317,7 +3322,14 @@ impl ModelChecker {
             tried += 1;
             if fits.is_none()
                 && configuration_fits(
-                    &infos, order, shared, -c_sign, at_zero, at_inf, exact, &counts,
+                    &infos,
+                    order,
+                    shared,
+                    -c_sign,
+                    at_zero,
+                    at_inf,
+                    exact,
+                    (&counts, &points),
                 )
             {
                 fits = Some(format!("{order:?} shared {shared:?}"));
@@ -3858,7 +3870,8 @@ enum CheckSample {
 }
 
 /// Whether the type with `counts` antiresonances between its resonances
-/// fits the configuration `order` (with the coincident poles `shared`).
+/// (`points`: each zero's multiplicity, in order) fits the configuration
+/// `order` (with the coincident poles `shared`).
 #[allow(clippy::too_many_arguments)]
 fn configuration_fits(
     blocks: &[CheckBlock],
@@ -3868,7 +3881,7 @@ fn configuration_fits(
     at_zero: i64,
     at_inf: i64,
     exact: bool,
-    counts: &[u32],
+    (counts, points): (&[u32], &[Vec<u32>]),
 ) -> bool {
     let sgn = |k: usize| (-1i64).pow(k as u32 % 2);
     let partner = |i: usize| shared.iter().any(|&(j, _)| j + 1 == i);
@@ -4218,8 +4231,8 @@ fn configuration_fits(
         return got == counts;
     }
     // Spread each interval's antiresonances over the gaps between samples
-    // (searching gap by gap), with an odd number between two known signs
-    // exactly where the sign changes.
+    // (searching gap by gap, a multiple zero whole into one gap), with an
+    // odd number between two known signs exactly where the sign changes.
     let n_poles = samples
         .iter()
         .filter(|s| matches!(s, CheckSample::Pole(_)))
@@ -4230,35 +4243,41 @@ fn configuration_fits(
     if blocks.len() == 2 && !rolle_allows(blocks, order, shared, &resonances, counts) {
         return false;
     }
+    // `next`: the first zero of the interval not yet placed.
     #[allow(clippy::too_many_arguments)]
     fn spread(
         samples: &[CheckSample],
-        counts: &[u32],
+        points: &[Vec<u32>],
         i: usize,
         interval: usize,
-        left: u32,
+        next: usize,
         zeros_since: u32,
         last: i64,
         cap: Option<u32>,
     ) -> bool {
+        let all = |interval: usize| points.get(interval).map_or(0, Vec::len);
         if i == samples.len() {
-            return interval + 1 == counts.len() && left == 0;
+            return interval + 1 == points.len() && next == all(interval);
         }
         if let CheckSample::Cap(z) = samples[i] {
             return spread(
                 samples,
-                counts,
+                points,
                 i + 1,
                 interval,
-                left,
+                next,
                 zeros_since,
                 last,
                 Some(z),
             );
         }
-        let most = cap.map_or(left, |z| z.min(left));
-        (0..=most).any(|z| {
-            let left = left - z;
+        let rest = &points[interval][next..];
+        (0..=rest.len()).any(|j| {
+            let z: u32 = rest[..j].iter().sum();
+            if cap.is_some_and(|c| z > c) {
+                return false;
+            }
+            let next = next + j;
             let since = zeros_since + z;
             let (since, last) = match samples[i] {
                 CheckSample::Sign(x) | CheckSample::Pole(Some(x)) => {
@@ -4271,24 +4290,16 @@ fn configuration_fits(
             };
             match samples[i] {
                 CheckSample::Pole(_) => {
-                    left == 0
-                        && spread(
-                            samples,
-                            counts,
-                            i + 1,
-                            interval + 1,
-                            counts.get(interval + 1).copied().unwrap_or(0),
-                            since,
-                            last,
-                            None,
-                        )
+                    next == all(interval)
+                        && interval + 1 < points.len()
+                        && spread(samples, points, i + 1, interval + 1, 0, since, last, None)
                 }
-                _ => spread(samples, counts, i + 1, interval, left, since, last, None),
+                _ => spread(samples, points, i + 1, interval, next, since, last, None),
             }
         })
     }
     match samples[0] {
-        CheckSample::Sign(first) => spread(&samples, counts, 1, 0, counts[0], 0, first, None),
+        CheckSample::Sign(first) => spread(&samples, points, 1, 0, 0, 0, first, None),
         _ => false,
     }
 }

@@ -1605,6 +1605,43 @@ fn rolle_bound_less_a_shared_pole() {
     block_certificate_holds_up_to_a_witness(id, &cert, &impossible, ("ARRA", twice));
 }
 
+/// A multiple zero is one point, in one gap between samples
+/// (docs/analysis.md): N5-g4-a5.2-s5.3, the grounded chain m1-m4 driven at
+/// m2 and seen at m3 beside the lone free m5, has the zeros where `Omega
+/// T_32(Omega) = 1/m5`, `T_32 = c23 (c1 + c12 - Omega m1)(c34 - Omega m4)
+/// / d`. Two zeros between the second and the third resonance need
+/// `T_32` positive at both (the runs' eigenvalues `(c1 + c12)/m1` and
+/// `c34/m4` on one side of both, which Cauchy for the two separated runs
+/// forbids, or both between them): then the sign changes on either side of
+/// the two eigenvalues, an odd number of zeros on each, so the two are
+/// simple. The parities alone (a double zero counted as two zeros to
+/// spread) allowed `ARRA^2RRA`; `ARRAARRA` has a witness, which the
+/// certificate must not exclude.
+#[test]
+fn a_multiple_zero_lies_in_one_gap() {
+    let cert = json!({
+        "factors": [],
+        "stratum": [],
+        "open": {"kind": "block_pole_signs", "blocks": [
+            {"factors": [
+                {"exponent": 1, "factor": "c23"},
+                {"exponent": 1, "factor": "Omega*m4 - c34"},
+                {"exponent": 1, "factor": "Omega*m1 - c1 - c12"}],
+             "masses": [1, 2, 3, 4],
+             "numerator": "Omega^2*c23*m1*m4 - Omega*c1*c23*m4 - Omega*c12*c23*m4 - Omega*c23*c34*m1 + c1*c23*c34 + c12*c23*c34",
+             "remainder": false, "unit": "1"},
+            {"factors": [], "masses": [5], "numerator": "1", "remainder": false, "unit": "1"}]}
+    });
+    let witness = json!({"c1": "40", "c12": "5/32", "c23": "13", "c34": "80", "m1": "3/16",
+        "m2": "7/4", "m3": "3/8", "m4": "7", "m5": "36"});
+    block_certificate_holds_up_to_a_witness(
+        "N5-g4-a5.2-s5.3",
+        &cert,
+        &["ARRA^2RRA"],
+        ("ARRAARRA", witness),
+    );
+}
+
 /// The block pole-sign certificate `cert` of model `id` is accepted for
 /// each type of `impossible`, the `witnessed` type's witness is valid, and
 /// the certificate moved onto that type is rejected because the type fits

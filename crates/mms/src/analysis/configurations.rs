@@ -110,6 +110,8 @@ pub(crate) struct Configurations {
     pub patterns: BTreeSet<Vec<Sample>>,
     /// Poles of the blocks together (the denominator's degree).
     pub poles: u32,
+    /// The late rules: a multiple zero lies in one gap between samples.
+    pub late: bool,
 }
 
 /// A token of one block's sequence.
@@ -520,6 +522,7 @@ fn configurations(
                 exact: exact.then_some(nm_exact),
                 patterns,
                 poles,
+                late,
             })
         }
         2 => {
@@ -544,6 +547,7 @@ fn configurations(
                 exact: None,
                 patterns,
                 poles,
+                late,
             })
         }
         _ => None,
@@ -1088,6 +1092,10 @@ impl Configurations {
     /// the numerator's degree.
     pub(crate) fn fits(&self, t: &FrfType, zeros: u32) -> bool {
         let mut counts = vec![0u32];
+        // The zeros of each interval as they must lie together: one point
+        // per token with the late rules (a multiple zero is in one gap),
+        // else each zero on its own.
+        let mut zero_points: Vec<Vec<u32>> = vec![Vec::new()];
         for tok in &t.tokens {
             match tok.feature {
                 Feature::Resonance => {
@@ -1095,8 +1103,17 @@ impl Configurations {
                         return true; // not this certificate's business
                     }
                     counts.push(0);
+                    zero_points.push(Vec::new());
                 }
-                Feature::Antiresonance => *counts.last_mut().expect("one") += tok.multiplicity,
+                Feature::Antiresonance => {
+                    *counts.last_mut().expect("one") += tok.multiplicity;
+                    let points = zero_points.last_mut().expect("one");
+                    if self.late {
+                        points.push(tok.multiplicity);
+                    } else {
+                        points.extend(std::iter::repeat_n(1, tok.multiplicity as usize));
+                    }
+                }
             }
         }
         // Every cancelled pole divides out a zero: the reduced numerator
@@ -1115,7 +1132,7 @@ impl Configurations {
         }
         self.patterns
             .iter()
-            .any(|p| spans_fit(p, &counts) && parity_fit(p, &counts))
+            .any(|p| spans_fit(p, &counts) && parity_fit(p, &zero_points))
     }
 }
 
@@ -1143,19 +1160,20 @@ fn exact_fit(samples: &[Sample], counts: &[u32]) -> bool {
     got == counts
 }
 
-/// Whether `counts[i]` antiresonances between the `i`-th and `(i+1)`-th
-/// pole can be placed in the gaps between samples so that every gap
-/// between two samples of known sign holds an odd number exactly where the
-/// sign changes.
-fn parity_fit(samples: &[Sample], counts: &[u32]) -> bool {
+/// Whether the antiresonances between the `i`-th and `(i+1)`-th pole,
+/// `points[i]` (the multiplicity of each zero, in order), can be placed in
+/// the gaps between samples, each zero in one gap, so that every gap
+/// between two samples of known sign holds an odd number (with
+/// multiplicity) exactly where the sign changes.
+fn parity_fit(samples: &[Sample], points: &[Vec<u32>]) -> bool {
     let poles = samples
         .iter()
         .filter(|s| matches!(s, Sample::Pole(_)))
         .count();
-    if poles + 1 != counts.len() {
+    if poles + 1 != points.len() {
         return false;
     }
-    // States: (interval, zeros used in it, parity since the last known
+    // States: (interval, zeros of it placed, parity since the last known
     // sign, that sign).
     let first = match samples.first() {
         Some(Sample::Point(s)) => *s,
@@ -1175,9 +1193,11 @@ fn parity_fit(samples: &[Sample], counts: &[u32]) -> bool {
         // Zeros in the gap before `s`.
         let mut next = BTreeSet::new();
         for &(i, used, par, last) in &states {
-            let most = cap.map_or(counts[i] - used, |k| k.min(counts[i] - used));
-            for z in 0..=most {
-                let (used, par) = (used + z, (par + z) % 2);
+            let rest = &points[i][used as usize..];
+            // Taking the next `j` zeros into this gap: their multiplicities.
+            let takes = (0..=rest.len()).map(|j| (j as u32, rest[..j].iter().sum::<u32>()));
+            for (j, z) in takes.take_while(|&(_, z)| cap.is_none_or(|k| z <= k)) {
+                let (used, par) = (used + j, (par + z) % 2);
                 let known = match s {
                     Sample::Point(x) | Sample::Pole(Some(x)) => Some(*x),
                     _ => None,
@@ -1193,7 +1213,7 @@ fn parity_fit(samples: &[Sample], counts: &[u32]) -> bool {
                 };
                 match s {
                     Sample::Pole(_) => {
-                        if used == counts[i] {
+                        if used as usize == points[i].len() {
                             next.insert((i + 1, 0, par, last));
                         }
                     }
@@ -1211,7 +1231,7 @@ fn parity_fit(samples: &[Sample], counts: &[u32]) -> bool {
     }
     states
         .iter()
-        .any(|&(i, used, _, _)| i + 1 == counts.len() && used == counts[i])
+        .any(|&(i, used, _, _)| i + 1 == points.len() && used as usize == points[i].len())
 }
 
 #[cfg(test)]
@@ -1223,13 +1243,14 @@ mod tests {
         use Sample::*;
         // + at 0, pole with +, a point with -, pole with -, + at infinity.
         let p = vec![Point(1), Pole(Some(1)), Point(-1), Pole(Some(-1)), Point(1)];
+        // Each interval's zeros, one point per token.
         let counts = |s: &str| {
-            let mut c = vec![0u32];
-            for ch in s.chars() {
-                if ch == 'R' {
-                    c.push(0);
-                } else {
-                    *c.last_mut().unwrap() += 1;
+            let t: FrfType = s.parse().unwrap();
+            let mut c: Vec<Vec<u32>> = vec![Vec::new()];
+            for k in &t.tokens {
+                match k.feature {
+                    Feature::Resonance => c.push(Vec::new()),
+                    Feature::Antiresonance => c.last_mut().unwrap().push(k.multiplicity),
                 }
             }
             c
@@ -1248,6 +1269,27 @@ mod tests {
         assert!(parity_fit(&q, &counts("RA")));
         assert!(!parity_fit(&q, &counts("R")));
         assert!(!parity_fit(&q, &counts("ARA")));
+        // Two sign changes between the poles need a zero in each of two
+        // gaps: two simple zeros fit, a double zero (in one gap) does not,
+        // nor a double beside a simple one (three in all, odd) -- but a
+        // triple zero and a simple one do.
+        let r = vec![
+            Point(1),
+            Pole(Some(1)),
+            Point(-1),
+            Point(1),
+            Pole(Some(1)),
+            Point(1),
+        ];
+        assert!(parity_fit(&r, &counts("RAAR")));
+        assert!(!parity_fit(&r, &counts("RA^2R")));
+        assert!(!parity_fit(&r, &counts("RA^2AR")));
+        assert!(parity_fit(&r, &counts("RA^3AR")));
+        assert!(parity_fit(&r, &counts("RAA^3R")));
+        // A cap of one zero in a gap keeps a double zero out of it.
+        let capped = vec![Point(1), AtMost(1), Pole(Some(1)), Point(1)];
+        assert!(parity_fit(&capped, &counts("R")));
+        assert!(!parity_fit(&capped, &counts("A^2R")));
     }
 
     #[test]

@@ -435,7 +435,7 @@ impl ModelAnalysis {
 /// The version of the decision procedure: raised whenever a change can
 /// alter a verdict, a witness or a certificate, so that stored analyses
 /// (e.g. `mms analyze --cache`) made by another version are recomputed.
-pub const ENGINE_VERSION: u32 = 45;
+pub const ENGINE_VERSION: u32 = 46;
 
 /// Decides every candidate FRF type of `model` (see the module docs).
 ///
