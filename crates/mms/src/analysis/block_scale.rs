@@ -128,12 +128,7 @@ impl Prover<'_> {
                 return;
             }
             for c in cancellations {
-                let Some(mut point) = self
-                    .params
-                    .iter()
-                    .map(|p| Some((p.clone(), draw(&mut rng)?)))
-                    .collect::<Option<BTreeMap<String, Rat>>>()
-                else {
+                let Some(mut point) = random_point(&self.params, &mut rng, draw) else {
                     continue;
                 };
                 let mut shared = None;
@@ -466,12 +461,7 @@ impl Prover<'_> {
             for c in cancellations {
                 for tie_at in &ties {
                     let (x, runs, middle) = (&tie_at.block, &tie_at.runs, &tie_at.middle);
-                    let Some(mut point) = self
-                        .params
-                        .iter()
-                        .map(|p| Some((p.clone(), draw(&mut rng)?)))
-                        .collect::<Option<BTreeMap<String, Rat>>>()
-                    else {
+                    let Some(mut point) = random_point(&self.params, &mut rng, draw) else {
                         continue;
                     };
                     let Some(tie) = draw(&mut rng) else {
@@ -788,6 +778,19 @@ fn short_choices(free: &[String], vars: &[String], short: usize) -> Vec<Vec<Stri
             })
             .collect(),
     }
+}
+
+/// A value of `draw` for every parameter, in order; `None` at the first
+/// that has none.
+fn random_point(
+    params: &[String],
+    rng: &mut XorShift,
+    draw: impl Fn(&mut XorShift) -> Option<Rat>,
+) -> Option<BTreeMap<String, Rat>> {
+    params
+        .iter()
+        .map(|p| Some((p.clone(), draw(rng)?)))
+        .collect()
 }
 
 /// Each block's scale line: the numerator's coefficients `(A, B)` of
