@@ -429,7 +429,6 @@ impl Prover<'_> {
         let chains = super::pole_signs::chain_blocks(&stiff);
         let det_of = |idx: &[usize]| poly::det(&super::pole_signs::pencil(&mass, &stiff, idx));
         let dets: Vec<Poly> = chains.iter().map(|b| det_of(b)).collect();
-        // (block, [(run's determinant, its first mass)], the middle mass).
         let mut ties: Vec<Tie> = Vec::new();
         for (x, chain) in chains.iter().enumerate() {
             for middle in 1..chain.len().saturating_sub(1) {
