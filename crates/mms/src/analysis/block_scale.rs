@@ -95,11 +95,7 @@ impl Prover<'_> {
         let mut targets: BTreeSet<(u32, Vec<Feature>)> = BTreeSet::new();
         for t in wanted.iter().filter(|t| !self.shown(t)) {
             let split = split_type(t);
-            let multiple_pole = t
-                .tokens
-                .iter()
-                .any(|k| k.feature == Feature::Resonance && k.multiplicity > 1);
-            if multiple_pole || self.witnesses.contains_key(&split) {
+            if t.has_multiple_resonance() || self.witnesses.contains_key(&split) {
                 continue;
             }
             match degree.checked_sub(t.resonances()) {
@@ -250,11 +246,7 @@ impl Prover<'_> {
         let degree = self.den.degree(OMEGA);
         for t in wanted {
             let mults = multiple_antiresonances(t);
-            let multiple_pole = t
-                .tokens
-                .iter()
-                .any(|k| k.feature == Feature::Resonance && k.multiplicity > 1);
-            if mults.is_empty() || multiple_pole || self.shown(t) {
+            if mults.is_empty() || t.has_multiple_resonance() || self.shown(t) {
                 continue;
             }
             let Some(cancelled) = degree.checked_sub(t.resonances()) else {
@@ -413,12 +405,11 @@ impl Prover<'_> {
             .iter()
             .filter(|t| {
                 let double = multiple_antiresonances(t) == [2];
-                let multiple_pole = t
-                    .tokens
-                    .iter()
-                    .any(|k| k.feature == Feature::Resonance && k.multiplicity > 1);
                 let cancelled = degree.checked_sub(t.resonances());
-                double && !multiple_pole && matches!(cancelled, Some(1 | 2)) && !self.shown(t)
+                double
+                    && !t.has_multiple_resonance()
+                    && matches!(cancelled, Some(1 | 2))
+                    && !self.shown(t)
             })
             .cloned()
             .collect();
@@ -512,7 +503,7 @@ impl Prover<'_> {
                     for (y, (a_poly, b_poly)) in lines.iter().enumerate() {
                         let found = self.tie_line(
                             &point,
-                            (y, blocks),
+                            (y, blocks, &dets),
                             (a_poly, b_poly),
                             &cancelled,
                             (tie_at, &keepers),
@@ -533,7 +524,7 @@ impl Prover<'_> {
     fn tie_line(
         &mut self,
         point: &BTreeMap<String, Rat>,
-        (y, blocks): (usize, &[BTreeSet<String>]),
+        scaled: (usize, &[BTreeSet<String>], &[Poly]),
         (a, b): (&Poly, &Poly),
         cancelled: &[Rat],
         tie: (&Tie, &[String]),
@@ -545,10 +536,10 @@ impl Prover<'_> {
                 u.div_exact(&(&Poly::var(OMEGA) - &Poly::constant(l.clone())))
             })
         };
-        let (Some(a), Some(b), Some(den)) = (divide(a), divide(b), divide(&self.den)) else {
+        let (Some(a_at), Some(b_at), Some(den)) = (divide(a), divide(b), divide(&self.den)) else {
             return shown;
         };
-        let Some(line) = line_floats(&a, &b, &den) else {
+        let Some(line) = line_floats(&a_at, &b_at, &den) else {
             return shown;
         };
         let (fa, fb, poles) = (&line.a, &line.b, &line.poles);
@@ -595,7 +586,7 @@ impl Prover<'_> {
                 let Some(r) = short_rational(x, digits) else {
                     continue;
                 };
-                self.solve_tie(point, (y, blocks), &r, cancelled, tie, targets);
+                self.solve_tie(point, scaled, (a, b), &r, cancelled, tie, targets);
                 if self.shown(&t) {
                     shown.push(t);
                     break;
@@ -605,17 +596,20 @@ impl Prover<'_> {
         shown
     }
 
-    /// The double zero posed at `r` along the scale of block `y`: `num(r)
-    /// = num'(r) = 0` (and the other block's determinant at the shared
-    /// pole, if one is posed, `0`) solved for `s`, the mass that keeps the
-    /// shared pole, and one parameter `q` of the other block over a real
-    /// number field; where `q` is in a tied run, the run's first mass
-    /// follows it (a run's determinant is linear in each mass, with a
-    /// constant coefficient for a one-mass run) so the tie holds.
+    /// The double zero posed at `r` along the scale of block `y` (the
+    /// numerator `s A + B`): `num(r) = num'(r) = 0` (and the other block's
+    /// determinant, of `dets`, at the shared pole, if one is posed, `0`)
+    /// solved for `s`, the mass that keeps the shared pole, and one
+    /// parameter `q` of the other block over a real number field; where
+    /// `q` is in a tied run, the run's first mass follows it (a run's
+    /// determinant is linear in each mass, with a constant coefficient for
+    /// a one-mass run) so the tie holds.
+    #[allow(clippy::too_many_arguments)]
     fn solve_tie(
         &mut self,
         point: &BTreeMap<String, Rat>,
-        (y, blocks): (usize, &[BTreeSet<String>]),
+        (y, blocks, dets): (usize, &[BTreeSet<String>], &[Poly]),
+        (a, b): (&Poly, &Poly),
         r: &Rat,
         cancelled: &[Rat],
         (tie, keepers): (&Tie, &[String]),
@@ -623,9 +617,7 @@ impl Prover<'_> {
     ) {
         let (x, runs) = (tie.block, &tie.runs);
         let scaled = &blocks[y];
-        let num = scaled_numerator(&self.num, scaled);
-        let (mass, stiff) = (self.model.mass_matrix(), self.model.stiffness_matrix());
-        let chains = super::pole_signs::chain_blocks(&stiff);
+        let num = &(&Poly::var(SCALE) * a) + b;
         let other = 1 - y;
         let mut vars = vec![SCALE.to_string()];
         let mut equations = vec![num.subs(OMEGA, r), num.derivative(OMEGA).subs(OMEGA, r)];
@@ -634,8 +626,7 @@ impl Prover<'_> {
                 return;
             };
             vars.push(keeper.clone());
-            let d = poly::det(&super::pole_signs::pencil(&mass, &stiff, &chains[other]));
-            equations.push(d.subs(OMEGA, &cancelled[1]));
+            equations.push(dets[other].subs(OMEGA, &cancelled[1]));
         }
         let run_masses: Vec<&String> = runs.iter().map(|(_, m)| m).collect();
         let wanted: Vec<FrfType> = targets.iter().cloned().collect();
