@@ -868,6 +868,9 @@ pub(super) fn algebraic_points_up_to(
         })
         .collect();
     let x = &xs[0];
+    // With two short parameters: the two minors whose common root in the
+    // second gives it, and their first subresultant in it.
+    let mut pair: Option<(Poly, Poly, Option<Poly>)> = None;
     let eliminated: Option<UPoly> = if xs.len() == 1 {
         let Some(int_rows) = rows
             .iter()
@@ -896,6 +899,8 @@ pub(super) fn algebraic_points_up_to(
             return Vec::new();
         }
         let r = poly::resultant(&a, &b, y);
+        let first = poly::subresultant_chain(&a, &b, y).get(1).cloned();
+        pair = Some((a, b, first));
         UPoly::from_poly(&r, x).map(|(_, u)| u)
     };
     let Some(u) = eliminated else {
@@ -910,19 +915,21 @@ pub(super) fn algebraic_points_up_to(
         if lo.signum() < 0 || field.degree() > max_degree || field.sign(&field.generator()) <= 0 {
             continue;
         }
-        if let Some(point) = complete(&field, &rows, equations, vars, xs) {
+        if let Some(point) = complete(&field, &rows, pair.as_ref(), equations, vars, xs) {
             out.push((field, point));
         }
     }
     out
 }
 
-/// At `x = theta` of `field`: `y` (if any) from the gcd of the equations
-/// over the field, then the linear set from all but the last equations,
-/// kept if every equation holds exactly and every coordinate is positive.
+/// At `x = theta` of `field`: `y` (if any) the common root of the two
+/// minors of `pair` (see [`common_root`]), then the linear set from all
+/// but the last equations, kept if every equation holds exactly and every
+/// coordinate is positive.
 fn complete(
     field: &RealField,
     rows: &[Vec<Poly>],
+    pair: Option<&(Poly, Poly, Option<Poly>)>,
     equations: &[Poly],
     vars: &[String],
     xs: &[String],
@@ -931,21 +938,8 @@ fn complete(
     if let Some(y) = xs.get(1) {
         // The two left-out minors' common root in y; one of them would do
         // on its own only where it is linear.
-        let n = rows.len();
-        let minor = |skip: usize| -> Option<poly::FieldPoly> {
-            let m: Vec<Vec<Poly>> = rows
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| *i != skip)
-                .map(|(_, r)| r.clone())
-                .collect();
-            field.univariate(&poly::det(&m), y, &at).ok()
-        };
-        let g = field.poly_gcd(&minor(n - 1)?, &minor(n - 2)?);
-        if g.degree() != Some(1) {
-            return None;
-        }
-        let y0 = field.neg(&g.coeffs()[0]);
+        let (a, b, first) = pair?;
+        let y0 = common_root(field, a, b, first.as_ref(), y, &at)?;
         if field.sign(&y0) <= 0 {
             return None;
         }
@@ -982,9 +976,98 @@ fn complete(
     Some(at)
 }
 
+/// The one common root in `y` of `a` and `b` (polynomials in `y` and the
+/// variables of `at`, whose resultant in `y` vanishes at `at`) over
+/// `field`, if their gcd there is of degree one.
+///
+/// By their first subresultant `S_1` (`first`, over the integers), where
+/// neither leading coefficient in `y` vanishes at `at` and both are of
+/// degree two or more in `y`: `S_1` then specializes to the first
+/// subresultant of the specialized pair, which is of degree one exactly
+/// when their gcd is (its leading coefficient is the first principal
+/// subresultant coefficient, the resultant being zero), and is then a
+/// multiple of the gcd. Otherwise by Euclid's algorithm over the field,
+/// whose remainders' coefficients grow in height so fast in fields of
+/// degree 20 or more that one gcd took minutes.
+fn common_root(
+    field: &RealField,
+    a: &Poly,
+    b: &Poly,
+    first: Option<&Poly>,
+    y: &str,
+    at: &BTreeMap<String, FieldElem>,
+) -> Option<FieldElem> {
+    let kept = |p: &Poly| {
+        p.degree(y) >= 2
+            && p.coeffs_in(y)
+                .last()
+                .and_then(|lc| field.eval(lc, at).ok())
+                .is_some_and(|v| !v.is_zero())
+    };
+    if let Some(s) = first.filter(|_| kept(a) && kept(b)) {
+        let s = field.univariate(s, y, at).ok()?;
+        if s.degree() != Some(1) {
+            return None;
+        }
+        let c = s.coeffs();
+        return Some(field.neg(&field.div(&c[0], &c[1])?));
+    }
+    let g = field.poly_gcd(
+        &field.univariate(a, y, at).ok()?,
+        &field.univariate(b, y, at).ok()?,
+    );
+    if g.degree() != Some(1) {
+        return None;
+    }
+    Some(field.neg(&g.coeffs()[0]))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_first_subresultant_gives_the_common_root_as_euclid_does() {
+        // theta = sqrt(2) for x. Pairs with a gcd in y of degree one (the
+        // root x, and 1/x), of degree two (none), and with a leading
+        // coefficient that vanishes at theta (Euclid's route alone).
+        let k = &RealField::real_roots_of(&UPoly::from_i64s(&[-2, 0, 1]))[1];
+        let at = BTreeMap::from([("x".to_string(), k.generator())]);
+        let p = |s: &str| s.parse::<Poly>().unwrap();
+        let cases = [
+            (
+                "(y - x)*(y + 2)",
+                "(y - x)*(y - 3*x)*(y + 1)",
+                Some(2f64.sqrt()),
+            ),
+            (
+                "(x*y - 1)*(y^2 + 1)",
+                "(x*y - 1)*(y + x)",
+                Some(0.5f64.sqrt()),
+            ),
+            (
+                "(y - x)*(y - 2*x)*(y + 1)",
+                "(y - x)*(y - 2*x)*(y + 5)",
+                None,
+            ),
+            (
+                "(x^2 - 2)*y^3 + (y - x)*(y + 1)",
+                "(y - x)*(y - 7)",
+                Some(2f64.sqrt()),
+            ),
+        ];
+        for (a, b, want) in cases {
+            let (a, b) = (p(a), p(b));
+            let first = poly::subresultant_chain(&a, &b, "y").get(1).cloned();
+            let by_subresultant = common_root(k, &a, &b, first.as_ref(), "y", &at);
+            let by_euclid = common_root(k, &a, &b, None, "y", &at);
+            assert_eq!(by_subresultant, by_euclid);
+            match want {
+                Some(v) => assert!((k.to_f64(&by_euclid.unwrap()) - v).abs() < 1e-12),
+                None => assert!(by_euclid.is_none()),
+            }
+        }
+    }
 
     #[test]
     fn one_short_points_solve_every_equation() {
