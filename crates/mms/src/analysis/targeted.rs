@@ -1995,19 +1995,30 @@ pub(super) fn linear_sets(polys: &[&Poly], params: &[String], size: usize) -> Ve
         .iter()
         .filter(|x| polys.iter().all(|p| p.degree(x) <= 1))
         .collect();
-    let apart = |x: &String, y: &String| {
-        polys.iter().all(|p| {
-            let c = p.coeffs_in(x);
-            c.len() < 2 || c[1].degree(y) == 0
+    // apart[i][j]: the coefficient of `single[i]` in every polynomial is
+    // free of `single[j]`. Taken once per pair, not at every step of the
+    // enumeration: the coefficients of large numerators and determinants
+    // were most of the number-field searches' time at six masses.
+    let apart: Vec<Vec<bool>> = single
+        .iter()
+        .map(|x| {
+            let slopes: Vec<Poly> = polys
+                .iter()
+                .filter_map(|p| p.coeffs_in(x).into_iter().nth(1))
+                .collect();
+            single
+                .iter()
+                .map(|y| slopes.iter().all(|c| c.degree(y) == 0))
+                .collect()
         })
-    };
+        .collect();
     let mut out = Vec::new();
     let mut cur: Vec<usize> = Vec::new();
     fn grow(
         from: usize,
         size: usize,
         single: &[&String],
-        apart: &dyn Fn(&String, &String) -> bool,
+        apart: &[Vec<bool>],
         cur: &mut Vec<usize>,
         out: &mut Vec<Vec<String>>,
     ) {
@@ -2019,7 +2030,7 @@ pub(super) fn linear_sets(polys: &[&Poly], params: &[String], size: usize) -> Ve
             return;
         }
         for i in from..single.len() {
-            if cur.iter().all(|&j| apart(single[j], single[i])) {
+            if cur.iter().all(|&j| apart[j][i]) {
                 cur.push(i);
                 grow(i + 1, size, single, apart, cur, out);
                 cur.pop();
