@@ -431,16 +431,7 @@ impl RealField {
         }
         let (x, dx) = over_common_denominator(&a.coeffs);
         let (y, dy) = over_common_denominator(&b.coeffs);
-        let mut c = vec![Int::ZERO; x.len() + y.len() - 1];
-        for (i, u) in x.iter().enumerate() {
-            if u.is_zero() {
-                continue;
-            }
-            for (j, v) in y.iter().enumerate() {
-                c[i + j] = &c[i + j] + &(u * v);
-            }
-        }
-        self.reduced(c, &dx * &dy)
+        self.reduced(int_mul(&x, &y), &dx * &dy)
     }
 
     /// The element `sum c_i theta^i / den` (`den > 0`), of any degree:
@@ -1250,7 +1241,8 @@ impl RealField {
 }
 
 /// Dense integer polynomials, lowest first, without trailing zeros: the
-/// extended Euclidean algorithm behind [`RealField::inv`].
+/// products and the extended Euclidean algorithm behind
+/// [`RealField::mul`] and [`RealField::inv`].
 fn int_trim(mut v: Vec<Int>) -> Vec<Int> {
     while v.last().is_some_and(Int::is_zero) {
         v.pop();
