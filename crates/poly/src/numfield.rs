@@ -29,7 +29,7 @@ use crate::int::Int;
 use crate::poly::Poly;
 use crate::rat::Rat;
 use crate::roots::{real_roots, SharedRoot};
-use crate::upoly::UPoly;
+use crate::upoly::{pseudo_div_raw, UPoly};
 use std::cell::RefCell;
 use std::collections::BTreeMap;
 
@@ -171,9 +171,6 @@ impl FieldPoly {
 #[derive(Debug, Clone)]
 pub struct RealField {
     minimal: UPoly,
-    /// The defining polynomial divided by its leading coefficient, lowest
-    /// first, without the leading 1: `theta^n = -sum monic[i] theta^i`.
-    monic: Vec<Rat>,
     /// An isolating interval of `theta`: `lo == hi` (only in degree 1)
     /// or `lo < hi` with the defining polynomial non-zero at both ends
     /// and of opposite signs there.
@@ -249,15 +246,8 @@ impl RealField {
         {
             return Err(FieldError::NotIsolating);
         }
-        let lc = Rat::from_int(minimal.leading_coeff());
-        let n = minimal.degree().unwrap_or(0);
-        let monic = minimal.coeffs()[..n]
-            .iter()
-            .map(|c| &Rat::from_int(c.clone()) / &lc)
-            .collect();
         Ok(RealField {
             minimal,
-            monic,
             initial: (lo.clone(), hi.clone()),
             bounds: RefCell::new((lo, hi)),
         })
@@ -296,7 +286,7 @@ impl RealField {
 
     /// The field's degree over Q.
     pub fn degree(&self) -> usize {
-        self.monic.len()
+        self.minimal.degree().unwrap_or(0)
     }
 
     /// The isolating interval the field was built with (the shortest
@@ -348,19 +338,11 @@ impl RealField {
     /// The element of the rational coefficients `c` (lowest first), reduced
     /// modulo the defining polynomial.
     pub fn element(&self, c: Vec<Rat>) -> FieldElem {
-        let n = self.degree();
-        let mut c = c;
-        while c.len() > n {
-            let top = c.pop().unwrap_or(Rat::ZERO);
-            if top.is_zero() {
-                continue;
-            }
-            let base = c.len() - n;
-            for (i, m) in self.monic.iter().enumerate() {
-                c[base + i] = &c[base + i] - &(&top * m);
-            }
+        if c.len() <= self.degree() {
+            return FieldElem::trimmed(c);
         }
-        FieldElem::trimmed(c)
+        let (x, den) = over_common_denominator(&c);
+        self.reduced(&UPoly::new(x), &den)
     }
 
     /// Zero.
@@ -431,34 +413,21 @@ impl RealField {
         }
         let (x, dx) = over_common_denominator(&a.coeffs);
         let (y, dy) = over_common_denominator(&b.coeffs);
-        self.reduced(int_mul(&x, &y), &dx * &dy)
+        self.reduced(&(&UPoly::new(x) * &UPoly::new(y)), &(&dx * &dy))
     }
 
-    /// The element `sum c_i theta^i / den` (`den > 0`), of any degree:
-    /// each top term `t theta^k` is removed as `L c - t theta^(k-n) f`
-    /// (`f` the integer defining polynomial of degree `n`, `L` its leading
-    /// coefficient) with the denominator times `L`, so no step divides.
-    fn reduced(&self, mut c: Vec<Int>, mut den: Int) -> FieldElem {
-        let f = self.minimal.coeffs();
-        let n = f.len() - 1;
-        let lead = &f[n];
-        while c.len() > n {
-            let top = c.pop().unwrap_or(Int::ZERO);
-            if top.is_zero() {
-                continue;
-            }
-            if !lead.is_one() {
-                for v in c.iter_mut() {
-                    *v = &*v * lead;
-                }
-                den = &den * lead;
-            }
-            let base = c.len() - n;
-            for (i, fi) in f[..n].iter().enumerate() {
-                c[base + i] = &c[base + i] - &(&top * fi);
-            }
-        }
-        FieldElem::trimmed(c.into_iter().map(|v| Rat::new(v, den.clone())).collect())
+    /// The element `c / den` (`den` non-zero) of any degree: `c`'s
+    /// pseudo-remainder `r` by the integer defining polynomial `f`
+    /// (`lc(f)^e c = q f + r`) over `lc(f)^e den`, so no step divides.
+    fn reduced(&self, c: &UPoly, den: &Int) -> FieldElem {
+        let (_, r, e) = pseudo_div_raw(c, &self.minimal, false);
+        let den = den * &self.minimal.leading_coeff().pow(e);
+        FieldElem::trimmed(
+            r.coeffs()
+                .iter()
+                .map(|v| Rat::new(v.clone(), den.clone()))
+                .collect(),
+        )
     }
 
     /// `a^e`.
@@ -493,23 +462,26 @@ impl RealField {
         }
         let (num, den) = over_common_denominator(&a.coeffs);
         // Invariant: s * num == r (mod minimal), for (r0, s0) and (r1, s1).
-        let (mut r0, mut s0) = (self.minimal.coeffs().to_vec(), Vec::<Int>::new());
-        let (mut r1, mut s1) = (num, vec![Int::ONE]);
-        while r1.len() > 1 {
-            let (q, r, multiplier) = int_pseudo_div_rem(&r0, &r1);
-            let mut s = int_sub(&int_scale(&s0, &multiplier), &int_mul(&q, &s1));
-            let mut r = r;
-            let g = joint_content(&r, &s);
-            if !g.is_one() && !g.is_zero() {
-                r.iter_mut().for_each(|v| *v = v.div_exact(&g));
-                s.iter_mut().for_each(|v| *v = v.div_exact(&g));
-            }
+        let (mut r0, mut s0) = (self.minimal.clone(), UPoly::zero());
+        let (mut r1, mut s1) = (UPoly::new(num), UPoly::one());
+        while r1.degree().is_some_and(|d| d > 0) {
+            let (q, r, e) = pseudo_div_raw(&r0, &r1, true);
+            let s = &s0.scale(&r1.leading_coeff().pow(e)) - &(&q * &s1);
+            // The pair's common content out: the numbers stay small.
+            let g = r.content().gcd(&s.content());
+            let (r, s) = if g.is_one() || g.is_zero() {
+                (r, s)
+            } else {
+                let cut =
+                    |p: &UPoly| UPoly::new(p.coeffs().iter().map(|v| v.div_exact(&g)).collect());
+                (cut(&r), cut(&s))
+            };
             r0 = std::mem::replace(&mut r1, r);
             s0 = std::mem::replace(&mut s1, s);
         }
         // s1 * num == c, so 1/a = den * s1 / c.
-        let c = r1.first()?.clone();
-        Some(self.reduced(s1.iter().map(|v| v * &den).collect(), c))
+        let c = r1.coeffs().first()?.clone();
+        Some(self.reduced(&s1.scale(&den), &c))
     }
 
     /// `a / b`; `None` when `b` is zero.
@@ -580,13 +552,7 @@ impl RealField {
         }
         // Exactly: the sign of the integer polynomial of `a` on an interval
         // of `theta` that holds none of its roots (Sturm's count).
-        let den = a.coeffs.iter().fold(Int::ONE, |acc, c| acc.lcm(c.denom()));
-        let g = UPoly::new(
-            a.coeffs
-                .iter()
-                .map(|c| c.numer() * &den.div_exact(c.denom()))
-                .collect(),
-        );
+        let g = UPoly::new(over_common_denominator(&a.coeffs).0);
         let sturm = crate::SturmSequence::new(&g);
         for _ in 0..MAX_REFINEMENTS {
             let (lo, hi) = self.interval();
@@ -1238,87 +1204,6 @@ impl RealField {
         }
         Some(m.into_iter().map(|r| r[n].clone()).collect())
     }
-}
-
-/// Dense integer polynomials, lowest first, without trailing zeros: the
-/// products and the extended Euclidean algorithm behind
-/// [`RealField::mul`] and [`RealField::inv`].
-fn int_trim(mut v: Vec<Int>) -> Vec<Int> {
-    while v.last().is_some_and(Int::is_zero) {
-        v.pop();
-    }
-    v
-}
-
-fn int_scale(a: &[Int], m: &Int) -> Vec<Int> {
-    int_trim(a.iter().map(|v| v * m).collect())
-}
-
-fn int_mul(a: &[Int], b: &[Int]) -> Vec<Int> {
-    if a.is_empty() || b.is_empty() {
-        return Vec::new();
-    }
-    let mut c = vec![Int::ZERO; a.len() + b.len() - 1];
-    for (i, x) in a.iter().enumerate() {
-        if x.is_zero() {
-            continue;
-        }
-        for (j, y) in b.iter().enumerate() {
-            c[i + j] = &c[i + j] + &(x * y);
-        }
-    }
-    int_trim(c)
-}
-
-fn int_sub(a: &[Int], b: &[Int]) -> Vec<Int> {
-    let n = a.len().max(b.len());
-    let z = Int::ZERO;
-    int_trim(
-        (0..n)
-            .map(|i| a.get(i).unwrap_or(&z) - b.get(i).unwrap_or(&z))
-            .collect(),
-    )
-}
-
-/// `(q, r, m)` with `m a = q b + r`, `deg r < deg b` and `m` a power of
-/// `b`'s leading coefficient (`b` non-zero).
-fn int_pseudo_div_rem(a: &[Int], b: &[Int]) -> (Vec<Int>, Vec<Int>, Int) {
-    let db = b.len() - 1;
-    let lead = &b[db];
-    let mut r = int_trim(a.to_vec());
-    let mut q = vec![Int::ZERO; r.len().saturating_sub(db)];
-    let mut m = Int::ONE;
-    while r.len() > db {
-        let k = r.len() - 1;
-        let t = r[k].clone();
-        if !lead.is_one() {
-            r.iter_mut().for_each(|v| *v = &*v * lead);
-            q.iter_mut().for_each(|v| *v = &*v * lead);
-            m = &m * lead;
-        }
-        for (i, bi) in b.iter().enumerate() {
-            r[k - db + i] = &r[k - db + i] - &(&t * bi);
-        }
-        q[k - db] = &q[k - db] + &t;
-        r.pop();
-        r = int_trim(r);
-    }
-    (int_trim(q), r, m)
-}
-
-/// The gcd of every coefficient of `a` and `b` (zero if both are zero).
-fn joint_content(a: &[Int], b: &[Int]) -> Int {
-    let mut all: Vec<&Int> = a.iter().chain(b).filter(|v| !v.is_zero()).collect();
-    // The smallest first: the running gcd then stays small.
-    all.sort_by_key(|v| v.bits());
-    let mut g = Int::ZERO;
-    for v in all {
-        g = if g.is_zero() { v.abs() } else { g.gcd(v) };
-        if g.is_one() {
-            break;
-        }
-    }
-    g
 }
 
 /// The numerators of `c` over their least common denominator, and that
