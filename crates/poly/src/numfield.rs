@@ -505,21 +505,16 @@ impl RealField {
     /// evaluation in floating point with every bound pushed outwards past
     /// its rounding; `None` where a number leaves the range of `f64`.
     fn float_enclosure(&self, a: &FieldElem) -> Option<(f64, f64)> {
+        let coeffs = a
+            .coeffs
+            .iter()
+            .map(|c| {
+                let v = c.to_f64();
+                widened(v, v)
+            })
+            .collect::<Option<Vec<_>>>()?;
         let (lo, hi) = self.interval();
-        let t = widened(lo.to_f64(), hi.to_f64())?;
-        let mut acc = (0.0, 0.0);
-        for c in a.coeffs.iter().rev() {
-            let v = c.to_f64();
-            let c = widened(v, v)?;
-            let p = [acc.0 * t.0, acc.0 * t.1, acc.1 * t.0, acc.1 * t.1];
-            let (pl, ph) = (
-                p.iter().copied().fold(f64::INFINITY, f64::min),
-                p.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-            );
-            let m = widened(pl, ph)?;
-            acc = widened(m.0 + c.0, m.1 + c.1)?;
-        }
-        Some(acc)
+        horner_enclosure(&coeffs, &lo, &hi)
     }
 
     /// The sign of `a` at `theta`: -1, 0 or 1, exactly. Narrows the
@@ -551,14 +546,26 @@ impl RealField {
             }
         }
         // Exactly: the sign of the integer polynomial of `a` on an interval
-        // of `theta` that holds none of its roots (Sturm's count).
+        // of `theta` that holds none of its roots (Sturm's count). Before
+        // each count, a floating-point filter on `a` scaled by a power of
+        // two, which keeps huge coefficients in range and the sign as it
+        // is: an enclosure of the polynomial over the whole interval that
+        // leaves 0 means no root there, what the count would find at the
+        // same interval, so the interval is narrowed exactly as far.
+        let scaled = scaled_coefficients(&a.coeffs);
         let g = UPoly::new(over_common_denominator(&a.coeffs).0);
-        let sturm = crate::SturmSequence::new(&g);
+        let mut sturm: Option<crate::SturmSequence> = None;
         for _ in 0..MAX_REFINEMENTS {
             let (lo, hi) = self.interval();
             if lo == hi {
                 return g.sign_at(&lo);
             }
+            match scaled.as_ref().and_then(|c| horner_enclosure(c, &lo, &hi)) {
+                Some((l, _)) if l > 0.0 => return 1,
+                Some((_, h)) if h < 0.0 => return -1,
+                _ => {}
+            }
+            let sturm = sturm.get_or_insert_with(|| crate::SturmSequence::new(&g));
             // Roots in (lo, hi]; hi itself is no root of an irreducible
             // defining polynomial's field element unless it is theta.
             if sturm.count_in(&lo, &hi) == 0 && g.sign_at(&lo) != 0 {
@@ -1206,6 +1213,71 @@ impl RealField {
     }
 }
 
+/// An `f64` interval holding the polynomial of the coefficient intervals
+/// `coeffs` (lowest first) over `[lo, hi]`, by Horner's rule in interval
+/// arithmetic with every bound pushed outwards past its rounding; `None`
+/// where a number leaves the range of `f64`.
+fn horner_enclosure(coeffs: &[(f64, f64)], lo: &Rat, hi: &Rat) -> Option<(f64, f64)> {
+    let t = widened(lo.to_f64(), hi.to_f64())?;
+    let mut acc = (0.0, 0.0);
+    for c in coeffs.iter().rev() {
+        let p = [acc.0 * t.0, acc.0 * t.1, acc.1 * t.0, acc.1 * t.1];
+        let (pl, ph) = (
+            p.iter().copied().fold(f64::INFINITY, f64::min),
+            p.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        );
+        let m = widened(pl, ph)?;
+        acc = widened(m.0 + c.0, m.1 + c.1)?;
+    }
+    Some(acc)
+}
+
+/// `r * 2^-shift` to about 62 bits before its rounding to `f64` (0 or a
+/// subnormal where it underflows, within the absolute margin of
+/// [`widened`]).
+fn scaled_to_f64(r: &Rat, shift: i64) -> f64 {
+    if r.is_zero() {
+        return 0.0;
+    }
+    // An integer quotient of 62 to 64 bits (truncated: relative error
+    // below 2^-61), then the power of two in steps that stay in range.
+    let k = r.denom().bits() as i64 - r.numer().bits() as i64 + 64;
+    let (n, d) = (r.numer().to_big(), r.denom().to_big());
+    let q = if k >= 0 {
+        (n << (k as u64)) / d
+    } else {
+        n / (d << ((-k) as u64))
+    };
+    let mut v = Int::from(q).to_f64();
+    let mut e = -k - shift;
+    while e > 1000 {
+        v *= 2f64.powi(1000);
+        e -= 1000;
+    }
+    while e < -1000 {
+        v *= 2f64.powi(-1000);
+        e += 1000;
+    }
+    v * 2f64.powi(e as i32)
+}
+
+/// The coefficients `c` divided by one power of two that brings the
+/// largest near 1, as `f64` intervals (see [`horner_enclosure`]); `None`
+/// for zero.
+fn scaled_coefficients(c: &[Rat]) -> Option<Vec<(f64, f64)>> {
+    let shift = c
+        .iter()
+        .filter(|r| !r.is_zero())
+        .map(|r| r.numer().bits() as i64 - r.denom().bits() as i64)
+        .max()?;
+    c.iter()
+        .map(|r| {
+            let v = scaled_to_f64(r, shift);
+            widened(v, v)
+        })
+        .collect()
+}
+
 /// The numerators of `c` over their least common denominator, and that
 /// denominator (positive).
 fn over_common_denominator(c: &[Rat]) -> (Vec<Int>, Int) {
@@ -1424,6 +1496,78 @@ mod tests {
             }
             let (x, y) = (k.to_f64(&a), k.to_f64(&b));
             proptest::prop_assert!((k.to_f64(&p) - x * y).abs() <= 1e-9 * (x * y).abs().max(1.0));
+        }
+    }
+
+    /// The sign as it was decided before the scaled floating-point filter:
+    /// the same floating-point phase, then Sturm's count at every step.
+    fn sign_by_sturm_alone(k: &RealField, a: &FieldElem) -> i32 {
+        if let Some(r) = a.as_rat() {
+            return r.signum();
+        }
+        for _ in 0..FLOAT_REFINEMENTS {
+            match k.float_enclosure(a) {
+                Some((lo, _)) if lo > 0.0 => return 1,
+                Some((_, hi)) if hi < 0.0 => return -1,
+                None => break,
+                _ => {}
+            }
+            let (l, h) = k.interval();
+            let (lf, hf) = (l.to_f64(), h.to_f64());
+            if l == h || hf - lf <= lf.abs().max(hf.abs()) * 1e-17 {
+                break;
+            }
+            for _ in 0..4 {
+                k.bisect();
+            }
+        }
+        let g = UPoly::new(over_common_denominator(a.coeffs()).0);
+        let sturm = crate::SturmSequence::new(&g);
+        loop {
+            let (lo, hi) = k.interval();
+            if lo == hi {
+                return g.sign_at(&lo);
+            }
+            if sturm.count_in(&lo, &hi) == 0 && g.sign_at(&lo) != 0 {
+                return g.sign_at(&hi);
+            }
+            k.bisect();
+        }
+    }
+
+    proptest::proptest! {
+        /// Elements whose coefficients leave the range of f64 (scaled by
+        /// 2^1100, alone or next to a rational a hair from a value of
+        /// theta's powers): the same sign as Sturm's count alone, and the
+        /// isolating interval narrowed exactly as far, so that every later
+        /// reading of the field starts from the same interval.
+        #[test]
+        fn huge_elements_get_the_sign_and_interval_of_sturms_count(
+            a in proptest::collection::vec((-60i64..60, 1i64..24), 1..6),
+            which in 0usize..3,
+            huge in proptest::bool::ANY,
+            hair in 0usize..3,
+        ) {
+            let minimal = [
+                UPoly::from_i64s(&[-2, -2, 0, 0, 0, 3]),
+                UPoly::from_i64s(&[-3, 0, 0, 2]),
+                UPoly::from_i64s(&[1, 0, -10, 0, 1]),
+            ][which].clone();
+            let field = || RealField::real_roots_of(&minimal).pop().unwrap();
+            let (k, reference, probe) = (field(), field(), field());
+            let scale = if huge { Rat::from_int(Int::from(2).pow(1100)) } else { Rat::ONE };
+            let unscaled: Vec<Rat> = a.iter().map(|&(p, q)| Rat::new(Int::from(p), Int::from(q))).collect();
+            let mut e = k.element(unscaled.iter().map(|c| c * &scale).collect());
+            // Minus a rational a hair from its value (10^-8 or 10^-16): from
+            // an easy sign to one that needs Sturm's count.
+            if hair > 0 {
+                let digits = Int::from(10).pow(8 * hair as u32);
+                let v = Rat::from_f64(probe.to_f64(&probe.element(unscaled))).unwrap();
+                let near = Rat::new((&v * &Rat::from_int(digits.clone())).floor(), digits);
+                e = k.sub(&e, &k.from_rat(&(&near * &scale)));
+            }
+            proptest::prop_assert_eq!(k.sign(&e), sign_by_sturm_alone(&reference, &e));
+            proptest::prop_assert_eq!(k.interval(), reference.interval());
         }
     }
 
