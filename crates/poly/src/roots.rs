@@ -902,26 +902,61 @@ fn reduce_content(p: UPoly) -> UPoly {
 /// Sturm sequence of the square-free part of a non-constant `p`:
 /// `p0 = p, p1 = p', p_{i+1} = -(positive constant) * (p_{i-1} mod p_i)`,
 /// each then divided by the last element (a gcd of `p` and `p'`).
+///
+/// The terms are those of the subresultant remainder sequence, each with
+/// the sign that makes it a positive multiple of the Sturm term: its
+/// divisions are exact by factors known in advance, where taking every
+/// remainder's primitive part costs a gcd of the (large) coefficients per
+/// term. Only the terms' signs at points are read, so any positive
+/// multiples count the same roots.
 fn sturm_chain(p: &UPoly) -> Vec<UPoly> {
-    let mut chain = vec![reduce_content(p.clone()), reduce_content(p.derivative())];
+    let mut prs = vec![reduce_content(p.clone()), reduce_content(p.derivative())];
+    // sign[i] * prs[i] is a positive multiple of the i-th Sturm term.
+    let mut sign = vec![1i32, 1];
+    // Collins' subresultant recurrence: r_{i+1} = prem(r_{i-1}, r_i) /
+    // (g h^delta), then g = lc(r_i), h = g^delta / h^(delta - 1).
+    let (mut g, mut h) = (Int::ONE, Int::ONE);
     loop {
-        let (a, b) = (&chain[chain.len() - 2], &chain[chain.len() - 1]);
+        let i = prs.len() - 1;
+        let (a, b) = (&prs[i - 1], &prs[i]);
         if b.is_constant() {
             break;
         }
+        let lc = b.leading_coeff();
+        let delta = (a.coeffs().len() - b.coeffs().len()) as u32;
+        // lc^e a = q b + r with e steps; prem takes lc^(delta + 1).
         let (_, r, e) = pseudo_div_raw(a, b, false);
         if r.is_zero() {
             break;
         }
-        // lc(b)^e a = q b + r: negate unless the multiplier is negative.
-        let negative_multiplier = b.leading_coeff().is_negative() && e % 2 == 1;
-        let r = reduce_content(r);
-        chain.push(if negative_multiplier { r } else { -r });
+        let divisor = &g * &h.pow(delta);
+        let r = r.scale(&lc.pow(delta + 1 - e));
+        let r = UPoly::new(r.coeffs().iter().map(|c| c.div_exact(&divisor)).collect());
+        // rem(s_{i-1}, s_i) = sign[i-1] * r * divisor / lc^(delta + 1) up
+        // to a positive factor, and s_{i+1} is its negative.
+        let lc_odd = lc.is_negative() && (delta + 1) % 2 == 1;
+        let s =
+            -sign[i - 1] * if divisor.is_negative() { -1 } else { 1 } * if lc_odd { -1 } else { 1 };
+        g = lc;
+        h = match delta {
+            0 => h,
+            1 => g.clone(),
+            d => g.pow(d).div_exact(&h.pow(d - 1)),
+        };
+        prs.push(r);
+        sign.push(s);
     }
-    let g = chain[chain.len() - 1].clone();
-    if !g.is_constant() {
+    let mut chain: Vec<UPoly> = prs
+        .into_iter()
+        .zip(sign)
+        .map(|(r, s)| if s < 0 { -r } else { r })
+        .collect();
+    // A positive multiple of the last term, primitive: every term is
+    // divisible by it over Z (Gauss's lemma).
+    let last = reduce_content(chain[chain.len() - 1].clone());
+    if !last.is_constant() {
         for c in chain.iter_mut() {
-            if let Some(d) = c.div_exact(&g) {
+            if let Some(d) = c.div_exact(&last) {
                 *c = d;
             }
         }
@@ -1608,6 +1643,83 @@ mod tests {
             assert_eq!(fmid, mid_root);
             assert_eq!(fl.to_big(), l);
             assert_eq!(fr.to_big(), r);
+        }
+    }
+
+    /// The Sturm chain by primitive remainders, each divided by its
+    /// content: the reference for the subresultant chain.
+    fn primitive_sturm_chain(p: &UPoly) -> Vec<UPoly> {
+        let mut chain = vec![reduce_content(p.clone()), reduce_content(p.derivative())];
+        loop {
+            let (a, b) = (&chain[chain.len() - 2], &chain[chain.len() - 1]);
+            if b.is_constant() {
+                break;
+            }
+            let (_, r, e) = pseudo_div_raw(a, b, false);
+            if r.is_zero() {
+                break;
+            }
+            let negative_multiplier = b.leading_coeff().is_negative() && e % 2 == 1;
+            let r = reduce_content(r);
+            chain.push(if negative_multiplier { r } else { -r });
+        }
+        let g = chain[chain.len() - 1].clone();
+        if !g.is_constant() {
+            for c in chain.iter_mut() {
+                *c = c.div_exact(&g).unwrap();
+            }
+        }
+        chain
+    }
+
+    /// Sparse polynomials (remainders that drop several degrees at once),
+    /// repeated factors, and coefficients of 40 digits: every term of the
+    /// subresultant chain has the sign of the primitive chain's term at
+    /// every point tried, so both count the same roots everywhere.
+    #[test]
+    fn the_subresultant_chain_has_the_signs_of_the_primitive_one() {
+        let mut g = Lcg(77);
+        let huge = big("1000000000000000000000000000000000000007");
+        for round in 0..300 {
+            let deg = 2 + g.next() as usize % 11;
+            let mut c: Vec<Int> = (0..=deg)
+                .map(|_| {
+                    let v = if g.next().is_multiple_of(3) {
+                        0
+                    } else {
+                        g.small(9)
+                    };
+                    Int::from(v)
+                })
+                .collect();
+            if c[deg].is_zero() {
+                c[deg] = Int::from(-2);
+            }
+            if round % 2 == 1 {
+                c = c
+                    .iter()
+                    .map(|v| &(v * &huge) + &Int::from(g.small(3)))
+                    .collect();
+            }
+            let mut p = UPoly::new(c);
+            if g.next().is_multiple_of(3) {
+                p = &p * &up(&[g.small(4), 1 + g.next() as i64 % 3]).pow(2);
+            }
+            let (new, old) = (sturm_chain(&p), primitive_sturm_chain(&p));
+            assert_eq!(new.len(), old.len(), "{p:?}");
+            for _ in 0..12 {
+                let x = Rat::new(Int::from(g.small(40)), Int::from(1 + g.next() as i64 % 9));
+                for (a, b) in new.iter().zip(&old) {
+                    assert_eq!(a.sign_at(&x), b.sign_at(&x), "{p:?} at {x}");
+                }
+            }
+            for (a, b) in new.iter().zip(&old) {
+                assert_eq!(a.degree(), b.degree());
+                assert_eq!(
+                    a.leading_coeff().is_negative(),
+                    b.leading_coeff().is_negative()
+                );
+            }
         }
     }
 
