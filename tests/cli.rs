@@ -689,6 +689,121 @@ fn sliced_tables_merge_into_the_whole_table() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `mms check --cache DIR` keeps a record of each verified model: slices
+/// checked one by one, then the merged table, whose models are all taken
+/// from the records with the line of a plain check; a record is never
+/// taken for an entry that differs from it (a tampered table is rejected
+/// as without records), and a damaged or stale record is reported and
+/// the model checked again.
+#[test]
+fn a_check_resumes_from_its_records_and_never_takes_one_for_another_entry() {
+    let dir = common::temp_dir("cli", "check-records");
+    let records = dir.join("records");
+    let records_arg = records.to_str().unwrap();
+    let parts: Vec<String> = (1..=3)
+        .map(|k| {
+            let spec = format!("{k}/3");
+            let (code, out, err) = mms(&[
+                "analyze", "--masses", "3", "--format", "json", "--shard", &spec,
+            ]);
+            assert_eq!(code, 0, "{spec}: {err}");
+            let file = dir.join(format!("slice-{k}.json"));
+            std::fs::write(&file, out).unwrap();
+            file.to_string_lossy().into_owned()
+        })
+        .collect();
+    for part in &parts {
+        let (code, out, err) = mms(&["check", "--cache", records_arg, part]);
+        assert_eq!(code, 0, "{part}: {err}");
+        assert!(out.ends_with(": all valid\n"), "{out}");
+    }
+    let (code, merged, err) = mms(&["merge", &parts[0], &parts[1], &parts[2]]);
+    assert_eq!(code, 0, "{err}");
+    let whole = whole_file(&dir, &merged);
+    let models = serde_json::from_str::<serde_json::Value>(&merged).unwrap()["models"]
+        .as_array()
+        .unwrap()
+        .len();
+    let (code, plain, err) = mms(&["check", &whole]);
+    assert_eq!(code, 0, "{err}");
+    let (code, recalled, err) = mms(&["check", "--jobs", "2", "--cache", records_arg, &whole]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        recalled,
+        format!(
+            "{}; {models} of {models} models by their records in {records_arg}\n",
+            plain.trim_end()
+        )
+    );
+
+    // A certificate's definite factor with its sign flipped: the entry is
+    // no longer the recorded one, so it is checked, and rejected.
+    let mut v: serde_json::Value = serde_json::from_str(&merged).unwrap();
+    let model = v["models"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|m| {
+            m["types"].as_array().unwrap().iter().any(|t| {
+                t.get("certificate")
+                    .and_then(|c| c["factors"].get(0))
+                    .is_some_and(|f| f["kind"] == "definite")
+            })
+        })
+        .unwrap();
+    let factor = model["types"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find_map(|t| {
+            let f = t.get_mut("certificate")?["factors"].get_mut(0)?;
+            (f["kind"] == "definite").then_some(f)
+        })
+        .unwrap();
+    factor["sign"] = serde_json::json!(-factor["sign"].as_i64().unwrap());
+    let tampered = dir.join("tampered.json");
+    std::fs::write(&tampered, v.to_string()).unwrap();
+    let tampered = tampered.to_str().unwrap();
+    let (code, _, without) = mms(&["check", tampered]);
+    assert_eq!(code, 2);
+    let (code, out, with) = mms(&["check", "--cache", records_arg, tampered]);
+    assert_eq!((code, out.as_str()), (2, ""));
+    assert_eq!(with, without);
+
+    // A damaged record and a record of another checker version: each
+    // named in a warning, its model checked again; the check still passes.
+    let mut files: Vec<_> = std::fs::read_dir(&records)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), models);
+    std::fs::write(&files[0], "{").unwrap();
+    let mut stale: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&files[1]).unwrap()).unwrap();
+    stale["fingerprint"] = "check record layout 0".into();
+    std::fs::write(&files[1], stale.to_string()).unwrap();
+    let (code, out, err) = mms(&["check", "--cache", records_arg, &whole]);
+    assert_eq!(code, 0, "{err}");
+    let left = models - 2;
+    assert!(
+        out.ends_with(&format!(
+            "; {left} of {models} models by their records in {records_arg}\n"
+        )),
+        "{out}"
+    );
+    assert!(
+        err.contains("not a check record") && err.contains("stale"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 2, "{err}");
+    // Both were written again: the next check takes every model from them.
+    let (code, out, err) = mms(&["check", "--cache", records_arg, &whole]);
+    assert_eq!((code, err.as_str()), (0, ""));
+    assert_eq!(out, recalled);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `text` written into `dir` as a file; its path.
 fn whole_file(dir: &std::path::Path, text: &str) -> String {
     let file = dir.join("whole.json");

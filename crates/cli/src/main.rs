@@ -160,6 +160,9 @@ enum Command {
     },
     /// Re-verify every witness and certificate of an `analyze --format json`
     /// file with the independent exact checker.
+    ///
+    /// Progress on stderr when it is a terminal; with --cache an
+    /// interrupted check resumes.
     Check {
         /// The JSON file written by `mms analyze --format json` (the whole
         /// table, a slice of it, or one model).
@@ -169,6 +172,13 @@ enum Command {
         /// same for every N.
         #[arg(long, value_name = "N", default_value_t = 1)]
         jobs: usize,
+        /// Keep a record of every model verified in DIR (one file per
+        /// model, written atomically) and take a model whose entry equals
+        /// a record's as verified: an interrupted check resumes, and a
+        /// table merged from checked slices checks only what depends on
+        /// the whole table. Records of other versions are not used.
+        #[arg(long, value_name = "DIR")]
+        cache: Option<PathBuf>,
     },
     /// Sample every unknown type of an analysis table on its own region
     /// (the variety of its cancelled poles and multiple zeros): how often
@@ -484,7 +494,9 @@ fn run(cli: Cli) -> Result<(), String> {
             })?;
             output::emit(None, &text)
         }
-        Command::Check { file, jobs } => output::emit(None, &check::run(&file, jobs)?),
+        Command::Check { file, jobs, cache } => {
+            output::emit(None, &check::run(&file, jobs, cache.as_deref())?)
+        }
         Command::Sample {
             file,
             starts,

@@ -142,8 +142,13 @@ const MAX_DEFINITENESS_DEPTH: usize = 16;
 /// Largest Polya exponent accepted (the multiplied polynomial grows fast).
 const MAX_POLYA_POWER: u64 = 64;
 
+/// The checker's version: raised whenever a change makes it accept or
+/// reject a file differently, so that a record of an earlier check (see
+/// [`CheckHooks::recall`]) made by another version is not reused.
+pub const CHECKER_VERSION: u32 = 1;
+
 /// What a successful check covered.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct CheckReport {
     /// Models checked (each with its transfer function).
     pub models: usize,
@@ -161,7 +166,8 @@ pub struct CheckReport {
 }
 
 impl CheckReport {
-    fn add(&mut self, other: &CheckReport) {
+    /// Adds the counts of `other` (a report of other models) to these.
+    pub fn add(&mut self, other: &CheckReport) {
         self.models += other.models;
         self.witnesses += other.witnesses;
         self.certificates += other.certificates;
@@ -247,12 +253,83 @@ pub fn check_file(text: &str) -> Result<CheckReport, CheckError> {
 /// # Ok::<(), mms::check::CheckError>(())
 /// ```
 pub fn check_file_on(text: &str, threads: usize) -> Result<CheckReport, CheckError> {
+    check_file_with(text, threads, &NoHooks)
+}
+
+/// What a caller of [`check_file_with`] sees of a long check, and where it
+/// may keep the models it has verified, so that an interrupted check
+/// resumes and a table merged from checked slices is not checked twice.
+/// Every method does nothing by default. Called from several threads.
+pub trait CheckHooks: Sync {
+    /// The report of an earlier check of exactly this model entry (the
+    /// object of the file's `models` array without its `similar`, which
+    /// depends on the whole file) by this [`CHECKER_VERSION`], if the
+    /// caller kept one; the entry is then not checked again. Coverage and
+    /// `similar` are always checked.
+    fn recall(&self, _entry: &Value) -> Option<CheckReport> {
+        None
+    }
+    /// The model entry `entry` was checked and is valid, with `report`.
+    fn checked(&self, _entry: &Value, _report: &CheckReport) {}
+    /// The file holds `count` models (told once, before the first starts).
+    fn planned(&self, _count: usize) {}
+    /// The model `id` is being checked (or recalled).
+    fn started(&self, _id: &str) {}
+    /// The model `id` is done, valid or not.
+    fn finished(&self, _id: &str) {}
+}
+
+/// The [`CheckHooks`] that keep nothing and show nothing.
+pub struct NoHooks;
+
+impl CheckHooks for NoHooks {}
+
+/// [`check_file_on`] with `hooks` told of each model as it starts and
+/// ends, and asked first whether it already verified a model entry. The
+/// report, and the error when a model fails, are those of
+/// [`check_file_on`]: a recalled report stands for the model's check.
+///
+/// ```
+/// use mms::analysis::{analyze, SearchLimits};
+/// use mms::check::{check_file_on, check_file_with, CheckHooks, CheckReport};
+/// use mms::table::{AnalysisTable, Covers, TableModel};
+/// use serde_json::Value;
+/// use std::sync::Mutex;
+///
+/// /// Remembers verified entries in memory.
+/// #[derive(Default)]
+/// struct Memory(Mutex<Vec<(Value, CheckReport)>>);
+/// impl CheckHooks for Memory {
+///     fn recall(&self, entry: &Value) -> Option<CheckReport> {
+///         let kept = self.0.lock().unwrap();
+///         kept.iter().find(|(e, _)| e == entry).map(|(_, r)| r.clone())
+///     }
+///     fn checked(&self, entry: &Value, report: &CheckReport) {
+///         self.0.lock().unwrap().push((entry.clone(), report.clone()));
+///     }
+/// }
+///
+/// let a1 = TableModel::new(analyze(&mms::Model::from_id("A1")?, &SearchLimits::default()));
+/// let text = AnalysisTable::new(Covers::Models(vec!["A1".into()]), vec![a1]).to_json();
+/// let memory = Memory::default();
+/// let first = check_file_with(&text, 1, &memory)?;
+/// assert_eq!(memory.0.lock().unwrap().len(), 1);
+/// // The second time the model is recalled, with the same report.
+/// assert_eq!(check_file_with(&text, 1, &memory)?, first);
+/// assert_eq!(first, check_file_on(&text, 1)?);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn check_file_with(
+    text: &str,
+    threads: usize,
+    hooks: &dyn CheckHooks,
+) -> Result<CheckReport, CheckError> {
     // The typed table holds the file to the format; the walk reads the
     // file's own tree, rather than printing every polynomial of the typed
     // table back into one.
     AnalysisTable::from_json(text).map_err(CheckError::Table)?;
     let v: Value = serde_json::from_str(text).map_err(|e| TableError::Json(e.to_string()))?;
-    check_tree(&v, threads)
+    check_tree(&v, threads, hooks)
 }
 
 /// Checks a table: every model it covers, every verdict with its witness
@@ -260,11 +337,15 @@ pub fn check_file_on(text: &str, threads: usize) -> Result<CheckReport, CheckErr
 /// claims it makes: the check walks its JSON tree with its own code and
 /// re-derives everything, using none of the prover's methods.
 pub fn check_table(table: &AnalysisTable) -> Result<CheckReport, CheckError> {
-    check_tree(&table.to_value(), 1)
+    check_tree(&table.to_value(), 1, &NoHooks)
 }
 
 /// [`check_table`] of a table's JSON tree, the models on `threads` threads.
-fn check_tree(v: &Value, threads: usize) -> Result<CheckReport, CheckError> {
+fn check_tree(
+    v: &Value,
+    threads: usize,
+    hooks: &dyn CheckHooks,
+) -> Result<CheckReport, CheckError> {
     let models = v["models"]
         .as_array()
         .ok_or_else(|| CheckError::Malformed {
@@ -279,8 +360,9 @@ fn check_tree(v: &Value, threads: usize) -> Result<CheckReport, CheckError> {
         });
     }
     check_coverage(v, models)?;
+    hooks.planned(models.len());
     let mut report = CheckReport::default();
-    for r in check_models(models, threads) {
+    for r in check_models(models, threads, hooks) {
         report.add(&r?);
     }
     // With every class present, the similar systems follow from the
@@ -296,7 +378,11 @@ fn check_tree(v: &Value, threads: usize) -> Result<CheckReport, CheckError> {
 /// each thread frees (their costs differ by orders of magnitude); a thread
 /// skips the models after a known failure, but never one before it, so
 /// the first failure in the file's order is always found.
-fn check_models(models: &[Value], threads: usize) -> Vec<Result<CheckReport, CheckError>> {
+fn check_models(
+    models: &[Value],
+    threads: usize,
+    hooks: &dyn CheckHooks,
+) -> Vec<Result<CheckReport, CheckError>> {
     use std::sync::atomic::{AtomicUsize, Ordering};
     use std::sync::Mutex;
     let next = AtomicUsize::new(0);
@@ -311,7 +397,21 @@ fn check_models(models: &[Value], threads: usize) -> Vec<Result<CheckReport, Che
         if i > first_failure.load(Ordering::Relaxed) {
             continue;
         }
-        let r = check_model_at(&models[i], &format!("models[{i}]"), true);
+        let m = &models[i];
+        let id = m.get("id").and_then(Value::as_str).unwrap_or("?");
+        hooks.started(id);
+        let own = own_claims(m);
+        let r = match hooks.recall(&own) {
+            Some(report) => Ok(report),
+            None => {
+                let r = check_model_at(m, &format!("models[{i}]"), true);
+                if let Ok(report) = &r {
+                    hooks.checked(&own, report);
+                }
+                r
+            }
+        };
+        hooks.finished(id);
         if r.is_err() {
             first_failure.fetch_min(i, Ordering::Relaxed);
         }
@@ -335,6 +435,19 @@ fn check_models(models: &[Value], threads: usize) -> Vec<Result<CheckReport, Che
         }
     }
     out
+}
+
+/// A model's entry as its own check reads it: without `similar`, which
+/// is checked against the whole table (and which a slice does not have).
+fn own_claims(m: &Value) -> std::borrow::Cow<'_, Value> {
+    match m.as_object() {
+        Some(o) if o.contains_key("similar") => {
+            let mut own = o.clone();
+            own.remove("similar");
+            std::borrow::Cow::Owned(Value::Object(own))
+        }
+        _ => std::borrow::Cow::Borrowed(m),
+    }
 }
 
 /// Every model's `similar`, where given: for each type it can show, the
