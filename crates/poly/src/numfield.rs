@@ -645,8 +645,9 @@ impl RealField {
     ) -> Result<FieldPoly, String> {
         let vars = p.vars();
         let k = vars.iter().position(|v| v == keep);
-        // Powers of each variable's value, up to its degree.
-        let mut powers: Vec<Vec<FieldElem>> = Vec::with_capacity(vars.len());
+        // Powers of each variable's value, up to its degree, each as an
+        // integer polynomial in theta over a denominator.
+        let mut powers: Vec<Vec<(UPoly, Int)>> = Vec::with_capacity(vars.len());
         for (i, v) in vars.iter().enumerate() {
             if Some(i) == k {
                 powers.push(Vec::new());
@@ -658,22 +659,62 @@ impl RealField {
             for j in 1..=d {
                 pw.push(self.mul(&pw[j - 1], value));
             }
-            powers.push(pw);
+            powers.push(
+                pw.iter()
+                    .map(|e| {
+                        let (num, den) = over_common_denominator(&e.coeffs);
+                        (UPoly::new(num), den)
+                    })
+                    .collect(),
+            );
         }
+        // Each term and each coefficient's sum over the integers, reduced
+        // by the defining polynomial without a fraction, and brought into
+        // lowest terms once per coefficient: a product and a sum of field
+        // elements took a gcd per coefficient each, which was most of the
+        // time of the large determinants evaluated at six masses.
+        let lc = self.minimal.leading_coeff();
         let top = k.map_or(0, |k| p.degree(&vars[k]) as usize);
-        let mut coeffs = vec![self.zero(); top + 1];
+        let mut sums: Vec<(UPoly, Int)> = vec![(UPoly::zero(), Int::ONE); top + 1];
         for t in p.terms() {
-            let mut m = self.from_rat(&t.coef);
+            let mut num = UPoly::constant(t.coef.numer().clone());
+            let mut den = t.coef.denom().clone();
             let mut at = 0usize;
             for (i, &e) in t.exps.iter().enumerate() {
                 if Some(i) == k {
                     at = e as usize;
                 } else if e > 0 {
-                    m = self.mul(&m, &powers[i][e as usize]);
+                    let (pn, pd) = &powers[i][e as usize];
+                    let (_, r, steps) = pseudo_div_raw(&(&num * pn), &self.minimal, false);
+                    num = r;
+                    den = &den * pd;
+                    if steps > 0 {
+                        den = &den * &lc.pow(steps);
+                    }
                 }
             }
-            coeffs[at] = self.add(&coeffs[at], &m);
+            let (sum, sum_den) = &sums[at];
+            sums[at] = if sum.is_zero() {
+                (num, den)
+            } else if *sum_den == den {
+                (sum + &num, den)
+            } else {
+                let g = sum_den.gcd(&den);
+                let (a, b) = (sum_den.div_exact(&g), den.div_exact(&g));
+                (&sum.scale(&b) + &num.scale(&a), &a * &den)
+            };
         }
+        let coeffs = sums
+            .into_iter()
+            .map(|(num, den)| {
+                FieldElem::trimmed(
+                    num.coeffs()
+                        .iter()
+                        .map(|c| Rat::new(c.clone(), den.clone()))
+                        .collect(),
+                )
+            })
+            .collect();
         Ok(FieldPoly::new(coeffs))
     }
 
@@ -1232,35 +1273,6 @@ fn horner_enclosure(coeffs: &[(f64, f64)], lo: &Rat, hi: &Rat) -> Option<(f64, f
     Some(acc)
 }
 
-/// `r * 2^-shift` to about 62 bits before its rounding to `f64` (0 or a
-/// subnormal where it underflows, within the absolute margin of
-/// [`widened`]).
-fn scaled_to_f64(r: &Rat, shift: i64) -> f64 {
-    if r.is_zero() {
-        return 0.0;
-    }
-    // An integer quotient of 62 to 64 bits (truncated: relative error
-    // below 2^-61), then the power of two in steps that stay in range.
-    let k = r.denom().bits() as i64 - r.numer().bits() as i64 + 64;
-    let (n, d) = (r.numer().to_big(), r.denom().to_big());
-    let q = if k >= 0 {
-        (n << (k as u64)) / d
-    } else {
-        n / (d << ((-k) as u64))
-    };
-    let mut v = Int::from(q).to_f64();
-    let mut e = -k - shift;
-    while e > 1000 {
-        v *= 2f64.powi(1000);
-        e -= 1000;
-    }
-    while e < -1000 {
-        v *= 2f64.powi(-1000);
-        e += 1000;
-    }
-    v * 2f64.powi(e as i32)
-}
-
 /// The coefficients `c` divided by one power of two that brings the
 /// largest near 1, as `f64` intervals (see [`horner_enclosure`]); `None`
 /// for zero.
@@ -1272,7 +1284,7 @@ fn scaled_coefficients(c: &[Rat]) -> Option<Vec<(f64, f64)>> {
         .max()?;
     c.iter()
         .map(|r| {
-            let v = scaled_to_f64(r, shift);
+            let v = r.scaled_to_f64(shift);
             widened(v, v)
         })
         .collect()
@@ -1496,6 +1508,73 @@ mod tests {
             }
             let (x, y) = (k.to_f64(&a), k.to_f64(&b));
             proptest::prop_assert!((k.to_f64(&p) - x * y).abs() <= 1e-9 * (x * y).abs().max(1.0));
+        }
+    }
+
+    /// `p` with the values of `point` substituted, every product and sum
+    /// by the field's arithmetic: the reference for `univariate`.
+    fn univariate_by_field_arithmetic(
+        k: &RealField,
+        p: &Poly,
+        keep: &str,
+        point: &BTreeMap<String, FieldElem>,
+    ) -> FieldPoly {
+        let vars = p.vars();
+        let at_of = |t: &crate::poly::Term| {
+            vars.iter()
+                .position(|v| v == keep)
+                .map_or(0, |i| t.exps[i] as usize)
+        };
+        let top = p.terms().iter().map(at_of).max().unwrap_or(0);
+        let mut coeffs = vec![k.zero(); top + 1];
+        for t in p.terms() {
+            let mut m = k.from_rat(&t.coef);
+            for (i, &e) in t.exps.iter().enumerate() {
+                if vars[i] != keep {
+                    m = k.mul(&m, &k.pow(&point[&vars[i]], e));
+                }
+            }
+            coeffs[at_of(t)] = k.add(&coeffs[at_of(t)], &m);
+        }
+        FieldPoly::new(coeffs)
+    }
+
+    proptest::proptest! {
+        /// A polynomial in three variables with two of them given values in
+        /// a field (non-monic defining polynomials among them) and the
+        /// third kept: the same polynomial over the field as by the field's
+        /// own products and sums.
+        #[test]
+        fn substitution_over_the_integers_agrees_with_field_arithmetic(
+            terms in proptest::collection::vec(
+                ((-9i64..9, 1i64..7), 0u32..4, 0u32..4, 0u32..3), 1..12),
+            a in proptest::collection::vec((-30i64..30, 1i64..12), 0..5),
+            b in proptest::collection::vec((-30i64..30, 1i64..12), 0..5),
+            which in 0usize..3,
+        ) {
+            let minimal = [
+                UPoly::from_i64s(&[-2, -2, 0, 0, 0, 3]),
+                UPoly::from_i64s(&[-3, 0, 0, 2]),
+                UPoly::from_i64s(&[1, 0, -10, 0, 1]),
+            ][which].clone();
+            let k = RealField::real_roots_of(&minimal).pop().unwrap();
+            let to_rats = |v: &[(i64, i64)]| -> Vec<Rat> {
+                v.iter().map(|&(p, q)| Rat::new(Int::from(p), Int::from(q))).collect()
+            };
+            let text: Vec<String> = terms
+                .iter()
+                .map(|((p, q), ex, ey, ez)| format!("({p}/{q})*x^{ex}*y^{ey}*z^{ez}"))
+                .collect();
+            let p: Poly = text.join(" + ").parse().unwrap();
+            let point: BTreeMap<String, FieldElem> = [
+                ("x".to_string(), k.element(to_rats(&a))),
+                ("y".to_string(), k.element(to_rats(&b))),
+            ]
+            .into_iter()
+            .collect();
+            let got = k.univariate(&p, "z", &point).unwrap();
+            let want = univariate_by_field_arithmetic(&k, &p, "z", &point);
+            proptest::prop_assert_eq!(got.coeffs(), want.coeffs());
         }
     }
 

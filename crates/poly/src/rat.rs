@@ -128,7 +128,17 @@ impl Rat {
         if n.is_finite() && d.is_finite() && n.abs() < 9.0e15 && d < 9.0e15 {
             return n / d;
         }
-        // Integer quotient with about 64 significant bits, then scale by 2^-k.
+        self.scaled_to_f64(0)
+    }
+
+    /// `self * 2^-shift` as `f64`, for any size of numerator and
+    /// denominator: an integer quotient of 62 to 64 bits (truncated:
+    /// relative error below 2^-61) rounded to `f64`, then the power of two
+    /// in steps that stay in range (0 or a subnormal where it underflows).
+    pub(crate) fn scaled_to_f64(&self, shift: i64) -> f64 {
+        if self.num.is_zero() {
+            return 0.0;
+        }
         let k = self.den.bits() as i64 - self.num.bits() as i64 + 64;
         let (nb, db) = (self.num.to_big(), self.den.to_big());
         let q = if k >= 0 {
@@ -137,7 +147,7 @@ impl Rat {
             nb / (db << ((-k) as u64))
         };
         let mut v = Int::from(q).to_f64();
-        let mut e = -k;
+        let mut e = -k - shift;
         while e > 1000 {
             v *= 2f64.powi(1000);
             e -= 1000;
