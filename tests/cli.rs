@@ -627,16 +627,7 @@ fn sliced_tables_merge_into_the_whole_table() {
     let dir = common::temp_dir("cli", "shards");
     let (code, whole, err) = mms(&["analyze", "--masses", "3", "--format", "json"]);
     assert_eq!(code, 0, "{err}");
-    let slice = |k: usize, n: usize| -> String {
-        let spec = format!("{k}/{n}");
-        let (code, out, err) = mms(&[
-            "analyze", "--masses", "3", "--format", "json", "--shard", &spec,
-        ]);
-        assert_eq!(code, 0, "{spec}: {err}");
-        let file = dir.join(format!("slice-{k}-of-{n}.json"));
-        std::fs::write(&file, out).unwrap();
-        file.to_string_lossy().into_owned()
-    };
+    let slice = |k: usize, n: usize| write_slice(&dir, k, n);
     for n in [1, 2, 3, 11] {
         // Given in reverse order: the merge puts the classes in order.
         let files: Vec<String> = (1..=n).rev().map(|k| slice(k, n)).collect();
@@ -700,18 +691,7 @@ fn a_check_resumes_from_its_records_and_never_takes_one_for_another_entry() {
     let dir = common::temp_dir("cli", "check-records");
     let records = dir.join("records");
     let records_arg = records.to_str().unwrap();
-    let parts: Vec<String> = (1..=3)
-        .map(|k| {
-            let spec = format!("{k}/3");
-            let (code, out, err) = mms(&[
-                "analyze", "--masses", "3", "--format", "json", "--shard", &spec,
-            ]);
-            assert_eq!(code, 0, "{spec}: {err}");
-            let file = dir.join(format!("slice-{k}.json"));
-            std::fs::write(&file, out).unwrap();
-            file.to_string_lossy().into_owned()
-        })
-        .collect();
+    let parts: Vec<String> = (1..=3).map(|k| write_slice(&dir, k, 3)).collect();
     for part in &parts {
         let (code, out, err) = mms(&["check", "--cache", records_arg, part]);
         assert_eq!(code, 0, "{part}: {err}");
@@ -802,6 +782,18 @@ fn a_check_resumes_from_its_records_and_never_takes_one_for_another_entry() {
     assert_eq!((code, err.as_str()), (0, ""));
     assert_eq!(out, recalled);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Slice `k` of `n` of the 3-mass table written into `dir`; its path.
+fn write_slice(dir: &std::path::Path, k: usize, n: usize) -> String {
+    let spec = format!("{k}/{n}");
+    let (code, out, err) = mms(&[
+        "analyze", "--masses", "3", "--format", "json", "--shard", &spec,
+    ]);
+    assert_eq!(code, 0, "{spec}: {err}");
+    let file = dir.join(format!("slice-{k}-of-{n}.json"));
+    std::fs::write(&file, out).unwrap();
+    file.to_string_lossy().into_owned()
 }
 
 /// `text` written into `dir` as a file; its path.
