@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 const FORMAT: &str = "mms-check-record";
@@ -60,7 +61,7 @@ pub fn run(path: &Path, jobs: usize, cache: Option<&Path>) -> Result<String, Str
     let result = mms::check::check_file_with(&text, threads, &hooks);
     hooks.progress.finish_and_clear();
     let report = result.map_err(|e| format!("{}: {e}", path.display()))?;
-    let recalled = *hooks.recalled.lock().unwrap_or_else(|e| e.into_inner());
+    let recalled = hooks.recalled.load(Ordering::Relaxed);
     let mut line = report.to_string();
     if recalled > 0 {
         let dir = cache.map_or(String::new(), |d| d.display().to_string());
@@ -79,7 +80,7 @@ struct Hooks {
     fingerprint: String,
     progress: ProgressBar,
     running: Mutex<BTreeSet<String>>,
-    recalled: Mutex<usize>,
+    recalled: AtomicUsize,
 }
 
 impl Hooks {
@@ -101,7 +102,7 @@ impl Hooks {
             ),
             progress,
             running: Mutex::new(BTreeSet::new()),
-            recalled: Mutex::new(0),
+            recalled: AtomicUsize::new(0),
         }
     }
 
@@ -164,7 +165,7 @@ impl CheckHooks for Hooks {
         let path = self.path(entry["id"].as_str()?)?;
         match self.load(&path, entry) {
             Ok(Some(report)) => {
-                *self.recalled.lock().unwrap_or_else(|e| e.into_inner()) += 1;
+                self.recalled.fetch_add(1, Ordering::Relaxed);
                 Some(report)
             }
             Ok(None) => None,
