@@ -8,8 +8,9 @@
 //! jobs finish, or on which summaries came from the `--cache` directory.
 
 use crate::analyze_cache::{Cache, Hit};
+use crate::progress::ModelProgress;
 use crate::TableFormat3;
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use mms::analysis::{analysis_source, analyze, analyze_each, ModelAnalysis, SearchLimits, Status};
 use mms::identifiability::{Identifiability, UnidentifiableDirection};
 use mms::table::{
@@ -17,7 +18,7 @@ use mms::table::{
 };
 use mms::Model;
 use serde::{Deserialize, Serialize};
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -180,25 +181,7 @@ fn analyse_all(models: &[Model], opts: &Options) -> Result<Batch, String> {
         .as_deref()
         .map(|dir| Cache::open(dir, &limits))
         .transpose()?;
-    // One tick per model on stderr, naming the models in progress;
-    // indicatif draws nothing when stderr is not a terminal.
-    let progress = ProgressBar::new(models.len() as u64);
-    progress.set_style(
-        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} models, {elapsed} {msg}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    progress.set_prefix("analyze");
-    // The clock runs while a slow model is in progress.
-    progress.enable_steady_tick(std::time::Duration::from_secs(1));
-    let running = Mutex::new(BTreeSet::new());
-    let show = |f: &dyn Fn(&mut BTreeSet<String>)| {
-        // A poisoned lock only means another job panicked, and that panic
-        // ends the run anyway; the set itself is still usable.
-        let mut r = running.lock().unwrap_or_else(|e| e.into_inner());
-        f(&mut r);
-        progress.set_message(r.iter().cloned().collect::<Vec<_>>().join(", "));
-    };
+    let progress = ModelProgress::new("analyze", models.len() as u64);
     // Models that share an analysis source (reciprocal twins, members of
     // one class) are one job: the source is analysed once, or read from
     // the cache, and carried over to each of them.
@@ -212,21 +195,20 @@ fn analyse_all(models: &[Model], opts: &Options) -> Result<Batch, String> {
     }
     let one = |(source, members): &(Model, Vec<usize>)| {
         let names: Vec<String> = members.iter().map(|&i| models[i].name()).collect();
-        show(&|r| r.extend(names.iter().cloned()));
-        let done = analyse_shared(source, members, models, &limits, cache.as_ref(), &progress);
-        show(&|r| {
-            for n in &names {
-                r.remove(n);
-            }
-        });
+        progress.start(&names);
+        let done = analyse_shared(
+            source,
+            members,
+            models,
+            &limits,
+            cache.as_ref(),
+            &progress.bar,
+        );
+        progress.end(&names);
         done
     };
     let start = Instant::now();
-    let threads = match opts.jobs {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        n => n,
-    }
-    .min(jobs.len().max(1));
+    let threads = crate::progress::threads(opts.jobs).min(jobs.len().max(1));
     // A shared queue in the order of `jobs`: each worker takes the next job
     // when it is free, so one slow class never waits behind a batch
     // assigned in advance.
@@ -264,7 +246,7 @@ fn analyse_all(models: &[Model], opts: &Options) -> Result<Batch, String> {
     let mut done: Vec<(usize, Done)> = done?.into_iter().flatten().collect();
     done.sort_by_key(|(i, _)| *i);
     let done: Vec<Done> = done.into_iter().map(|(_, d)| d).collect();
-    progress.finish_and_clear();
+    progress.bar.finish_and_clear();
     Ok(Batch {
         done,
         wall_seconds: start.elapsed().as_secs_f64(),

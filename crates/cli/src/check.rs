@@ -17,14 +17,12 @@
 //! checked again.
 
 use crate::output::write_atomic;
-use indicatif::{ProgressBar, ProgressStyle};
+use crate::progress::ModelProgress;
 use mms::check::{CheckHooks, CheckReport, CHECKER_VERSION};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
-use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
 
 const FORMAT: &str = "mms-check-record";
 
@@ -49,17 +47,14 @@ struct Record {
 pub fn run(path: &Path, jobs: usize, cache: Option<&Path>) -> Result<String, String> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-    let threads = match jobs {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        n => n,
-    };
+    let threads = crate::progress::threads(jobs);
     if let Some(dir) = cache {
         std::fs::create_dir_all(dir)
             .map_err(|e| format!("{}: cannot create cache directory: {e}", dir.display()))?;
     }
     let hooks = Hooks::new(cache);
     let result = mms::check::check_file_with(&text, threads, &hooks);
-    hooks.progress.finish_and_clear();
+    hooks.progress.bar.finish_and_clear();
     let report = result.map_err(|e| format!("{}: {e}", path.display()))?;
     let recalled = hooks.recalled.load(Ordering::Relaxed);
     let mut line = report.to_string();
@@ -78,30 +73,19 @@ pub fn run(path: &Path, jobs: usize, cache: Option<&Path>) -> Result<String, Str
 struct Hooks {
     dir: Option<PathBuf>,
     fingerprint: String,
-    progress: ProgressBar,
-    running: Mutex<BTreeSet<String>>,
+    progress: ModelProgress,
     recalled: AtomicUsize,
 }
 
 impl Hooks {
     fn new(dir: Option<&Path>) -> Hooks {
-        let progress = ProgressBar::new(0);
-        progress.set_style(
-            ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} models, {elapsed} {msg}")
-                .expect("valid template")
-                .progress_chars("=> "),
-        );
-        progress.set_prefix("check");
-        // The clock runs while a slow model is checked.
-        progress.enable_steady_tick(std::time::Duration::from_secs(1));
         Hooks {
             dir: dir.map(Path::to_path_buf),
             fingerprint: format!(
                 "check record layout {LAYOUT_VERSION}; mms {} checker {CHECKER_VERSION}",
                 env!("CARGO_PKG_VERSION")
             ),
-            progress,
-            running: Mutex::new(BTreeSet::new()),
+            progress: ModelProgress::new("check", 0),
             recalled: AtomicUsize::new(0),
         }
     }
@@ -115,15 +99,9 @@ impl Hooks {
         Some(self.dir.as_ref()?.join(format!("{id}.json"))).filter(|_| plain)
     }
 
-    fn show_running(&self, f: &dyn Fn(&mut BTreeSet<String>)) {
-        let mut r = self.running.lock().unwrap_or_else(|e| e.into_inner());
-        f(&mut r);
-        self.progress
-            .set_message(r.iter().cloned().collect::<Vec<_>>().join(", "));
-    }
-
     fn warn(&self, why: &str) {
         self.progress
+            .bar
             .suspend(|| eprintln!("mms: warning: {why}; checking the model again"));
     }
 
@@ -158,7 +136,7 @@ impl Hooks {
 
 impl CheckHooks for Hooks {
     fn planned(&self, count: usize) {
-        self.progress.set_length(count as u64);
+        self.progress.bar.set_length(count as u64);
     }
 
     fn recall(&self, entry: &Value) -> Option<CheckReport> {
@@ -195,20 +173,17 @@ impl CheckHooks for Hooks {
             .and_then(|text| write_atomic(&path, &(text + "\n")));
         if let Err(why) = written {
             self.progress
+                .bar
                 .suspend(|| eprintln!("mms: warning: {why}; the model is not recorded"));
         }
     }
 
     fn started(&self, id: &str) {
-        self.show_running(&|r| {
-            r.insert(id.to_string());
-        });
+        self.progress.start(&[id.to_string()]);
     }
 
     fn finished(&self, id: &str) {
-        self.show_running(&|r| {
-            r.remove(id);
-        });
-        self.progress.inc(1);
+        self.progress.end(&[id.to_string()]);
+        self.progress.bar.inc(1);
     }
 }

@@ -12,6 +12,7 @@ mod identify;
 mod merge;
 mod notes;
 mod output;
+mod progress;
 mod recording;
 mod report;
 mod sample;

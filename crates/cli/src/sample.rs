@@ -235,11 +235,7 @@ fn sample_all(
         }
         Ok(sample)
     };
-    let threads = match opts.jobs {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        n => n,
-    }
-    .clamp(1, jobs.len().max(1));
+    let threads = crate::progress::threads(opts.jobs).clamp(1, jobs.len().max(1));
     let next = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<Result<CellSample, String>>>> =
         Mutex::new((0..jobs.len()).map(|_| None).collect());
