@@ -84,6 +84,17 @@ impl FieldElem {
         }
     }
 
+    /// `num / den` (`den` non-zero) in lowest terms, `num` of degree below
+    /// the field's.
+    fn over(num: &UPoly, den: &Int) -> FieldElem {
+        FieldElem::trimmed(
+            num.coeffs()
+                .iter()
+                .map(|v| Rat::new(v.clone(), den.clone()))
+                .collect(),
+        )
+    }
+
     fn trimmed(mut coeffs: Vec<Rat>) -> FieldElem {
         while coeffs.last().is_some_and(Rat::is_zero) {
             coeffs.pop();
@@ -421,13 +432,7 @@ impl RealField {
     /// (`lc(f)^e c = q f + r`) over `lc(f)^e den`, so no step divides.
     fn reduced(&self, c: &UPoly, den: &Int) -> FieldElem {
         let (_, r, e) = pseudo_div_raw(c, &self.minimal, false);
-        let den = den * &self.minimal.leading_coeff().pow(e);
-        FieldElem::trimmed(
-            r.coeffs()
-                .iter()
-                .map(|v| Rat::new(v.clone(), den.clone()))
-                .collect(),
-        )
+        FieldElem::over(&r, &(den * &self.minimal.leading_coeff().pow(e)))
     }
 
     /// `a^e`.
@@ -517,6 +522,31 @@ impl RealField {
         horner_enclosure(&coeffs, &lo, &hi)
     }
 
+    /// The sign of a non-rational `a` where floating-point enclosures on
+    /// `theta`'s interval, narrowed four halvings at a time, decide it;
+    /// `None` where a number leaves the range of `f64` or the interval
+    /// passes the resolution of `f64` first.
+    fn float_sign(&self, a: &FieldElem) -> Option<i32> {
+        for _ in 0..FLOAT_REFINEMENTS {
+            match self.float_enclosure(a)? {
+                (lo, _) if lo > 0.0 => return Some(1),
+                (_, hi) if hi < 0.0 => return Some(-1),
+                _ => {}
+            }
+            // Past the resolution of f64 a narrower interval no longer
+            // narrows the floating-point bounds.
+            let (l, h) = self.interval();
+            let (lf, hf) = (l.to_f64(), h.to_f64());
+            if l == h || hf - lf <= lf.abs().max(hf.abs()) * 1e-17 {
+                return None;
+            }
+            for _ in 0..4 {
+                self.bisect();
+            }
+        }
+        None
+    }
+
     /// The sign of `a` at `theta`: -1, 0 or 1, exactly. Narrows the
     /// isolating interval until an enclosure of `a` leaves 0: in floating
     /// point first (a filter: its bounds are rigorous), then exactly.
@@ -527,23 +557,8 @@ impl RealField {
         if let Some(r) = a.as_rat() {
             return r.signum();
         }
-        for _ in 0..FLOAT_REFINEMENTS {
-            match self.float_enclosure(a) {
-                Some((lo, _)) if lo > 0.0 => return 1,
-                Some((_, hi)) if hi < 0.0 => return -1,
-                None => break,
-                _ => {}
-            }
-            // Past the resolution of f64 a narrower interval no longer
-            // narrows the floating-point bounds.
-            let (l, h) = self.interval();
-            let (lf, hf) = (l.to_f64(), h.to_f64());
-            if l == h || hf - lf <= lf.abs().max(hf.abs()) * 1e-17 {
-                break;
-            }
-            for _ in 0..4 {
-                self.bisect();
-            }
+        if let Some(s) = self.float_sign(a) {
+            return s;
         }
         // Exactly: the sign of the integer polynomial of `a` on an interval
         // of `theta` that holds none of its roots (Sturm's count). Before
@@ -705,15 +720,8 @@ impl RealField {
             };
         }
         let coeffs = sums
-            .into_iter()
-            .map(|(num, den)| {
-                FieldElem::trimmed(
-                    num.coeffs()
-                        .iter()
-                        .map(|c| Rat::new(c.clone(), den.clone()))
-                        .collect(),
-                )
-            })
+            .iter()
+            .map(|(num, den)| FieldElem::over(num, den))
             .collect();
         Ok(FieldPoly::new(coeffs))
     }
@@ -1579,26 +1587,13 @@ mod tests {
     }
 
     /// The sign as it was decided before the scaled floating-point filter:
-    /// the same floating-point phase, then Sturm's count at every step.
+    /// the floating-point phase, then Sturm's count at every step.
     fn sign_by_sturm_alone(k: &RealField, a: &FieldElem) -> i32 {
         if let Some(r) = a.as_rat() {
             return r.signum();
         }
-        for _ in 0..FLOAT_REFINEMENTS {
-            match k.float_enclosure(a) {
-                Some((lo, _)) if lo > 0.0 => return 1,
-                Some((_, hi)) if hi < 0.0 => return -1,
-                None => break,
-                _ => {}
-            }
-            let (l, h) = k.interval();
-            let (lf, hf) = (l.to_f64(), h.to_f64());
-            if l == h || hf - lf <= lf.abs().max(hf.abs()) * 1e-17 {
-                break;
-            }
-            for _ in 0..4 {
-                k.bisect();
-            }
+        if let Some(s) = k.float_sign(a) {
+            return s;
         }
         let g = UPoly::new(over_common_denominator(a.coeffs()).0);
         let sturm = crate::SturmSequence::new(&g);

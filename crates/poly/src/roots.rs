@@ -1092,21 +1092,8 @@ pub fn count_roots_in(p: &UPoly, lo: &Rat, hi: &Rat) -> usize {
     // a Sturm chain, whose terms' coefficients grow with every step.
     let s = p.square_free_part();
     let at_hi = usize::from(s.sign_at(hi) == 0);
-    let mut q = affine_image(&s, lo, hi);
     // s is square-free: a root at either end is simple, divided out.
-    if q[0].is_zero() {
-        q.remove(0);
-    }
-    if q.iter().fold(BigInt::zero(), |acc, c| acc + c).is_zero() {
-        // Synthetic division by x - 1.
-        let mut below = vec![BigInt::zero(); q.len() - 1];
-        let mut carry = BigInt::zero();
-        for i in (1..q.len()).rev() {
-            carry += &q[i];
-            below[i - 1] = carry.clone();
-        }
-        q = below;
-    }
+    let mut q = affine_image(&strip_endpoint_roots(&s, lo, hi), lo, hi);
     if q.len() < 2 {
         return at_hi;
     }
