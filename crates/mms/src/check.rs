@@ -2121,10 +2121,14 @@ struct ModelChecker {
     /// alone, and the certificates of a model repeat them hundreds of
     /// times (one stratum and one list in 401 proofs of N6-g5-a6.1-s6.5).
     roles: HashMap<String, (bool, bool)>,
-    coverage: HashMap<String, Result<Vec<(String, Poly)>, String>>,
+    coverage: HashMap<String, Result<Leftovers, String>>,
     coprime_ok: HashSet<String>,
     proofs: usize,
 }
+
+/// What the listed factors of a proof leave of the critical polynomials
+/// they do not cover, each with what the polynomial is.
+type Leftovers = Rc<Vec<(String, Poly)>>;
 
 fn check_model_at(m: &Value, path: &str, complete: bool) -> Result<CheckReport, CheckError> {
     let id = m
@@ -2793,7 +2797,7 @@ impl ModelChecker {
                 )))
             }
         };
-        let mut remainders: Vec<(String, Poly)> = Vec::new();
+        let mut remainders: Leftovers = Rc::default();
         let factors_key = {
             let texts: Vec<String> = entries.iter().map(|e| e.poly.to_string()).collect();
             format!("{}|{}|{unlisted}", subs_key(&subs), texts.join(";"))
@@ -2830,7 +2834,7 @@ impl ModelChecker {
                             left.push((c.what.clone(), rest));
                         }
                     }
-                    Ok(left)
+                    Ok(Rc::new(left))
                 })
                 .clone();
             remainders = covered.map_err(err)?;
@@ -2851,7 +2855,7 @@ impl ModelChecker {
                 .map(|c| &c.poly)
                 .collect();
             if !self.coprime_ok.contains(&factors_key) {
-                for (what, rest) in &remainders {
+                for (what, rest) in remainders.iter() {
                     if !coprime_to_all(rest, &others) {
                         return Err(step(format!(
                             "what the listed factors leave of {what} is not shown coprime to the resultants of the parts and the boundary polynomials"
