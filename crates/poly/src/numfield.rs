@@ -1483,6 +1483,25 @@ mod tests {
         s1.iter().map(|v| v * &inv_c).collect()
     }
 
+    /// Defining polynomials for the property tests: 3x^5 - 2x - 2 and
+    /// 2x^3 - 3 (Eisenstein at 2 and 3, not monic), and x^4 - 10x^2 + 1
+    /// (sqrt 2 + sqrt 3, monic).
+    fn test_minimal(which: usize) -> UPoly {
+        [
+            UPoly::from_i64s(&[-2, -2, 0, 0, 0, 3]),
+            UPoly::from_i64s(&[-3, 0, 0, 2]),
+            UPoly::from_i64s(&[1, 0, -10, 0, 1]),
+        ][which]
+            .clone()
+    }
+
+    /// The rationals `p / q`.
+    fn rats(v: &[(i64, i64)]) -> Vec<Rat> {
+        v.iter()
+            .map(|&(p, q)| Rat::new(Int::from(p), Int::from(q)))
+            .collect()
+    }
+
     proptest::proptest! {
         /// Products over the integers (common denominators, division-free
         /// reduction by a defining polynomial that is not monic) agree
@@ -1495,18 +1514,9 @@ mod tests {
             b in proptest::collection::vec((-60i64..60, 1i64..24), 0..6),
             which in 0usize..3,
         ) {
-            // 3x^5 - 2x - 2 and 2x^3 - 3 (Eisenstein at 2 and 3), and
-            // x^4 - 10x^2 + 1 (sqrt 2 + sqrt 3, monic).
-            let minimal = [
-                UPoly::from_i64s(&[-2, -2, 0, 0, 0, 3]),
-                UPoly::from_i64s(&[-3, 0, 0, 2]),
-                UPoly::from_i64s(&[1, 0, -10, 0, 1]),
-            ][which].clone();
+            let minimal = test_minimal(which);
             let k = RealField::real_roots_of(&minimal).pop().unwrap();
-            let to_rats = |v: &[(i64, i64)]| -> Vec<Rat> {
-                v.iter().map(|&(p, q)| Rat::new(Int::from(p), Int::from(q))).collect()
-            };
-            let (a, b) = (k.element(to_rats(&a)), k.element(to_rats(&b)));
+            let (a, b) = (k.element(rats(&a)), k.element(rats(&b)));
             let p = k.mul(&a, &b);
             proptest::prop_assert_eq!(p.coeffs(), &product_over_q(&minimal, a.coeffs(), b.coeffs())[..]);
             if !a.is_zero() {
@@ -1560,23 +1570,16 @@ mod tests {
             b in proptest::collection::vec((-30i64..30, 1i64..12), 0..5),
             which in 0usize..3,
         ) {
-            let minimal = [
-                UPoly::from_i64s(&[-2, -2, 0, 0, 0, 3]),
-                UPoly::from_i64s(&[-3, 0, 0, 2]),
-                UPoly::from_i64s(&[1, 0, -10, 0, 1]),
-            ][which].clone();
+            let minimal = test_minimal(which);
             let k = RealField::real_roots_of(&minimal).pop().unwrap();
-            let to_rats = |v: &[(i64, i64)]| -> Vec<Rat> {
-                v.iter().map(|&(p, q)| Rat::new(Int::from(p), Int::from(q))).collect()
-            };
             let text: Vec<String> = terms
                 .iter()
                 .map(|((p, q), ex, ey, ez)| format!("({p}/{q})*x^{ex}*y^{ey}*z^{ez}"))
                 .collect();
             let p: Poly = text.join(" + ").parse().unwrap();
             let point: BTreeMap<String, FieldElem> = [
-                ("x".to_string(), k.element(to_rats(&a))),
-                ("y".to_string(), k.element(to_rats(&b))),
+                ("x".to_string(), k.element(rats(&a))),
+                ("y".to_string(), k.element(rats(&b))),
             ]
             .into_iter()
             .collect();
@@ -1622,15 +1625,11 @@ mod tests {
             huge in proptest::bool::ANY,
             hair in 0usize..3,
         ) {
-            let minimal = [
-                UPoly::from_i64s(&[-2, -2, 0, 0, 0, 3]),
-                UPoly::from_i64s(&[-3, 0, 0, 2]),
-                UPoly::from_i64s(&[1, 0, -10, 0, 1]),
-            ][which].clone();
+            let minimal = test_minimal(which);
             let field = || RealField::real_roots_of(&minimal).pop().unwrap();
             let (k, reference, probe) = (field(), field(), field());
             let scale = if huge { Rat::from_int(Int::from(2).pow(1100)) } else { Rat::ONE };
-            let unscaled: Vec<Rat> = a.iter().map(|&(p, q)| Rat::new(Int::from(p), Int::from(q))).collect();
+            let unscaled = rats(&a);
             let mut e = k.element(unscaled.iter().map(|c| c * &scale).collect());
             // Minus a rational a hair from its value (10^-8 or 10^-16): from
             // an easy sign to one that needs Sturm's count.
