@@ -38,7 +38,7 @@ use std::collections::BTreeMap;
 /// version are sampled again. The engine's version does not enter: the
 /// counts depend on the model and the cell's structure, not on the
 /// verdicts.
-pub const SAMPLER_VERSION: u32 = 3;
+pub const SAMPLER_VERSION: u32 = 4;
 
 /// The sampler's start box: parameters log-uniform within
 /// `e^-RANGE .. e^RANGE`, as the prover's.
@@ -203,7 +203,7 @@ pub fn sample_cell(
         if variety.free_parameters(&x).is_none() {
             continue;
         }
-        if let Some(t) = variety.read_apart(&variety.point(&x), multiple_apart) {
+        if let Some(t) = variety.read_polished(&variety.point(&x), multiple_apart) {
             out.read += 1;
             *out.seen.entry(t).or_default() += 1;
         }
@@ -292,5 +292,52 @@ mod tests {
             .collect();
         let exact = crate::analysis::frf_type_at(&undamped.num, &undamped.den, OMEGA, &point);
         assert_ne!(exact.unwrap(), certified);
+    }
+
+    /// A point of N6-g2-a3.1-s4.1's cell of two double zeros, found at
+    /// 10^4 starts: its highest zero lies `2.5e-6` (relative) above the
+    /// highest pole, and read from the numerator with the two double zeros
+    /// divided out it falls below it: `RRA^2A^2RRAR`, a type the 6-mass
+    /// table certifies impossible. Polished on the whole numerator it is
+    /// above, as the exact type at the point says (the double zeros split
+    /// there into a close real pair and a complex one, hence `(nm)`; the
+    /// highest zero and pole stay where they are).
+    #[test]
+    fn a_zero_beside_a_pole_is_read_from_the_whole_numerator() {
+        let m = Model::from_id("N6-g2-a3.1-s4.1").unwrap();
+        let tf = UndampedCoefficients::new(&m);
+        let names = m.undamped_parameters();
+        let variety = Variety::new(&tf, names.len(), 0, &[2, 2]);
+        let params = vec![
+            0.27986903558340004,
+            0.29447829409731147,
+            0.382944676869866,
+            0.1359599115451032,
+            0.09977152672009296,
+            0.07191326874249464,
+            0.6232317077392437,
+            0.15734851778187134,
+            0.06726316983237396,
+            0.09185920864332643,
+            1.395357235604004,
+        ];
+        let p = super::super::variety::VarietyPoint {
+            params: params.clone(),
+            cancelled: vec![],
+            doubles: vec![],
+            multiple: vec![(0.688816755504153, 2), (0.6923987104334317, 2)],
+        };
+        let misread: FrfType = "RRA^2A^2RRAR".parse().unwrap();
+        assert_eq!(variety.read_apart(&p, multiple_apart), Some(misread));
+        let polished = variety.read_polished(&p, multiple_apart).unwrap();
+        assert_eq!(polished.to_string(), "RRA^2A^2RRRA");
+        let undamped = m.undamped_tf();
+        let point: BTreeMap<String, poly::Rat> = names
+            .iter()
+            .zip(&params)
+            .map(|(n, &v)| (n.clone(), poly::Rat::from_f64(v).unwrap()))
+            .collect();
+        let exact = crate::analysis::frf_type_at(&undamped.num, &undamped.den, OMEGA, &point);
+        assert_eq!(exact.unwrap().to_string(), "RRAARRRA (nm)");
     }
 }
