@@ -585,19 +585,17 @@ fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
     y.iter().all(|v| v.is_finite()).then_some(y)
 }
 
-/// The quotient of `c` (ascending) by `x - r`, the remainder dropped.
-/// Composite deflation: the quotient's high part by the forward
-/// recurrence, its low part by the backward one, split at the dominant
-/// term `|c_i r^i|`, so that a large root does not swamp the small ones.
 /// The simple roots `roots` of a rest refined by Newton's iteration on
 /// the whole polynomial `c` (ascending coefficients); `None` where one
-/// does not settle within a relative `1e-3` of where it started, as a
-/// root that far off was not a root of the rest to begin with.
+/// does not settle to a relative `1e-9` (far below [`SEPARATION`]), or
+/// settles farther than a relative `1e-3` from where it started (a root
+/// that far off was not the rest's root to begin with).
 fn polished(c: &[f64], roots: &[f64]) -> Option<Vec<f64>> {
     roots
         .iter()
         .map(|&r0| {
             let mut r = r0;
+            let mut settled = false;
             for _ in 0..20 {
                 let (mut v, mut dv) = (0.0, 0.0);
                 for &a in c.iter().rev() {
@@ -609,15 +607,20 @@ fn polished(c: &[f64], roots: &[f64]) -> Option<Vec<f64>> {
                 }
                 let step = v / dv;
                 r -= step;
-                if step.abs() <= 4.0 * f64::EPSILON * r.abs() {
+                if step.abs() <= 1e-9 * r.abs() {
+                    settled = true;
                     break;
                 }
             }
-            ((r - r0).abs() <= 1e-3 * r0.abs() && r.is_finite()).then_some(r)
+            (settled && r.is_finite() && (r - r0).abs() <= 1e-3 * r0.abs()).then_some(r)
         })
         .collect()
 }
 
+/// The quotient of `c` (ascending) by `x - r`, the remainder dropped.
+/// Composite deflation: the quotient's high part by the forward
+/// recurrence, its low part by the backward one, split at the dominant
+/// term `|c_i r^i|`, so that a large root does not swamp the small ones.
 pub(crate) fn deflate(c: &[f64], r: f64) -> Vec<f64> {
     let d = c.len().saturating_sub(1);
     if d == 0 {
