@@ -38,7 +38,7 @@ use std::collections::BTreeMap;
 /// version are sampled again. The engine's version does not enter: the
 /// counts depend on the model and the cell's structure, not on the
 /// verdicts.
-pub const SAMPLER_VERSION: u32 = 4;
+pub const SAMPLER_VERSION: u32 = 5;
 
 /// The sampler's start box: parameters log-uniform within
 /// `e^-RANGE .. e^RANGE`, as the prover's.
