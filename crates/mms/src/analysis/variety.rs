@@ -358,11 +358,11 @@ impl<'a> Variety<'a> {
         apart: impl Fn(u32) -> f64,
         polish: bool,
     ) -> Option<FrfType> {
-        let (n, d) = self.rests(p);
+        let (whole_n, whole_d) = self.tf.eval(&p.params);
+        let (n, d) = divided_out(p, &whole_n, &whole_d);
         let mut zeros = positive_roots(&n)?;
         let mut poles = positive_roots(&d)?;
         if polish {
-            let (whole_n, whole_d) = self.tf.eval(&p.params);
             zeros = polished(&whole_n, &zeros)?;
             poles = polished(&whole_d, &poles)?;
         }
@@ -406,21 +406,10 @@ impl<'a> Variety<'a> {
     }
 
     /// The numerator and the denominator at `p` with its posed roots
-    /// divided out: each cancelled pole from both (twice where cancelled
-    /// in a pair), each multiple zero from the numerator as often as its
-    /// multiplicity.
+    /// divided out ([`divided_out`]).
     fn rests(&self, p: &VarietyPoint) -> (Vec<f64>, Vec<f64>) {
-        let (mut n, mut d) = self.tf.eval(&p.params);
-        for &r in p.cancelled.iter().chain(&p.doubles).chain(&p.doubles) {
-            n = deflate(&n, r);
-            d = deflate(&d, r);
-        }
-        for &(s, mu) in &p.multiple {
-            for _ in 0..mu {
-                n = deflate(&n, s);
-            }
-        }
-        (n, d)
+        let (n, d) = self.tf.eval(&p.params);
+        divided_out(p, &n, &d)
     }
 
     /// How far the converged point `p` is from reading `t`: zero where the
@@ -583,6 +572,24 @@ fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
         y[row] = (b[row] - s) / a[row][row];
     }
     y.iter().all(|v| v.is_finite()).then_some(y)
+}
+
+/// The numerator `n` and the denominator `d` at `p` with its posed roots
+/// divided out: each cancelled pole from both (twice where cancelled in a
+/// pair), each multiple zero from the numerator as often as its
+/// multiplicity.
+fn divided_out(p: &VarietyPoint, n: &[f64], d: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let (mut n, mut d) = (n.to_vec(), d.to_vec());
+    for &r in p.cancelled.iter().chain(&p.doubles).chain(&p.doubles) {
+        n = deflate(&n, r);
+        d = deflate(&d, r);
+    }
+    for &(s, mu) in &p.multiple {
+        for _ in 0..mu {
+            n = deflate(&n, s);
+        }
+    }
+    (n, d)
 }
 
 /// The simple roots `roots` of a rest refined by Newton's iteration on
