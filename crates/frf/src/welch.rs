@@ -765,6 +765,71 @@ pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estima
     })
 }
 
+/// How many independent values a sum of squares of `x` carries: the
+/// Satterthwaite degrees of freedom `(tr C)^2 / tr(C^2)` of a stationary
+/// Gaussian sequence with covariance `C`, which a spectral density `S`
+/// gives as `2 T (int S df)^2 / int S^2 df`, here from a Welch estimate
+/// of `x`'s spectrum (Hann, half-overlapping segments, at least eight).
+/// White noise gives about `x.len()` (a few per cent less, the estimate's
+/// own scatter); an error that is a smooth curve, whose power sits in a
+/// few low lines, far fewer. Capped at `x.len()`.
+///
+/// ```
+/// use frf::welch::effective_samples;
+/// // A white sequence keeps almost all of its samples.
+/// let mut s = 1u64;
+/// let white: Vec<f64> = (0..4096)
+///     .map(|_| {
+///         s ^= s << 13; s ^= s >> 7; s ^= s << 17;
+///         (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+///     })
+///     .collect();
+/// assert!(effective_samples(&white) > 3500.0);
+/// // A slow sine over the same samples counts as a handful.
+/// let slow: Vec<f64> = (0..4096).map(|k| (k as f64 / 500.0).sin()).collect();
+/// assert!(effective_samples(&slow) < 60.0);
+/// ```
+pub fn effective_samples(x: &[f64]) -> f64 {
+    let n = x.len();
+    if n < 16 {
+        return n as f64;
+    }
+    // The largest power of two with at least eight half-overlapping
+    // segments.
+    let mut nfft = 8usize;
+    while segment_count(n, 2 * nfft, nfft) >= 8 {
+        nfft *= 2;
+    }
+    let step = nfft / 2;
+    let count = segment_count(n, nfft, step);
+    let w = Window::Hann.weights(nfft);
+    let plan = FftPlan::new(nfft);
+    let lines = nfft / 2 + 1;
+    let mut power = vec![0.0; lines];
+    let mut z = vec![Complex64::new(0.0, 0.0); nfft];
+    for s in 0..count {
+        let seg = &x[s * step..s * step + nfft];
+        for i in 0..nfft {
+            z[i] = Complex64::new(seg[i] * w[i], 0.0);
+        }
+        plan.forward(&mut z);
+        for (p, zk) in power.iter_mut().zip(&z) {
+            *p += zk.norm_sqr();
+        }
+    }
+    // One-sided: the lines inside the band count twice.
+    let weight = |k: usize| if k == 0 || 2 * k == nfft { 1.0 } else { 2.0 };
+    let (mut sum, mut sum2) = (0.0, 0.0);
+    for (k, p) in power.iter().enumerate() {
+        sum += weight(k) * p;
+        sum2 += weight(k) * p * p;
+    }
+    if !(sum > 0.0 && sum2 > 0.0) {
+        return n as f64;
+    }
+    (n as f64 / nfft as f64 * sum * sum / sum2).min(n as f64)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
