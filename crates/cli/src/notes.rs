@@ -209,6 +209,11 @@ pub fn identify_note(n: &IdentifyNote) -> String {
              taken negative"
                 .into()
         }
+        IdentifyNote::EquivalentsNotSolved { masses } => format!(
+            "equivalents: the exactly equivalent parameter sets (Tab. 7) are back-solved up to \
+             {} masses; with {masses} the exact elimination of one candidate can take minutes",
+            ident::identify::EQUIVALENTS_MAX_MASSES
+        ),
         IdentifyNote::NotFitted { structure, error } => {
             format!("{structure}: not fitted: {error}")
         }
@@ -265,6 +270,10 @@ pub fn sensors_note(n: &SensorsNote) -> String {
         SensorsNote::NoChainShowsTypes { masses } => format!(
             "candidates: no {masses}-mass chain shows every output's type with the sensors at \
              these locations: every such chain is fitted instead"
+        ),
+        SensorsNote::MassesFromSensorPlaces { masses, from_types } => format!(
+            "masses: {masses}, from the sensor places (the types read imply {from_types}; a \
+             resonance and antiresonance closer than the line spacing show in no type)"
         ),
         SensorsNote::NotFitted { candidate } => format!("{candidate}: not fitted"),
     }

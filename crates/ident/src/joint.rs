@@ -151,6 +151,23 @@ impl Serialize for SensorLocation {
 }
 
 impl SensorLocation {
+    /// The fewest masses a chain with a sensor here has: the mass read, or
+    /// one more than the reference when that is the last mass.
+    ///
+    /// ```
+    /// use ident::joint::SensorLocation;
+    /// assert_eq!("3".parse::<SensorLocation>()?.min_masses(), 3);
+    /// assert_eq!("N.2".parse::<SensorLocation>()?.min_masses(), 3);
+    /// assert_eq!("N".parse::<SensorLocation>()?.min_masses(), 1);
+    /// # Ok::<(), ident::joint::LocationError>(())
+    /// ```
+    pub fn min_masses(&self) -> usize {
+        match self.plus {
+            MassRef::Mass(k) => k,
+            MassRef::Last => self.minus + 1,
+        }
+    }
+
     /// The port in a chain of `masses` masses (`None` if the location lies
     /// outside it).
     pub fn port(&self, masses: usize) -> Option<Port> {
@@ -330,9 +347,27 @@ pub fn identify_sensors_with_progress(
         .map(|r| r.classification.frf_type.resonances() as usize)
         .collect();
     let most = resonances.iter().copied().max().unwrap_or(0);
-    let masses = options.masses.unwrap_or(most + 1);
+    // A sensor placed at mass k says the chain has at least k masses,
+    // whatever the types read (a pair of features below the line spacing
+    // is missed there).
+    let placed = outputs
+        .iter()
+        .filter_map(|o| o.location.map(|l| l.min_masses()))
+        .max()
+        .unwrap_or(0);
+    let masses = options.masses.unwrap_or((most + 1).max(placed));
     if masses == 0 || masses > mms::MAX_MASSES {
         return Err(IdentifyError::Masses(masses));
+    }
+    if options.masses.is_none() && most + 1 > crate::identify::INFERRED_MAX_MASSES {
+        return Err(IdentifyError::TooManyFeatures {
+            masses: most + 1,
+            frf_type: readings
+                .iter()
+                .max_by_key(|r| r.classification.frf_type.resonances())
+                .map(|r| r.classification.frf_type.to_string())
+                .unwrap_or_default(),
+        });
     }
     for (o, r) in outputs.iter().zip(&readings) {
         if let Some(loc) = o.location {
@@ -355,6 +390,12 @@ pub fn identify_sensors_with_progress(
     let joint_ok = |t: &Tuple| t.shows.iter().all(|&ok| ok);
     let filtered = tuples.iter().any(joint_ok);
     let first_filtered = tuples.iter().any(|t| t.shows[0]);
+    if options.masses.is_none() && placed > most + 1 {
+        notes.push(SensorsNote::MassesFromSensorPlaces {
+            masses,
+            from_types: most + 1,
+        });
+    }
     notes.push(if filtered {
         SensorsNote::CandidatesShowingTypes { masses }
     } else {

@@ -315,6 +315,15 @@ pub enum IdentifyNote {
     /// is `1 / (sum of masses) > 0`: the sensor (or actuator) counts the
     /// other way, and the gain is taken negative.
     SensorReversed,
+    /// The exactly equivalent parameter sets (the paper's Tab. 7) are
+    /// back-solved up to [`EQUIVALENTS_MAX_MASSES`](crate::identify::EQUIVALENTS_MAX_MASSES)
+    /// masses only: above, the exact elimination of one candidate can
+    /// take minutes, which no work limit bounds without depending on the
+    /// machine's speed.
+    EquivalentsNotSolved {
+        /// The masses of the candidates.
+        masses: usize,
+    },
     /// A candidate could not be fitted; the others were.
     NotFitted {
         /// The candidate's ID.
@@ -398,6 +407,15 @@ pub enum SensorsNote {
     CandidatesShowingTypes {
         /// Their masses.
         masses: usize,
+    },
+    /// A sensor's place names a mass beyond what the types read: the
+    /// chain has at least that many masses (a resonance and antiresonance
+    /// closer than the line spacing show in no type).
+    MassesFromSensorPlaces {
+        /// The masses tried.
+        masses: usize,
+        /// The masses the most resonant output's type implies.
+        from_types: usize,
     },
     /// No chain shows every output's type with the sensors at these
     /// locations: every such chain is fitted instead.

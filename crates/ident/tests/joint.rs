@@ -189,17 +189,42 @@ fn a_pair_two_sensors_cannot_separate_is_reported_as_such() {
     ));
 }
 
+/// With the masses given, a sensor beyond the last is an error.
 #[test]
 fn a_sensor_outside_the_chain_is_an_error() {
     let m = Model::new(2, 0, Port::new(1, 0), Port::new(1, 0)).unwrap();
     let mut rng = XorShift::new(2);
     let (h1, h2, _, _) = two_sensor_recording(&mut rng, m, Port::new(2, 0), 0.01);
     let outputs = two_outputs((&h1, None), (&h2, Some("5")));
-    let e = identify_sensors(&outputs, Output::Position, &IdentifyOptions::default())
+    let options = IdentifyOptions {
+        masses: Some(2),
+        ..IdentifyOptions::default()
+    };
+    let e = identify_sensors(&outputs, Output::Position, &options)
         .unwrap_err()
         .to_string();
     assert!(e.contains("second") && e.contains("outside"), "{e}");
     assert!(identify_sensors(&[], Output::Position, &IdentifyOptions::default()).is_err());
+}
+
+/// A sensor at mass 3 means a chain of at least 3 masses, even where both
+/// outputs read a 2-mass type (here they do: the data are of 2 masses):
+/// every candidate has 3 masses and the report says why.
+#[test]
+fn a_sensor_place_is_a_lower_bound_on_the_masses() {
+    let m = Model::new(2, 0, Port::new(1, 0), Port::new(1, 0)).unwrap();
+    let mut rng = XorShift::new(2);
+    let (h1, h2, _, _) = two_sensor_recording(&mut rng, m, Port::new(2, 0), 0.01);
+    let outputs = two_outputs((&h1, None), (&h2, Some("3")));
+    let id = identify_sensors(&outputs, Output::Position, &IdentifyOptions::default()).unwrap();
+    assert_eq!(id.masses, 3);
+    assert!(id.candidates.iter().all(|c| c.models[0].n_masses() == 3));
+    assert!(id
+        .notes
+        .contains(&ident::notes::SensorsNote::MassesFromSensorPlaces {
+            masses: 3,
+            from_types: 2
+        }));
 }
 
 /// What a recording can be: each structure of every pair of 3-mass
