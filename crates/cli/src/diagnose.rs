@@ -43,7 +43,7 @@ pub struct DiagnosisFlags {
     pub select: SelectArg,
     /// How far calibration may move each parameter from its nominal
     /// value (fraction).
-    #[arg(long, value_name = "FRACTION", default_value_t = 0.2)]
+    #[arg(long, value_name = "FRACTION", default_value_t = ident::diagnosis::DEFAULT_TOLERANCE)]
     pub tolerance: f64,
     /// Closed-loop recording: the position reference (VAR[:COL], as for
     /// --u). The model is then simulated inside the loop of
@@ -547,9 +547,15 @@ pub fn verdict_text(d: &RecordingDiagnosis) -> String {
             ident::diagnosis::INFORMATIVE_LOG_ERROR
         ),
         Reason::StrongerHeldOutEvidence { frequency, time } => format!(
-            "Both domains name effects; this one gains more on the data held out of its fits \
-             (drop of the prediction error in noise units: frequency domain {frequency:.1}, time \
-             domain {time:.1})."
+            "Both domains name effects; this one's model predicts the samples held out of every \
+             fit better (drop of the prediction error in noise units: frequency domain \
+             {frequency:.1}, time domain {time:.1})."
+        ),
+        Reason::FrequencyEffectsNotConfirmed { gain, price } => format!(
+            "The frequency domain's effects are not named: simulated from the recorded input, \
+             its model lowers the prediction error on the held-out samples by {gain:.1} noise \
+             units, not more than {price:.1}, so what they fit in the FRF (a bias of the \
+             estimate, leakage or a model error) is not in the record."
         ),
     };
     if !why.is_empty() {
@@ -924,17 +930,38 @@ fn effects_and_calibration(
         let params: Vec<String> = e
             .parameters
             .iter()
-            .map(|(k, v)| format!("{k} = {v:.4e}"))
+            .map(|(k, v)| match e.standard_errors.get(k) {
+                Some(se) => format!("{k} = {v:.4e} ± {se:.2e}"),
+                None => format!("{k} = {v:.4e}"),
+            })
             .collect();
-        let unresolved = match e.unresolved {
+        let unresolved = match &e.unresolved {
             None => String::new(),
             Some(Unresolved::LikeKept(k)) => format!(
                 "; not kept: within the band it cannot be told from {}",
                 k.as_str()
             ),
             Some(Unresolved::OutsideBand(hz)) => {
-                format!("; not kept: the mode it adds ({hz:.1} Hz) lies outside the band")
+                format!("; not kept: what it acts through ({hz:.1} Hz) lies outside the band")
             }
+            Some(Unresolved::AtBound { parameter, value }) => {
+                format!("; not kept: {parameter} = {value:.4e} lies at the bound of its range")
+            }
+            Some(Unresolved::WithinUncertainty { parameter, sigmas }) => format!(
+                "; not kept: {parameter} lies {sigmas:.1} standard errors from the value at \
+                 which the effect is absent (at least {} needed)",
+                ident::diagnose::SIGNIFICANCE_SIGMAS
+            ),
+            Some(Unresolved::PoleOnZero {
+                separation,
+                standard_error,
+            }) => format!(
+                "; not kept: the resonance and antiresonance it adds lie {:.2} % apart, within \
+                 {} standard errors ({:.2} %) of each other",
+                100.0 * separation.exp_m1(),
+                ident::diagnose::SIGNIFICANCE_SIGMAS,
+                100.0 * standard_error
+            ),
         };
         let _ = writeln!(
             s,

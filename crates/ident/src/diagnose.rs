@@ -75,6 +75,7 @@
 use crate::evidence::{CalibrationNote, Evidence, ExtendedChain, FrequencyEvidence};
 use crate::fit::solve_spd;
 use crate::selection::{forward_select, none, Trial};
+use frf::welch::effective_samples;
 use frf::Frf;
 use mms::model_file::ModelFile;
 use mms::response::{ChainResponse, EffectGradient, Effects, Parameters, ResponseError};
@@ -134,7 +135,7 @@ pub const HOLDOUT_EVERY: usize = 4;
 impl Default for DiagnoseOptions {
     fn default() -> DiagnoseOptions {
         DiagnoseOptions {
-            tolerance: 0.2,
+            tolerance: crate::diagnosis::DEFAULT_TOLERANCE,
             damper_tolerance: 0.5,
             averages: 16.0,
             band_window: 9,
@@ -148,7 +149,9 @@ impl Default for DiagnoseOptions {
 }
 
 /// The effects the diagnosis tries (JSON `kind`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum EffectKind {
     /// Dead time `e^(-s T)`; parameter `delay_s`.
@@ -352,10 +355,16 @@ pub struct EffectVerdict {
     /// resolve it (see [`Unresolved`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unresolved: Option<Unresolved>,
+    /// The standard error of each of `parameters` (where one is known),
+    /// from the fit's Jacobian with the noise level the residual shows
+    /// and its correlation across lines or samples.
+    #[serde(skip_serializing_if = "BTreeMap::is_empty", default)]
+    pub standard_errors: BTreeMap<String, f64>,
 }
 
-/// Why the band cannot resolve a hypothesis that lowers the cost.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+/// Why the data cannot resolve a hypothesis that lowers the cost: it does
+/// not earn its parameters, whatever its score.
+#[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Unresolved {
     /// Within the band it cannot be told apart from this kept effect. A
@@ -364,11 +373,45 @@ pub enum Unresolved {
     /// a chain's parameter error also makes, so the data cannot split the
     /// phase lag between the two.
     LikeKept(EffectKind),
-    /// The mode an extra mass adds lies outside the band (its resonance,
-    /// Hz): the band sees only its quasi-static tail, which a chain's
-    /// parameter error also makes.
+    /// What the effect acts through lies outside the band (Hz): the mode
+    /// an extra mass adds, the corner of a lag far above the band, the
+    /// resonance a pre-sliding spring makes above it. The band sees only
+    /// a tail of it, which a chain's parameter error also makes.
     OutsideBand(f64),
+    /// A parameter of the effect lies at the bound of its search range:
+    /// the fit asks for more than a physical value, or for nothing.
+    AtBound {
+        /// The parameter (an extra mass's new mass, spring or damper by
+        /// its name in the extended chain).
+        parameter: String,
+        /// Its value.
+        value: f64,
+    },
+    /// The value at which the effect is absent (no delay, a corner at
+    /// infinity, a factor of 1, no damping, no spring) lies within three
+    /// standard errors of the estimate.
+    WithinUncertainty {
+        /// The parameter.
+        parameter: String,
+        /// The estimate's distance from the absent value, in standard
+        /// errors.
+        sigmas: f64,
+    },
+    /// The resonance and antiresonance an extra mass adds lie closer
+    /// together than three standard errors of their separation: a nearly
+    /// cancelled pole-zero pair that fits noise, not a mode.
+    PoleOnZero {
+        /// `|ln(f_resonance / f_antiresonance)|`.
+        separation: f64,
+        /// Its standard error.
+        standard_error: f64,
+    },
 }
+
+/// How many standard errors an effect's estimate must lie from the value
+/// at which it is absent, and an extra mode's resonance from its
+/// antiresonance, for the effect to be named.
+pub const SIGNIFICANCE_SIGMAS: f64 = 3.0;
 
 /// RMS errors of a model against the recording.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -415,6 +458,10 @@ pub struct Diagnosis {
     /// With [`Selection::Holdout`]: the prediction error on the held-out
     /// lines before and after the kept effects.
     pub held_out: Option<HeldOut>,
+    /// The calibrated model: the input model with its parameters fitted
+    /// and no effect added (where the time domain starts).
+    #[serde(skip)]
+    pub calibrated: ModelFile,
     /// Copy of `fit.before`, for Rust callers.
     #[serde(skip)]
     pub before: FitSummary,
@@ -434,13 +481,34 @@ pub struct HeldOut {
     pub before: f64,
     /// The cost of the model after the diagnosis.
     pub after: f64,
+    /// The held-out residuals (real and imaginary parts) counted as
+    /// independent ([`frf::welch::effective_samples`] of the model after's
+    /// residual along the held-out lines): a residual that is still a
+    /// smooth curve (a model error, a bias of the estimate) has far fewer
+    /// independent values than lines.
+    pub effective_lines: f64,
 }
 
 impl HeldOut {
-    /// The drop of the held-out prediction error in noise units, `-2 ln`
-    /// of the likelihood ratio with each line's measured uncertainty.
+    /// The drop of the held-out prediction error, `-2 ln` of the
+    /// likelihood ratio with the noise level profiled out: each line's
+    /// measured uncertainty fixes the lines' relative weights, and the
+    /// scale is what the residual shows, so an uncertainty that leaves
+    /// out a bias does not inflate the evidence. The same figure as the
+    /// time domain's ([`crate::nonlinear::TimeHeldOut::evidence`]).
     pub fn evidence(&self) -> f64 {
-        self.before - self.after
+        profiled_gain(self.before, self.after, self.effective_lines)
+    }
+}
+
+/// `n ln(before / after)`: the drop of a sum of squares from `before` to
+/// `after` in noise units with the noise level profiled out, for `n`
+/// independent residuals (0 when either is not positive).
+pub(crate) fn profiled_gain(before: f64, after: f64, n: f64) -> f64 {
+    if before > 0.0 && after > 0.0 && before.is_finite() && after.is_finite() {
+        n * (before / after).ln()
+    } else {
+        0.0
     }
 }
 
@@ -640,6 +708,72 @@ impl Problem<'_> {
             .zip(&self.test_sigma)
             .map(|(e, w)| e.norm_sqr() * w * w)
             .sum())
+    }
+
+    /// The held-out residuals at `x` counted as independent
+    /// ([`HeldOut::effective_lines`]).
+    fn held_out_count(&self, kinds: &[EffectKind], x: &[f64]) -> f64 {
+        let Ok(e) = self.errors(kinds, x) else {
+            return 0.0;
+        };
+        let (re, im): (Vec<f64>, Vec<f64>) = e
+            .iter()
+            .zip(&self.test_sigma)
+            .filter(|(_, &w)| w > 0.0)
+            .map(|(e, w)| (e.re * w, e.im * w))
+            .unzip();
+        effective_samples(&re) + effective_samples(&im)
+    }
+
+    /// The covariance of the state `x` (log-parameters, then the effects'
+    /// log-values), row-major: the inverse of the Gauss-Newton matrix,
+    /// the data's part divided by the noise level the fitted residual
+    /// shows (at least the one its uncertainty gives: that is a floor,
+    /// which leaves out bias) and by the residual's correlation along the
+    /// lines (a smooth misfit carries less information than as many
+    /// independent errors: [`frf::welch::effective_samples`]), the prior's
+    /// part as it is. `None` where the matrix is singular.
+    fn covariance(&self, kinds: &[EffectKind], x: &[f64]) -> Option<Vec<f64>> {
+        let nx = x.len();
+        let mut jac = Vec::new();
+        let r = self.residuals(kinds, x, Some(&mut jac)).ok()?;
+        let fitted: Vec<usize> = (0..self.freq.len())
+            .filter(|&k| self.inv_sigma[k] > 0.0)
+            .collect();
+        let m = 2 * fitted.len();
+        if m <= nx {
+            return None;
+        }
+        let ss: f64 = fitted
+            .iter()
+            .map(|&k| r[2 * k].powi(2) + r[2 * k + 1].powi(2))
+            .sum();
+        let scale = (ss / (m - nx) as f64).max(1.0);
+        let re: Vec<f64> = fitted.iter().map(|&k| r[2 * k]).collect();
+        let im: Vec<f64> = fitted.iter().map(|&k| r[2 * k + 1]).collect();
+        let independent = (effective_samples(&re) + effective_samples(&im)).max(1.0);
+        let inflate = (m as f64 / independent).max(1.0);
+        // The data's information, discounted by the noise level and the
+        // correlation the residual shows; the prior's as it is (it says
+        // how far the parameters are known, whatever the data).
+        let rows = 2 * self.freq.len();
+        let (data, _) = crate::fit::normal_equations(&jac[..rows * nx], &r[..rows], nx);
+        let (prior, _) = crate::fit::normal_equations(&jac[rows * nx..], &r[rows..], nx);
+        let a: Vec<f64> = data
+            .iter()
+            .zip(&prior)
+            .map(|(d, p)| d / (scale * inflate) + p)
+            .collect();
+        let mut cov = vec![0.0; nx * nx];
+        for j in 0..nx {
+            let mut unit = vec![0.0; nx];
+            unit[j] = 1.0;
+            let col = solve_spd(&a, &unit, nx)?;
+            for i in 0..nx {
+                cov[i * nx + j] = col[i];
+            }
+        }
+        Some(cov)
     }
 
     /// Unweighted log errors `ln(G/H)` at state `x`.
@@ -1155,6 +1289,14 @@ pub fn diagnose_outputs(
     };
     let test_cost = problem.test_cost(&[], &calibrated.x)?;
     let test_before = test_cost;
+    let calibrated_file = ModelFile {
+        parameters: Parameters::from_values(
+            &model.model,
+            calibrated.x[..np].iter().map(|v| v.exp()).collect(),
+        )?,
+        ..model.clone()
+    }
+    .within_ranges();
     let start = Fitted {
         problem,
         kinds: Vec::new(),
@@ -1162,12 +1304,83 @@ pub fn diagnose_outputs(
         state: calibrated.clone(),
         test_cost,
     };
-    // Only effects that earn their parameters on their own are tried in
-    // combination (and the time stays bounded).
-    let mut earned_alone: Vec<EffectKind> = Vec::new();
+    // Forward selection, then every kept effect must stand out of its
+    // uncertainty in the joint fit (where one effect no longer masks
+    // another); the first that does not is barred and the selection
+    // runs again without it.
+    let mut barred: Vec<EffectVerdict> = Vec::new();
+    let selected = loop {
+        let selected = select_effects(&start, &ctx, o, holdout, &barred)?;
+        let failing = selected.kept.iter().find_map(|v| {
+            significance(v.kind, &selected.state, &ctx, true)
+                .1
+                .map(|why| EffectVerdict {
+                    parameters: selected.state.parameters(v.kind, &ctx),
+                    unresolved: Some(why),
+                    ..v.clone()
+                })
+        });
+        match failing {
+            Some(v) if barred.len() < EffectKind::HYPOTHESES.len() + 1 => barred.push(v),
+            _ => break selected,
+        }
+    };
+    let base = selected.state;
+    let mut rejected = selected.rejected;
+    rejected.extend(barred);
+    let kept = selected.kept;
+    let errors_after = base.problem.errors(&base.kinds, &base.state.x)?;
+    let after = summary(&errors_after);
+    let model_after = base.model_file()?;
+    let effects = if kept.is_empty() {
+        vec![none(&rejected)]
+    } else {
+        // The parameters of the final joint fit.
+        kept.into_iter()
+            .map(|v| EffectVerdict {
+                parameters: base.parameters(v.kind, &ctx),
+                standard_errors: significance(v.kind, &base, &ctx, true).0,
+                ..v
+            })
+            .collect()
+    };
+    let mut noise: Vec<f64> = sigma.iter().copied().filter(|s| s.is_finite()).collect();
+    if noise.is_empty() {
+        noise.push(f64::INFINITY);
+    }
+    noise.sort_by(f64::total_cmp);
+    Ok(Diagnosis {
+        mismatch,
+        effects,
+        rejected,
+        fit: BeforeAfter { before, after },
+        calibration,
+        noise: noise[noise.len() / 2],
+        model_after,
+        calibrated: calibrated_file,
+        held_out: holdout.then_some(HeldOut {
+            lines: ctx.held,
+            before: test_before,
+            after: base.test_cost,
+            effective_lines: base.problem.held_out_count(&base.kinds, &base.state.x),
+        }),
+        before,
+        after,
+    })
+}
+
+/// One forward selection of the effects from the calibrated state
+/// `start`, leaving out the `barred` kinds.
+fn select_effects<'a>(
+    start: &Fitted<'a>,
+    ctx: &Context,
+    o: &DiagnoseOptions,
+    holdout: bool,
+    barred: &[EffectVerdict],
+) -> Result<crate::selection::Selected<Fitted<'a>>, DiagnoseError> {
     // The extra mass's placement found in the first step.
     let mut placement: Option<Placement> = None;
-    let selected = forward_select(start, |base, kept, step| {
+    forward_select(start.clone(), |base, kept, step| {
         let e_base = base.problem.errors(&base.kinds, &base.state.x)?;
         let summary_base = summary(&e_base);
         // From the second step on, the misfit the effects kept so far leave
@@ -1191,7 +1404,7 @@ pub fn diagnose_outputs(
                     || (kind == EffectKind::ExtraMode && base.extended)
                     || (kind == EffectKind::PreSlidingFriction
                         && !rests_on_friction(&base.problem.file.model))
-                    || (step > 1 && !earned_alone.contains(&kind)))
+                    || barred.iter().any(|b| b.kind == kind))
             })
             .collect();
         // The hypotheses are independent fits: both cores take them in
@@ -1201,11 +1414,11 @@ pub fn diagnose_outputs(
             .par_iter()
             .map(|&kind| -> Result<Option<PlacedTrial>, DiagnoseError> {
                 let (fitted, new_placement) = match kind {
-                    EffectKind::ExtraMode => match extra_mode(base, &e_base, &ctx, reuse) {
+                    EffectKind::ExtraMode => match extra_mode(base, &e_base, ctx, reuse) {
                         Some((f, p)) => (f, Some(p)),
                         None => return Ok(None),
                     },
-                    _ => match add_effect(base, kind, &e_base, &ctx) {
+                    _ => match add_effect(base, kind, &e_base, ctx) {
                         Some(f) => (f, None),
                         None => return Ok(None),
                     },
@@ -1215,8 +1428,11 @@ pub fn diagnose_outputs(
                 } else {
                     fitted.kinds.len() - base.kinds.len()
                 };
+                let effective = fitted
+                    .problem
+                    .held_out_count(&fitted.kinds, &fitted.state.x);
                 let score = if holdout {
-                    (base.test_cost - fitted.test_cost) / misfit - o.margin
+                    profiled_gain(base.test_cost, fitted.test_cost, effective) - o.margin
                 } else {
                     (base.state.cost - fitted.state.cost) / misfit
                         - n_new as f64 * ctx.rows.ln()
@@ -1248,15 +1464,17 @@ pub fn diagnose_outputs(
                         }
                     }),
                 });
-                let unresolved = unresolved(kind, kept, &fitted, &ctx);
+                let (standard_errors, insignificant) = significance(kind, &fitted, ctx, false);
+                let unresolved = unresolved(kind, kept, &fitted, ctx).or(insignificant);
                 let trial = Trial {
                     verdict: EffectVerdict {
                         kind,
-                        parameters: fitted.parameters(kind, &ctx),
+                        parameters: fitted.parameters(kind, ctx),
                         evidence,
                         score,
                         step,
                         unresolved,
+                        standard_errors,
                     },
                     state: fitted,
                 };
@@ -1270,52 +1488,7 @@ pub fn diagnose_outputs(
             }
             tried.push(trial);
         }
-        if step == 1 {
-            earned_alone = tried
-                .iter()
-                .filter(|t| t.verdict.score > 0.0)
-                .map(|t| t.verdict.kind)
-                .collect();
-        }
         Ok::<_, DiagnoseError>(tried)
-    })?;
-    let base = selected.state;
-    let rejected = selected.rejected;
-    let kept = selected.kept;
-    let errors_after = base.problem.errors(&base.kinds, &base.state.x)?;
-    let after = summary(&errors_after);
-    let model_after = base.model_file()?;
-    let effects = if kept.is_empty() {
-        vec![none(&rejected)]
-    } else {
-        // The parameters of the final joint fit.
-        kept.into_iter()
-            .map(|v| EffectVerdict {
-                parameters: base.parameters(v.kind, &ctx),
-                ..v
-            })
-            .collect()
-    };
-    let mut noise: Vec<f64> = sigma.iter().copied().filter(|s| s.is_finite()).collect();
-    if noise.is_empty() {
-        noise.push(f64::INFINITY);
-    }
-    noise.sort_by(f64::total_cmp);
-    Ok(Diagnosis {
-        mismatch,
-        effects,
-        rejected,
-        fit: BeforeAfter { before, after },
-        calibration,
-        noise: noise[noise.len() / 2],
-        model_after,
-        held_out: holdout.then_some(HeldOut {
-            lines: ctx.held,
-            before: test_before,
-            after: base.test_cost,
-        }),
-        before,
-        after,
     })
 }
 
@@ -1352,6 +1525,174 @@ fn unresolved(
     }
     let corner = fitted.parameters(EffectKind::Lowpass, ctx)["corner_hz"];
     (corner > ctx.f_hi).then_some(Unresolved::LikeKept(other))
+}
+
+/// The standard errors of effect `kind`'s reported parameters in
+/// `fitted`, and why the data do not resolve it, if they do not: a lag's
+/// corner or a pre-sliding resonance outside the band, and with
+/// `statistical` a parameter at the bound of its range, the value at
+/// which the effect is absent within [`SIGNIFICANCE_SIGMAS`] standard
+/// errors or an extra mode whose resonance and antiresonance lie within
+/// their uncertainty of each other (tested on the final joint fit, where
+/// one effect no longer masks another: with an effect missing, the misfit
+/// it leaves inflates every other's uncertainty and can push a parameter
+/// to its bound).
+fn significance(
+    kind: EffectKind,
+    fitted: &Fitted,
+    ctx: &Context,
+    statistical: bool,
+) -> (BTreeMap<String, f64>, Option<Unresolved>) {
+    let mut errors = BTreeMap::new();
+    let problem = &fitted.problem;
+    let np = problem.np();
+    let x = &fitted.state.x;
+    let nx = x.len();
+    let cov = problem.covariance(&fitted.kinds, x);
+    let se_ln = |i: usize| cov.as_ref().map(|c| c[i * nx + i].max(0.0).sqrt());
+    let (lo, hi) = ctx.state_bounds(problem, &fitted.kinds);
+    let at_bound = |i: usize| {
+        let tol = 1e-6 * (hi[i] - lo[i]).max(1.0);
+        x[i] - lo[i] <= tol || hi[i] - x[i] <= tol
+    };
+    if kind == EffectKind::ExtraMode {
+        // The new mass, spring and damper (no prior of their own).
+        let names = problem.file.model.parameters();
+        for i in (0..np).filter(|&i| statistical && problem.prior[i] == 0.0) {
+            if at_bound(i) {
+                let parameter = names[i].clone();
+                return (
+                    errors,
+                    Some(Unresolved::AtBound {
+                        parameter,
+                        value: x[i].exp(),
+                    }),
+                );
+            }
+        }
+        let Some(mode) = fitted.added_mode(ctx) else {
+            return (errors, None);
+        };
+        let Some(cov) = &cov else {
+            return (errors, None);
+        };
+        // The features' gradients in the log-parameters, by central
+        // differences, and their variances by the delta method.
+        let h = 1e-4;
+        let mut g_res = vec![0.0; np];
+        let mut g_anti = vec![0.0; np];
+        for i in 0..np {
+            let (mut up, mut down) = (x.clone(), x.clone());
+            up[i] += h;
+            down[i] -= h;
+            let (Some(a), Some(b)) = (
+                fitted.added_mode_at(ctx, &up),
+                fitted.added_mode_at(ctx, &down),
+            ) else {
+                return (errors, None);
+            };
+            g_res[i] = (a.resonance_hz.ln() - b.resonance_hz.ln()) / (2.0 * h);
+            if let (Some(p), Some(q)) = (a.antiresonance_hz, b.antiresonance_hz) {
+                g_anti[i] = (p.ln() - q.ln()) / (2.0 * h);
+            }
+        }
+        let quad = |g: &[f64]| -> f64 {
+            (0..np)
+                .map(|i| (0..np).map(|j| g[i] * cov[i * nx + j] * g[j]).sum::<f64>())
+                .sum::<f64>()
+                .max(0.0)
+        };
+        errors.insert(
+            "resonance_hz".into(),
+            mode.resonance_hz * quad(&g_res).sqrt(),
+        );
+        if let Some(a) = mode.antiresonance_hz {
+            errors.insert("antiresonance_hz".into(), a * quad(&g_anti).sqrt());
+            let g: Vec<f64> = g_res.iter().zip(&g_anti).map(|(r, a)| r - a).collect();
+            let se = quad(&g).sqrt();
+            let separation = (mode.resonance_hz / a).ln().abs();
+            if statistical && separation < SIGNIFICANCE_SIGMAS * se {
+                return (
+                    errors,
+                    Some(Unresolved::PoleOnZero {
+                        separation,
+                        standard_error: se,
+                    }),
+                );
+            }
+        }
+        return (errors, None);
+    }
+    let Some(i) = fitted.kinds.iter().position(|&k| k == kind) else {
+        return (errors, None);
+    };
+    let Some(name) = kind.parameter_name() else {
+        return (errors, None);
+    };
+    // The effect's own coordinates: its parameter, and the damper a
+    // pre-sliding spring brought with it.
+    let mut own = vec![(np + i, name)];
+    if kind == EffectKind::PreSlidingFriction {
+        if let Some(j) = fitted.kinds[i..]
+            .iter()
+            .position(|&k| k == EffectKind::ViscousFriction)
+        {
+            own.push((np + i + j, "viscous_ns_per_m"));
+        }
+    }
+    for &(k, n) in &own {
+        if let Some(se) = se_ln(k) {
+            errors.insert(n.to_string(), x[k].exp() * se);
+        }
+    }
+    let k = np + i;
+    if statistical && at_bound(k) {
+        return (
+            errors,
+            Some(Unresolved::AtBound {
+                parameter: name.to_string(),
+                value: x[k].exp(),
+            }),
+        );
+    }
+    let v = x[k].exp();
+    match kind {
+        EffectKind::Lowpass if v > 3.0 * ctx.f_hi => {
+            return (errors, Some(Unresolved::OutsideBand(v)));
+        }
+        EffectKind::PreSlidingFriction => {
+            let f = (v / ctx.total_mass).sqrt() / (2.0 * PI);
+            if f > ctx.f_hi {
+                return (errors, Some(Unresolved::OutsideBand(f)));
+            }
+        }
+        _ => {}
+    }
+    // How far the estimate lies from the effect's absent value: a factor
+    // of 1 for a gain, zero (or a corner at infinity) for the others,
+    // whose log-values then lie at minus infinity; in standard errors of
+    // the estimate (of `1/f_c` for a corner).
+    let Some(se) = se_ln(k) else {
+        return (errors, None);
+    };
+    // The input model's own value, where it has one (a record's known
+    // hold delay), is the value to tell the estimate from.
+    let sigmas = match (kind.current(ctx.input), kind) {
+        (Some(c), _) if c > 0.0 => (x[k] - c.ln()).abs() / se,
+        (_, EffectKind::GainError) => x[k].abs() / se,
+        _ => 1.0 / se,
+    };
+    // (A NaN distance is no distance.)
+    if statistical && (sigmas.is_nan() || sigmas < SIGNIFICANCE_SIGMAS) {
+        return (
+            errors,
+            Some(Unresolved::WithinUncertainty {
+                parameter: name.to_string(),
+                sigmas,
+            }),
+        );
+    }
+    (errors, None)
 }
 
 /// What every hypothesis needs to know besides its base.
@@ -1478,13 +1819,18 @@ impl Fitted<'_> {
 
     /// The mode the extra mass of this state adds, if it has one.
     fn added_mode(&self, ctx: &Context) -> Option<AddedMode> {
+        self.added_mode_at(ctx, &self.state.x)
+    }
+
+    /// The mode the extra mass adds at the state `at`.
+    fn added_mode_at(&self, ctx: &Context, at: &[f64]) -> Option<AddedMode> {
         if !self.extended {
             return None;
         }
         let (m, x) = ctx.original;
         let old: Vec<f64> = x.iter().map(|v| v.exp()).collect();
         let np = self.problem.np();
-        let new: Vec<f64> = self.state.x[..np].iter().map(|v| v.exp()).collect();
+        let new: Vec<f64> = at[..np].iter().map(|v| v.exp()).collect();
         added_features(
             m,
             &old,

@@ -64,8 +64,9 @@ use crate::diagnose::{
 };
 use crate::evidence::Evidence;
 use crate::nonlinear::{
-    diagnose_closed_loop, diagnose_time, diagnose_time_outputs, held_out_error, LoopFeedback,
-    LoopRecord, TimeDiagnoseError, TimeDiagnosis, TimeOptions,
+    diagnose_closed_loop, diagnose_time, diagnose_time_outputs, held_out_error,
+    held_out_error_outputs, LoopFeedback, LoopRecord, TimeDiagnoseError, TimeDiagnosis,
+    TimeOptions,
 };
 use crate::operating::{
     compare_operating_points, within_pairing_range, Finding, OperatingPointComparison, Recording,
@@ -79,6 +80,12 @@ use mms::response::{ChainResponse, Effects};
 use mms::simulate::{SimOptions, Simulator};
 use rayon::prelude::*;
 use serde::Serialize;
+
+/// The default calibration tolerance: each mass and spring within a
+/// factor 1.5 of its nominal value. A model from a data sheet or a CAD
+/// file is often 30 % off, and a calibration that cannot reach the
+/// parameters leaves a misfit that some effect would be named for.
+pub const DEFAULT_TOLERANCE: f64 = 0.5;
 
 /// Options of [`diagnose_recording`].
 #[derive(Clone, Debug, PartialEq)]
@@ -112,7 +119,7 @@ pub struct DiagnosisOptions {
 impl Default for DiagnosisOptions {
     fn default() -> DiagnosisOptions {
         DiagnosisOptions {
-            tolerance: 0.2,
+            tolerance: DEFAULT_TOLERANCE,
             band_hz: None,
             selection: Selection::Holdout,
             welch: WelchOptions::default(),
@@ -164,15 +171,49 @@ pub enum Reason {
         /// RMS of `|ln(G_model / H)|` over the band's lines.
         log_error: f64,
     },
-    /// Both domains name effects; the one whose effects gain more on its
-    /// held-out data, in noise units, leads.
+    /// Both domains name effects; the one whose model predicts the
+    /// held-out samples better leads (both models' gains over the
+    /// calibrated linear model on those samples, in noise units).
     StrongerHeldOutEvidence {
         /// The frequency domain's gain.
         frequency: f64,
         /// The time domain's gain.
         time: f64,
     },
+    /// The frequency domain names effects, but its model, simulated from
+    /// the recorded input, does not lower the prediction error on the
+    /// held-out samples by more than `price` (its gain there, in noise
+    /// units, is `gain`): what it fits in the FRF is not in the record
+    /// (a bias of the estimate, leakage, a model error), so it is not
+    /// named. The time domain decides.
+    FrequencyEffectsNotConfirmed {
+        /// The frequency domain model's gain on the held-out samples.
+        gain: f64,
+        /// What it had to exceed.
+        price: f64,
+    },
 }
+
+impl Reason {
+    /// The JSON name of the reason (its `kind`).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Reason::NothingInformative => "nothing_informative",
+            Reason::NothingMissing => "nothing_missing",
+            Reason::FrequencyDomainOnly => "frequency_domain_only",
+            Reason::TimeDomainNotInformative { .. } => "time_domain_not_informative",
+            Reason::OnlyOneDomainNames => "only_one_domain_names",
+            Reason::FrequencyDomainNotInformative { .. } => "frequency_domain_not_informative",
+            Reason::StrongerHeldOutEvidence { .. } => "stronger_held_out_evidence",
+            Reason::FrequencyEffectsNotConfirmed { .. } => "frequency_effects_not_confirmed",
+        }
+    }
+}
+
+/// What a frequency-domain model must gain on the held-out samples of a
+/// time record, in noise units, for its effects to be named: the price
+/// the time domain's own effects pay there.
+pub const CONFIRMATION_PRICE: f64 = 10.0;
 
 /// The frequency-domain comparison is informative when the model after
 /// its diagnosis meets the FRF within this RMS log error, nepers
@@ -210,7 +251,43 @@ pub struct Verdict {
     /// The RMS output errors on the held-out samples (`None` without
     /// samples or held-out blocks).
     pub held_out_errors: Option<HeldOutErrors>,
+    /// How the frequency domain's model did on the held-out samples within
+    /// its band, against its calibrated model without the effects (`None`
+    /// without samples, or when it names nothing).
+    pub confirmation: Option<Confirmation>,
 }
+
+/// The frequency domain's effects checked on the samples: its calibrated
+/// model and its model after the diagnosis, as fitted, simulated from the
+/// recorded input and compared on the held-out samples within the band
+/// the diagnosis compared ([`crate::nonlinear::held_out_band_errors`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Confirmation {
+    /// The band, Hz.
+    pub band_hz: (f64, f64),
+    /// RMS error of the calibrated model without the effects.
+    pub before: f64,
+    /// RMS error of the model after the diagnosis.
+    pub after: f64,
+    /// The held-out samples counted as independent.
+    pub effective_samples: f64,
+    /// The drop of the prediction error in noise units,
+    /// `effective_samples ln(before^2 / after^2)`.
+    pub gain: f64,
+    /// The RMS of the recorded output there within the band.
+    pub output: f64,
+    /// The samples can tell: the calibrated model meets the band's motion
+    /// within [`CONFIRMATION_ADEQUATE`] of its RMS. Where it misses more
+    /// (a slow misfit the FRF does not weigh, a model the samples do not
+    /// follow), a dead time or a damping that the FRF shows plainly is
+    /// lost in that error, and the check does not decide.
+    pub informative: bool,
+}
+
+/// The largest share of the band's output RMS the calibrated model may
+/// miss for the samples to check a frequency domain's effects
+/// ([`Confirmation::informative`]).
+pub const CONFIRMATION_ADEQUATE: f64 = 0.25;
 
 /// RMS output errors on the samples held out of the time-domain fits,
 /// each model's chain calibrated on the fitted samples and simulated from
@@ -324,38 +401,47 @@ pub fn diagnose_recording(
     // cores as there are (the time-domain parts dominate); the results do
     // not depend on which core ran them.
     let whole = || -> Result<_, DiagnosisError> {
-        let ((fd, frequency_model), td) = rayon::join(
-            || {
-                let fd = frequency_part(frf, band, model, o);
-                let error = match (&fd, samples) {
-                    (Ok(Some(f)), Some(s)) => {
-                        frequency_model_error(s, model, closed_loop, f, corner, o)
-                    }
-                    _ => None,
-                };
-                (fd, error)
-            },
-            || match (samples, band) {
-                (Some(s), Some(_)) => Some(time_part(s, 0, model, closed_loop, corner, o)),
-                _ => None,
-            },
-        );
-        let fd = fd?;
-        // Without a frequency-domain part nothing is compared in time.
-        let td = match (&fd, td) {
-            (Some(_), Some(td)) => Some(td?),
+        // The frequency domain first: its calibrated chain is where the
+        // time domain starts (an output error from a chain 30 % off has
+        // many local minima; the FRF's calibration has few).
+        let fd = frequency_part(frf, band, model, o)?;
+        let (frequency_model, td) = match (&fd, samples) {
+            (Some(f), Some(s)) => {
+                let td = time_part(s, 0, &time_start(model, f), closed_loop, corner, o)?;
+                let error = frequency_model_error(s, model, closed_loop, f, &td, o);
+                (error, Some(td))
+            }
+            // Without a frequency-domain part nothing is compared in time.
+            _ => (None, None),
+        };
+        let confirmation = match (&fd, samples, band) {
+            (Some(f), Some(s), Some(b)) if names(&f.effects) => {
+                let w = time_window(s.u.len(), closed_loop.is_some(), o);
+                let record = closed_loop.map(|l| l.window(0..w));
+                confirm(
+                    &s.u[..w],
+                    &s.y[..w],
+                    &[],
+                    s.fs,
+                    model,
+                    f,
+                    record.as_ref(),
+                    b,
+                    o,
+                )
+            }
             _ => None,
         };
         let errors = cross_check(fd.as_ref(), td.as_ref(), frequency_model);
-        Ok((fd, td, errors))
+        Ok((fd, td, errors, confirmation))
     };
     let (main, reruns) = rayon::join(whole, || {
         cuts.par_iter()
             .map(|c| rerun(c, samples, model, corner, o))
             .collect::<Vec<_>>()
     });
-    let (fd, td, errors) = main?;
-    let verdict = reconcile(fd.as_ref(), td.as_ref(), errors);
+    let (fd, td, errors, confirmation) = main?;
+    let verdict = reconcile(fd.as_ref(), td.as_ref(), errors, confirmation);
     let stability = (!cuts.is_empty()).then(|| DiagnosisStability {
         runs: reruns
             .into_iter()
@@ -569,7 +655,7 @@ fn joint_diagnosis(
     };
     let first = ModelFile {
         model: outputs[0].chain,
-        ..model.clone()
+        ..time_start(model, &fd)
     };
     // Samples of every output (one recording: the same input).
     let samples: Option<Vec<&Samples>> = outputs.iter().map(|out| out.samples).collect();
@@ -585,18 +671,73 @@ fn joint_diagnosis(
                 .map(|(t, out)| (&t.y[..w.min(t.y.len())], out.chain.sensor()))
                 .collect();
             let record = closed_loop.map(|l| l.window(0..w));
-            Some(diagnose_time_outputs(
+            let to = time_options(o, corner);
+            let td = diagnose_time_outputs(
                 &s.u[..w],
                 &s.y[..w],
                 &others,
                 s.fs,
                 &first,
                 record.as_ref(),
-                &time_options(o, corner),
-            )?)
+                &to,
+            )?;
+            // The frequency domain's model on the same held-out samples of
+            // every output, each weighted as the time domain weighs it.
+            let weighted: Vec<(&[f64], mms::Port, f64)> = others
+                .iter()
+                .zip(&td.output_weights)
+                .map(|(&(y, p), &w)| (y, p, w))
+                .collect();
+            // (An extra mass inside the chain renumbers the others' places:
+            // then only the first output could be compared, so nothing is.)
+            let same_chain = fd.model_after.model.n_masses() == first.model.n_masses();
+            let frequency_model = same_chain
+                .then(|| {
+                    held_out_error_outputs(
+                        &s.u[..w],
+                        &s.y[..w],
+                        &weighted,
+                        s.fs,
+                        &with_input_effects(&fd, &first),
+                        record.as_ref(),
+                        &scored_as(o, &td),
+                    )
+                })
+                .flatten();
+            let confirmation = names(&fd.effects)
+                .then(|| {
+                    let band = each
+                        .iter()
+                        .filter_map(|d| d.band_hz)
+                        .fold((f64::INFINITY, 0.0f64), |(lo, hi), (a, b)| {
+                            (lo.min(a), hi.max(b))
+                        });
+                    same_chain
+                        .then(|| {
+                            confirm(
+                                &s.u[..w],
+                                &s.y[..w],
+                                &weighted,
+                                s.fs,
+                                &first,
+                                &fd,
+                                record.as_ref(),
+                                band,
+                                o,
+                            )
+                        })
+                        .flatten()
+                })
+                .flatten();
+            Some((td, frequency_model, confirmation))
         }
     };
-    let verdict = reconcile(Some(&fd), td.as_ref(), None);
+    let (td, frequency_model, confirmation) = match td {
+        Some((t, f, c)) => (Some(t), f, c),
+        None => (None, None, None),
+    };
+    let errors = cross_check(Some(&fd), td.as_ref(), frequency_model);
+    let verdict = reconcile(Some(&fd), td.as_ref(), errors, confirmation);
     let model_after = match (verdict.decided_by, &td) {
         (Some(Domain::Time), Some(t)) => t.model_after.clone(),
         _ => fd.model_after.clone(),
@@ -712,28 +853,18 @@ fn cross_check(
 
 /// The RMS error of the frequency domain's model `f` on the held-out
 /// samples of the time domain's window (the record's first samples), as
-/// the time domain scores its own models. It needs nothing of the time
-/// domain's result, so it runs beside it.
+/// the time domain `t` scored its own models (with the high-pass it
+/// applied, if it applied one).
 fn frequency_model_error(
     s: &Samples,
     model: &ModelFile,
     closed_loop: Option<&LoopRecord>,
     f: &Diagnosis,
-    corner: Option<f64>,
+    t: &TimeDiagnosis,
     o: &DiagnosisOptions,
 ) -> Option<f64> {
     let w = time_window(s.u.len(), closed_loop.is_some(), o);
-    // The frequency domain's model with the input's nonlinear effects
-    // back, which the FRF could not see.
-    let m = ModelFile {
-        effects: Effects {
-            coulomb_friction: model.effects.coulomb_friction,
-            backlash_gap: model.effects.backlash_gap,
-            offset_force: model.effects.offset_force,
-            ..f.model_after.effects
-        },
-        ..f.model_after.clone()
-    };
+    let m = with_input_effects(f, model);
     let loop_window = closed_loop.map(|l| l.window(0..w));
     held_out_error(
         &s.u[..w],
@@ -741,8 +872,89 @@ fn frequency_model_error(
         s.fs,
         &m,
         loop_window.as_ref(),
-        &time_options(o, corner),
+        &scored_as(o, t),
     )
+}
+
+/// The time-domain options under which `t` scored its models: its
+/// high-pass, if it applied one, and no other.
+fn scored_as(o: &DiagnosisOptions, t: &TimeDiagnosis) -> TimeOptions {
+    TimeOptions {
+        highpass_hz: t.highpass_hz,
+        drift_corner_hz: None,
+        ..time_options(o, None)
+    }
+}
+
+/// The frequency domain's effects checked on the samples `u`, `y` (and
+/// further outputs): its calibrated model against its model after, both
+/// as fitted, on the held-out samples within `band`.
+#[allow(clippy::too_many_arguments)]
+fn confirm(
+    u: &[f64],
+    y: &[f64],
+    others: &[(&[f64], mms::Port, f64)],
+    fs: f64,
+    model: &ModelFile,
+    f: &Diagnosis,
+    record: Option<&LoopRecord>,
+    band: (f64, f64),
+    o: &DiagnosisOptions,
+) -> Option<Confirmation> {
+    // A simulated acceleration reads its own sample's input (the mass
+    // line has no hold delay, the rest half a sample), so its samples
+    // differ from the transfer function the FRF was fitted with by up to
+    // half a sample of phase: no check of the effects.
+    if model.output == mms::Output::Acceleration {
+        return None;
+    }
+    let before = ModelFile {
+        model: model.model,
+        ..f.calibrated.clone()
+    };
+    let after = with_input_effects(f, model);
+    let (e, independent, output) = crate::nonlinear::held_out_band_errors(
+        u,
+        y,
+        others,
+        fs,
+        &[&before, &after],
+        record,
+        band,
+        &time_options(o, None),
+    )?;
+    Some(Confirmation {
+        band_hz: band,
+        before: e[0],
+        after: e[1],
+        effective_samples: independent,
+        gain: crate::diagnose::profiled_gain(e[0] * e[0], e[1] * e[1], independent),
+        output,
+        informative: e[0] <= CONFIRMATION_ADEQUATE * output,
+    })
+}
+
+/// Where the time domain starts: `model` with the chain's parameters of
+/// the frequency domain's calibration (its effects are `model`'s own).
+fn time_start(model: &ModelFile, f: &Diagnosis) -> ModelFile {
+    ModelFile {
+        parameters: f.calibrated.parameters.clone(),
+        ..model.clone()
+    }
+}
+
+/// The frequency domain's model after `f` with the input model's
+/// nonlinear effects back, which the FRF could not see.
+fn with_input_effects(f: &Diagnosis, model: &ModelFile) -> ModelFile {
+    ModelFile {
+        effects: Effects {
+            coulomb_friction: model.effects.coulomb_friction,
+            backlash_gap: model.effects.backlash_gap,
+            offset_force: model.effects.offset_force,
+            ..f.model_after.effects
+        },
+        ..f.model_after.clone()
+    }
 }
 
 /// A cut of the record for a rerun: its cut, its samples' range and the
@@ -801,8 +1013,18 @@ fn cuts(s: &Samples, frf: &Frf, welch: &WelchOptions) -> Vec<CutSpec> {
 /// does), whose result it then shares.
 struct RerunResult {
     cut: Cut,
-    result: Result<(Option<Diagnosis>, Option<TimeDiagnosis>, bool), String>,
+    result: Result<RerunParts, String>,
 }
+
+/// A rerun's frequency-domain diagnosis, its time-domain one (`None` when
+/// shared with the whole record's), whether it is shared, and the
+/// frequency domain's check on the cut's samples.
+type RerunParts = (
+    Option<Diagnosis>,
+    Option<TimeDiagnosis>,
+    bool,
+    Option<Confirmation>,
+);
 
 /// The diagnosis of one cut (open loop).
 fn rerun(
@@ -823,20 +1045,24 @@ fn rerun(
         let whole = time_window(s.u.len(), false, o);
         let here = time_window(c.range.len(), false, o);
         let shared = c.range.start == 0 && here == whole;
-        let (fd, td) = rayon::join(
-            || frequency_part(&est, band, model, o).map_err(|e| e.to_string()),
-            || {
-                (band.is_some() && !shared).then(|| {
-                    time_part(s, c.range.start, model, None, corner, o).map_err(|e| e.to_string())
-                })
-            },
-        );
-        let fd = fd?;
-        if fd.is_none() {
-            return Ok((None, None, false));
-        }
-        let td = td.transpose()?;
-        Ok((fd, td, shared))
+        let fd = frequency_part(&est, band, model, o).map_err(|e| e.to_string())?;
+        let Some(f) = &fd else {
+            return Ok((None, None, false, None));
+        };
+        let td = (!shared)
+            .then(|| {
+                time_part(s, c.range.start, &time_start(model, f), None, corner, o)
+                    .map_err(|e| e.to_string())
+            })
+            .transpose()?;
+        let confirmation = match band {
+            Some(b) if names(&f.effects) => {
+                let w = c.range.start..c.range.start + here;
+                confirm(&s.u[w.clone()], &s.y[w], &[], s.fs, model, f, None, b, o)
+            }
+            _ => None,
+        };
+        Ok((fd, td, shared, confirmation))
     })();
     RerunResult { cut: c.cut, result }
 }
@@ -845,9 +1071,9 @@ impl RerunResult {
     /// The rerun's verdict against the whole record's.
     fn verdict(self, whole: &Verdict, whole_td: Option<&TimeDiagnosis>) -> DiagnosisRerun {
         match self.result {
-            Ok((fd, td, shared)) => {
+            Ok((fd, td, shared, confirmation)) => {
                 let td = if shared { whole_td.cloned() } else { td };
-                let v = reconcile(fd.as_ref(), td.as_ref(), None);
+                let v = reconcile(fd.as_ref(), td.as_ref(), None, confirmation);
                 DiagnosisRerun {
                     cut: self.cut,
                     same_headline: v.headline == whole.headline,
@@ -900,7 +1126,7 @@ impl DiagnosisStability {
 /// The options of the time-domain half, compared above `corner`.
 fn time_options(o: &DiagnosisOptions, corner: Option<f64>) -> TimeOptions {
     TimeOptions {
-        highpass_hz: corner,
+        drift_corner_hz: corner,
         tolerance: o.tolerance,
         welch: o.welch.clone(),
         ..TimeOptions::default()
@@ -917,6 +1143,7 @@ fn reconcile(
     fd: Option<&Diagnosis>,
     td: Option<&TimeDiagnosis>,
     held_out_errors: Option<HeldOutErrors>,
+    confirmation: Option<Confirmation>,
 ) -> Verdict {
     // The drops are -2 ln of likelihood ratios on held-out data in both
     // domains: lines with their measured uncertainty, samples with the
@@ -929,6 +1156,7 @@ fn reconcile(
             score: 0.0,
             step: 0,
             unresolved: None,
+            standard_errors: Default::default(),
         }]
     };
     let frequency_evidence = fd.map(|d| d.held_out.map_or(0.0, |h| h.evidence()));
@@ -947,6 +1175,7 @@ fn reconcile(
             frequency_evidence,
             time_evidence,
             held_out_errors,
+            confirmation,
         }
     };
     let Some(fd) = fd else {
@@ -972,15 +1201,36 @@ fn reconcile(
             Reason::FrequencyDomainNotInformative { log_error },
         );
     }
-    match (fd_names, names(&td.effects)) {
+    let td_names = names(&td.effects);
+    // One criterion for both domains: the prediction error on the same
+    // held-out samples. A frequency-domain model must lower it too, or
+    // what it fits is not in the record.
+    let on_samples = td.held_out.zip(held_out_errors).and_then(|(h, e)| {
+        let gain = |rms: f64| {
+            crate::diagnose::profiled_gain(e.linear * e.linear, rms * rms, h.effective_samples)
+        };
+        e.frequency_model.map(|f| (gain(f), gain(e.time_model)))
+    });
+    if fd_names {
+        if let Some(c) = confirmation.filter(|c| c.informative) {
+            if c.gain <= CONFIRMATION_PRICE {
+                let reason = Reason::FrequencyEffectsNotConfirmed {
+                    gain: c.gain,
+                    price: CONFIRMATION_PRICE,
+                };
+                return verdict(td_names.then_some(Domain::Time), reason);
+            }
+        }
+    }
+    match (fd_names, td_names) {
         (false, false) => verdict(None, Reason::NothingMissing),
         (true, false) => verdict(Some(Domain::Frequency), Reason::OnlyOneDomainNames),
         (false, true) => verdict(Some(Domain::Time), Reason::OnlyOneDomainNames),
         (true, true) => {
-            let (f, t) = (
+            let (f, t) = on_samples.unwrap_or((
                 frequency_evidence.unwrap_or(0.0),
                 time_evidence.unwrap_or(0.0),
-            );
+            ));
             let domain = if t > f {
                 Domain::Time
             } else {
@@ -1061,14 +1311,13 @@ fn simulated_frf(
             (run.u, run.y)
         }
     };
-    let est = frf::h1(&u, &y, s.fs, welch)
-        .map_err(|e| TimeDiagnoseError::Input(format!("H1 of the simulated output: {e}")))?;
     // Same options, same lines; a different grid (it cannot happen with
-    // the recording's own options) leaves the curve out.
-    if est.frf.freq_hz() != like.freq_hz() {
-        return Ok(vec![Complex64::new(f64::NAN, f64::NAN); like.len()]);
+    // the recording's own options) or an output with no estimate (a
+    // simulation that left the finite numbers) leaves the curve out.
+    match frf::h1(&u, &y, s.fs, welch) {
+        Ok(est) if est.frf.freq_hz() == like.freq_hz() => Ok(est.frf.response().to_vec()),
+        _ => Ok(vec![Complex64::new(f64::NAN, f64::NAN); like.len()]),
     }
-    Ok(est.frf.response().to_vec())
 }
 
 /// A diagnosis checked on another recording of the same rig
@@ -1472,5 +1721,35 @@ pub fn compare_operating_diagnoses(
         pre_sliding_as_extra_mode,
         pre_sliding_named,
         structures: (first.model_after.model.id(), second.model_after.model.id()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The reason's name is its JSON `kind`, for every reason.
+    #[test]
+    fn reason_kind_is_the_json_kind() {
+        let all = [
+            Reason::NothingInformative,
+            Reason::NothingMissing,
+            Reason::FrequencyDomainOnly,
+            Reason::TimeDomainNotInformative { unexplained: 0.7 },
+            Reason::OnlyOneDomainNames,
+            Reason::FrequencyDomainNotInformative { log_error: 0.6 },
+            Reason::StrongerHeldOutEvidence {
+                frequency: 1.0,
+                time: 2.0,
+            },
+            Reason::FrequencyEffectsNotConfirmed {
+                gain: -3.0,
+                price: CONFIRMATION_PRICE,
+            },
+        ];
+        for r in all {
+            let v = serde_json::to_value(r).unwrap();
+            assert_eq!(v["kind"], r.kind(), "{v}");
+        }
     }
 }

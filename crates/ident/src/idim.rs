@@ -689,6 +689,7 @@ pub fn idim_ls(
                             score,
                             step,
                             unresolved: None,
+                            standard_errors: Default::default(),
                         },
                         state: (idx, rss),
                     })

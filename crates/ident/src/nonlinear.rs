@@ -90,7 +90,7 @@ use crate::evidence::{
 use crate::fit::solve_spd;
 use crate::idim::{idim_ls, IdimOptions, InverseDynamics};
 use crate::selection::{forward_select, none, Trial};
-use frf::welch::{h1, WelchOptions};
+use frf::welch::{effective_samples, h1, WelchOptions};
 use frf::Frf;
 use mms::model_file::ModelFile;
 use mms::response::Parameters;
@@ -142,7 +142,18 @@ pub struct TimeOptions {
     /// every slow force the model does not know of, does not swamp the
     /// dynamics; `None`: only the initial state's trend is taken out.
     pub highpass_hz: Option<f64>,
+    /// Open loop, without [`TimeOptions::highpass_hz`]: high-pass at this
+    /// corner only where the data show a drift the model cannot explain,
+    /// i.e. where more than [`DRIFT_SHARE`] of the calibrated linear
+    /// model's error lies below it ([`TimeDiagnosis::highpass_hz`] says
+    /// whether it was). Slow motion is otherwise compared as it is: a
+    /// friction shows at the velocity reversals of slow moves.
+    pub drift_corner_hz: Option<f64>,
 }
+
+/// The share of the calibrated linear model's output error below
+/// [`TimeOptions::drift_corner_hz`] above which it is a drift to take out.
+pub const DRIFT_SHARE: f64 = 0.5;
 
 /// The blocks of [`TimeOptions::holdout`]: the record is cut into this
 /// many, and every fourth (the 4th, 8th, ...) is held out.
@@ -151,7 +162,7 @@ pub const HOLDOUT_BLOCKS: usize = 16;
 impl Default for TimeOptions {
     fn default() -> TimeOptions {
         TimeOptions {
-            tolerance: 0.2,
+            tolerance: crate::diagnosis::DEFAULT_TOLERANCE,
             damper_tolerance: 0.5,
             margin: 10.0,
             min_share: 0.1,
@@ -161,6 +172,7 @@ impl Default for TimeOptions {
             holdout: true,
             informative: 0.5,
             highpass_hz: None,
+            drift_corner_hz: None,
         }
     }
 }
@@ -223,6 +235,14 @@ pub struct TimeDiagnosis {
     /// ([`TimeOptions::informative`]) for the comparison to decide
     /// anything.
     pub informative: bool,
+    /// The corner of the high-pass the comparison applied, Hz (given, or
+    /// taken where the data showed a drift; `None`: none).
+    pub highpass_hz: Option<f64>,
+    /// With several outputs, each further output's weight in the output
+    /// error: the first output's noise over its own (empty for one
+    /// output).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub output_weights: Vec<f64>,
 }
 
 /// The output error on the samples held out of every fit.
@@ -234,10 +254,11 @@ pub struct TimeHeldOut {
     pub before: f64,
     /// The same for the model after the diagnosis.
     pub after: f64,
-    /// The held-out samples counted as independent: `samples (1 - r) /
-    /// (1 + r)` for `r` the lag-one correlation of that model's error
-    /// there. A smooth error (the model still misses slow motion) has far
-    /// fewer independent samples than samples; white noise has as many.
+    /// The held-out samples counted as independent
+    /// ([`frf::welch::effective_samples`] of that model's error there, every
+    /// output's): a smooth error (the model still misses slow motion) has
+    /// far fewer independent samples than samples; white noise has as
+    /// many.
     pub effective_samples: f64,
 }
 
@@ -531,14 +552,9 @@ impl Problem<'_> {
         sim.iter().zip(&t).map(|(s, t)| s + t).collect()
     }
 
-    /// The output error on every sample (after the initial state), or
-    /// `None` if the simulation fails.
-    fn errors(&self, kinds: &[EffectKind], x: &[f64]) -> Option<Vec<f64>> {
-        self.all_errors(kinds, x).map(|mut e| e.swap_remove(0))
-    }
-
-    /// [`Problem::errors`] of the first output, then those of the further
-    /// outputs (each about its own slow part, times its weight).
+    /// The output error on every sample (after the initial state) of the
+    /// first output, then those of the further outputs (each about its
+    /// own slow part, times its weight); `None` if the simulation fails.
     fn all_errors(&self, kinds: &[EffectKind], x: &[f64]) -> Option<Vec<Vec<f64>>> {
         let (s, _, at) = self.run(kinds, x).ok()?;
         let s = self.with_initial_state(kinds, &s);
@@ -594,6 +610,71 @@ impl Problem<'_> {
                 .sum(),
             None => f64::INFINITY,
         }
+    }
+
+    /// The fitted and the held-out output errors at `x` counted as
+    /// independent ([`frf::welch::effective_samples`]): a model whose
+    /// error is still a smooth signal has far fewer independent samples
+    /// than samples.
+    fn effective_counts(&self, kinds: &[EffectKind], x: &[f64]) -> (f64, f64) {
+        let Some(all) = self.all_errors(kinds, x) else {
+            return (0.0, 0.0);
+        };
+        let (mut fit, mut test) = (Vec::new(), Vec::new());
+        for e in &all {
+            for (&v, &h) in e.iter().zip(&self.held) {
+                if h {
+                    test.push(v);
+                } else {
+                    fit.push(v);
+                }
+            }
+        }
+        (effective_samples(&fit), effective_samples(&test))
+    }
+
+    /// The covariance of the coordinates at `x` (row-major): the inverse
+    /// of the Gauss-Newton matrix of forward differences (one simulation
+    /// per coordinate) times the residual's variance, inflated by its
+    /// correlation from sample to sample. `None` where it is singular.
+    fn covariance(&self, kinds: &[EffectKind], x: &[f64], hi: &[f64]) -> Option<Vec<f64>> {
+        let p = x.len();
+        let (r, rss) = self.residual(kinds, x);
+        if !rss.is_finite() || r.len() <= p {
+            return None;
+        }
+        let columns: Vec<Option<Vec<f64>>> = (0..p)
+            .into_par_iter()
+            .map(|i| {
+                let mut xi = x.to_vec();
+                let step = if xi[i] + 1e-4 > hi[i] { -1e-4 } else { 1e-4 };
+                xi[i] += step;
+                let (ri, rssi) = self.residual(kinds, &xi);
+                (rssi.is_finite() && ri.len() == r.len())
+                    .then(|| r.iter().zip(&ri).map(|(a, b)| (a - b) / step).collect())
+            })
+            .collect();
+        let jac: Vec<Vec<f64>> = columns.into_iter().collect::<Option<_>>()?;
+        let mut a = vec![0.0; p * p];
+        for i in 0..p {
+            for j in 0..=i {
+                let v: f64 = jac[i].iter().zip(&jac[j]).map(|(a, b)| a * b).sum();
+                a[i * p + j] = v;
+                a[j * p + i] = v;
+            }
+        }
+        let variance = rss / (r.len() - p) as f64;
+        let scale = variance * (r.len() as f64 / effective_samples(&r).max(1.0)).max(1.0);
+        let mut cov = vec![0.0; p * p];
+        for j in 0..p {
+            let mut unit = vec![0.0; p];
+            unit[j] = 1.0;
+            let col = solve_spd(&a, &unit, p)?;
+            for i in 0..p {
+                cov[i * p + j] = col[i] * scale;
+            }
+        }
+        Some(cov)
     }
 
     /// Levenberg-Marquardt on the output error from `x`, each step clamped
@@ -886,8 +967,26 @@ pub fn held_out_error(
     record: Option<&LoopRecord>,
     o: &TimeOptions,
 ) -> Option<f64> {
+    held_out_error_outputs(u, y, &[], fs, model, record, o)
+}
+
+/// [`held_out_error`] of several outputs at once, as
+/// [`diagnose_time_outputs`] compares them: `y` at the model's sensor,
+/// and each of `others` (samples, place, weight) at its place, its error
+/// about its own slow part times its weight
+/// ([`TimeDiagnosis::output_weights`]); the RMS over every output's
+/// held-out samples.
+pub fn held_out_error_outputs(
+    u: &[f64],
+    y: &[f64],
+    others: &[(&[f64], mms::Port, f64)],
+    fs: f64,
+    model: &ModelFile,
+    record: Option<&LoopRecord>,
+    o: &TimeOptions,
+) -> Option<f64> {
     let n = u.len();
-    if n != y.len() || n < 64 || !o.holdout {
+    if n != y.len() || n < 64 || !o.holdout || others.iter().any(|e| e.0.len() != n) {
         return None;
     }
     let Calibration { free, x0, lo, hi } = free_parameters(model, o);
@@ -897,7 +996,10 @@ pub fn held_out_error(
         y,
         fs,
         free,
-        extra: Vec::new(),
+        extra: others
+            .iter()
+            .map(|&(y, place, weight)| Extra { y, place, weight })
+            .collect(),
         offset_scale: 1.0,
         closed: record.map(|r| r.closed_loop(y, fs)),
         welch: &o.welch,
@@ -906,13 +1008,114 @@ pub fn held_out_error(
         trend: trend_terms(record.is_some(), model.output),
         highpass: highpass(record.is_some(), o.highpass_hz, fs, n),
     };
-    let n_test = problem.held.iter().filter(|&&h| h).count();
+    let n_test = (1 + others.len()) * problem.held.iter().filter(|&&h| h).count();
     let (x, fitted) = problem.fit(&[], x0, &lo, &hi, o.max_iterations);
     if !fitted.is_finite() {
         return None;
     }
     let rss = problem.test_rss(&[], &x);
     (rss.is_finite() && n_test > 0).then(|| (rss / n_test as f64).sqrt())
+}
+
+/// The errors of `models`, as they are (no calibration), on the samples
+/// [`TimeOptions::holdout`] holds out, within `band` (Hz): each simulated
+/// from the recorded input (or inside the loop `record`), the trend of
+/// the initial state taken out as the time-domain diagnosis takes it out,
+/// and the error band-passed (zero phase) to the lines a frequency-domain
+/// diagnosis compared. The one figure on which that diagnosis's models
+/// can be checked against the samples: outside its band it claims
+/// nothing. Each output of `others` (samples, place, weight) counts as in
+/// [`held_out_error_outputs`]. Returns each model's RMS error and the
+/// held-out samples counted as independent
+/// ([`frf::welch::effective_samples`] of the first model's error), and
+/// the RMS of the recorded output there within the band (the first
+/// output's, its initial state's trend taken out); `None` without
+/// held-out samples or when a model cannot be simulated.
+#[allow(clippy::too_many_arguments)]
+pub fn held_out_band_errors(
+    u: &[f64],
+    y: &[f64],
+    others: &[(&[f64], mms::Port, f64)],
+    fs: f64,
+    models: &[&ModelFile],
+    record: Option<&LoopRecord>,
+    band: (f64, f64),
+    o: &TimeOptions,
+) -> Option<(Vec<f64>, f64, f64)> {
+    let n = u.len();
+    if n != y.len() || n < 64 || !o.holdout || others.iter().any(|e| e.0.len() != n) {
+        return None;
+    }
+    let held = held_blocks(n, true);
+    let pad = |fc: f64| ((3.0 * fs / fc) as usize).max(3);
+    let low = (band.0 > 0.0 && band.0 < 0.25 * fs).then(|| {
+        crate::idim::ZeroPhase::new(crate::idim::butterworth(2, band.0, fs)[0], n, pad(band.0))
+    });
+    let high = (band.1 > 0.0 && band.1 < 0.4 * fs).then(|| {
+        crate::idim::ZeroPhase::new(crate::idim::butterworth(2, band.1, fs)[0], n, pad(band.1))
+    });
+    let band_pass = |e: &[f64]| -> Vec<f64> {
+        // The low-passed part at the band's top, less its own low-passed
+        // part at the band's bottom.
+        let e = match &high {
+            Some(h) => h.apply(e),
+            None => e.to_vec(),
+        };
+        match &low {
+            Some(l) => {
+                let slow = l.apply(&e);
+                e.iter().zip(&slow).map(|(a, b)| a - b).collect()
+            }
+            None => e,
+        }
+    };
+    let mut errors = Vec::with_capacity(models.len());
+    let mut independent = 0.0;
+    let mut output = 0.0;
+    for (i, model) in models.iter().enumerate() {
+        let problem = Problem {
+            file: model,
+            u,
+            y,
+            fs,
+            free: Vec::new(),
+            extra: others
+                .iter()
+                .map(|&(y, place, weight)| Extra { y, place, weight })
+                .collect(),
+            offset_scale: 1.0,
+            closed: record.map(|r| r.closed_loop(y, fs)),
+            welch: &o.welch,
+            held: held.clone(),
+            trend_basis: TrendBasis::new(&held, MAX_TREND_TERMS),
+            trend: trend_terms(record.is_some(), model.output),
+            highpass: None,
+        };
+        let all = problem.all_errors(&[], &[])?;
+        let mut kept = Vec::new();
+        for e in &all {
+            let e = band_pass(e);
+            kept.extend(e.iter().zip(&held).filter(|(_, &h)| h).map(|(v, _)| *v));
+        }
+        if kept.is_empty() || kept.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        if i == 0 {
+            independent = effective_samples(&kept);
+            let trend = problem.slow(&[], y);
+            let motion: Vec<f64> = y.iter().zip(&trend).map(|(a, b)| a - b).collect();
+            let motion = band_pass(&motion);
+            let m: Vec<f64> = motion
+                .iter()
+                .zip(&held)
+                .filter(|(_, &h)| h)
+                .map(|(v, _)| *v)
+                .collect();
+            output = (m.iter().map(|v| v * v).sum::<f64>() / m.len().max(1) as f64).sqrt();
+        }
+        errors.push((kept.iter().map(|v| v * v).sum::<f64>() / kept.len() as f64).sqrt());
+    }
+    Some((errors, independent, output))
 }
 
 /// The most terms [`trend_terms`] asks for (a quadratic).
@@ -1281,6 +1484,30 @@ pub fn diagnose_time_outputs(
     // Calibration of the linear chain (with the model's own effects).
     let x_nominal = x0.clone();
     let (mut x_cal, mut rss_cal) = problem.fit(&[], x0, &lo, &hi, o.max_iterations);
+    // A drift the calibrated linear model cannot explain, where the data
+    // show one: most of its error below the corner.
+    let mut applied_corner = o.highpass_hz;
+    if let (None, Some(fc), None, true) = (
+        problem.highpass.as_ref(),
+        o.drift_corner_hz,
+        record,
+        rss_cal.is_finite(),
+    ) {
+        if let (Some(lp), Some(all)) = (
+            highpass(false, Some(fc), fs, n),
+            problem.all_errors(&[], &x_cal),
+        ) {
+            let e = &all[0];
+            let slow = lp.apply(e);
+            let total: f64 = e.iter().map(|v| v * v).sum();
+            let below: f64 = slow.iter().map(|v| v * v).sum();
+            if total > 0.0 && below > DRIFT_SHARE * total {
+                problem.highpass = Some(lp);
+                applied_corner = Some(fc);
+                (x_cal, rss_cal) = problem.fit(&[], x_cal, &lo, &hi, o.max_iterations);
+            }
+        }
+    }
     if !others.is_empty() && rss_cal.is_finite() {
         // Each further output weighs by the first's noise over its own,
         // both read off the calibrated linear model, then the calibration
@@ -1328,7 +1555,6 @@ pub fn diagnose_time_outputs(
     }
     let measured_frf = measured.as_ref().map(|e| &e.frf);
     let before = problem.time_fit(&[], &x_cal, measured_frf)?;
-    let price = (n_fit as f64).ln() + o.margin;
     let test_cal = problem.test_rss(&[], &x_cal);
 
     let cal_model = problem.model(&[], &x_cal)?;
@@ -1408,13 +1634,17 @@ pub fn diagnose_time_outputs(
             else {
                 return Ok(None);
             };
-            let gain_bic = n_fit as f64 * (rss_base / rss).ln();
+            // The samples counted as independent, from this model's own
+            // errors on the fitted and the held-out samples.
+            let (eff_fit, eff_test) = problem.effective_counts(&with, &x);
+            let gain_bic = crate::diagnose::profiled_gain(rss_base, rss, eff_fit);
+            let price = eff_fit.max(2.0).ln() + o.margin;
             let share = 1.0 - rss / rss_base;
             // On the held-out blocks the effect must lower the error by
             // more than its parameter's price there.
             let test = problem.test_rss(&with, &x);
-            let gain_test = n_test as f64 * (test_base / test).ln();
-            let validated = n_test == 0 || gain_test > (n_test as f64).ln();
+            let gain_test = crate::diagnose::profiled_gain(test_base, test, eff_test);
+            let validated = n_test == 0 || gain_test > eff_test.max(2.0).ln();
             // A further effect must always explain a share of what the kept
             // ones leave: that misfit is mostly the kept effects' imperfect
             // fit, which BIC would count as information.
@@ -1428,6 +1658,13 @@ pub fn diagnose_time_outputs(
                 _ => f64::INFINITY,
             };
             let relevant = force >= MIN_FORCE_SHARE * f_rms;
+            // Its own parameter must stand out of its uncertainty and
+            // lie inside its range.
+            let (mut lo_k, mut hi_k) = (lo_base.clone(), hi_base.clone());
+            lo_k.push(ll);
+            hi_k.push(lh);
+            let (standard_errors, unresolved) =
+                time_significance(kind, &problem.covariance(&with, &x, &hi_k), &x, &lo_k, &hi_k, f_max);
             let score = if enough && relevant && validated {
                 gain_bic - price
             } else {
@@ -1461,9 +1698,6 @@ pub fn diagnose_time_outputs(
             let mut parameters = BTreeMap::new();
             let pname = kind.parameter_name().unwrap_or("value");
             parameters.insert(pname.to_string(), value(kind, x[x.len() - 1]));
-            let (mut lo_k, mut hi_k) = (lo_base.clone(), hi_base.clone());
-            lo_k.push(ll);
-            hi_k.push(lh);
             Ok(Some(Trial {
                 verdict: EffectVerdict {
                     kind,
@@ -1471,7 +1705,8 @@ pub fn diagnose_time_outputs(
                     evidence,
                     score,
                     step,
-                    unresolved: None,
+                    unresolved,
+                    standard_errors,
                 },
                 state: Fit {
                     x,
@@ -1505,26 +1740,7 @@ pub fn diagnose_time_outputs(
     } = selected.state;
     // How many of the held-out samples count as independent, from the
     // chosen model's error there.
-    let effective_samples = match problem.errors(&kinds, &x_base) {
-        Some(e) => {
-            let (mut num, mut den) = (0.0, 0.0);
-            for k in 0..n {
-                if problem.held[k] {
-                    den += e[k] * e[k];
-                    if k + 1 < n && problem.held[k + 1] {
-                        num += e[k] * e[k + 1];
-                    }
-                }
-            }
-            let r = if den > 0.0 {
-                (num / den).clamp(0.0, 0.999)
-            } else {
-                0.0
-            };
-            n_test as f64 * (1.0 - r) / (1.0 + r)
-        }
-        None => n_test as f64,
-    };
+    let independent = problem.effective_counts(&kinds, &x_base).1;
     // The held-out blocks chose the effects; their values come from every
     // sample.
     if n_test > 0 && !kinds.is_empty() {
@@ -1612,10 +1828,66 @@ pub fn diagnose_time_outputs(
             samples: n_test,
             before: test_cal,
             after: test_base,
-            effective_samples,
+            effective_samples: independent,
         }),
         informative,
+        highpass_hz: problem.highpass.as_ref().and(applied_corner),
+        output_weights: problem.extra.iter().map(|e| e.weight).collect(),
     })
+}
+
+/// The standard error of a time-domain effect's parameter (the last
+/// coordinate of `x`, with covariance `cov`) and why the record does not
+/// resolve it, if it does not: at the bound of its range, or its absent
+/// value (no force, no gap) within
+/// [`SIGNIFICANCE_SIGMAS`](crate::diagnose::SIGNIFICANCE_SIGMAS) standard
+/// errors. An offset's coordinate is the force over `f_max`; the others'
+/// are logarithms.
+fn time_significance(
+    kind: EffectKind,
+    cov: &Option<Vec<f64>>,
+    x: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    f_max: f64,
+) -> (BTreeMap<String, f64>, Option<crate::diagnose::Unresolved>) {
+    use crate::diagnose::{Unresolved, SIGNIFICANCE_SIGMAS};
+    let mut errors = BTreeMap::new();
+    let p = x.len();
+    let k = p - 1;
+    let name = kind.parameter_name().unwrap_or("value").to_string();
+    let (v, offset) = match kind {
+        EffectKind::Offset => (x[k] * f_max, true),
+        _ => (x[k].exp(), false),
+    };
+    let se = cov.as_ref().map(|c| c[k * p + k].max(0.0).sqrt());
+    if let Some(se) = se {
+        errors.insert(name.clone(), if offset { se * f_max } else { v * se });
+    }
+    let tol = 1e-6 * (hi[k] - lo[k]).max(1.0);
+    if x[k] - lo[k] <= tol || hi[k] - x[k] <= tol {
+        return (
+            errors,
+            Some(Unresolved::AtBound {
+                parameter: name,
+                value: v,
+            }),
+        );
+    }
+    let Some(se) = se else {
+        return (errors, None);
+    };
+    let sigmas = if offset { x[k].abs() / se } else { 1.0 / se };
+    if sigmas.is_nan() || sigmas < SIGNIFICANCE_SIGMAS {
+        return (
+            errors,
+            Some(Unresolved::WithinUncertainty {
+                parameter: name,
+                sigmas,
+            }),
+        );
+    }
+    (errors, None)
 }
 
 /// Lines worth comparing: coherence of at least 0.5 (all lines if the

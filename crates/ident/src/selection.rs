@@ -40,6 +40,7 @@ pub(crate) fn none(rejected: &[EffectVerdict]) -> EffectVerdict {
         score: 0.0,
         step: 0,
         unresolved: None,
+        standard_errors: Default::default(),
     }
 }
 
