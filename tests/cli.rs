@@ -98,6 +98,8 @@ fn bad_input_is_one_line_and_exit_2() {
         vec!["enumerate", "--masses", "3", "--format", "xml"],
         vec!["enumerate", "--masses", "-3"],
         vec!["algebra", "--masses", "99"],
+        vec!["benchmark", "--cases", "0"],
+        vec!["benchmark", "--cases", "2000000"],
         vec!["frobnicate"],
     ] {
         let (code, out, err) = mms(&args);

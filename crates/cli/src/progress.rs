@@ -24,11 +24,18 @@ pub struct ModelProgress {
 impl ModelProgress {
     /// A bar `prefix [====>   ] pos/len models, elapsed names`.
     pub fn new(prefix: &'static str, len: u64) -> ModelProgress {
+        ModelProgress::with_unit(prefix, len, "models")
+    }
+
+    /// The same bar counting `unit` (e.g. "cases").
+    pub fn with_unit(prefix: &'static str, len: u64, unit: &str) -> ModelProgress {
         let bar = ProgressBar::new(len);
         bar.set_style(
-            ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} models, {elapsed} {msg}")
-                .expect("valid template")
-                .progress_chars("=> "),
+            ProgressStyle::with_template(&format!(
+                "{{prefix}} [{{bar:30}}] {{pos}}/{{len}} {unit}, {{elapsed}} {{msg}}"
+            ))
+            .expect("valid template")
+            .progress_chars("=> "),
         );
         bar.set_prefix(prefix);
         // The clock runs while a slow model is in progress.

@@ -9,6 +9,7 @@
 pub mod advice;
 pub mod amplitude;
 pub mod classify;
+pub mod concealed;
 pub mod diagnose;
 pub mod diagnosis;
 pub mod evidence;
