@@ -1117,6 +1117,40 @@ pub fn diagnose_outputs(
     if !(model.gain.is_finite() && model.gain != 0.0) {
         return Err(DiagnoseError::Options(format!("model gain {}", model.gain)));
     }
+    // Lines the excitation did not reach (an infinite standard deviation:
+    // between the lines of an odd or a band-limited multisine) carry no
+    // information: they belong to no comparison, and go before the
+    // held-out lines are chosen, which would otherwise be unexcited ones.
+    let mut excited: Vec<Option<Frf>> = Vec::with_capacity(outputs.len());
+    for out in outputs {
+        let Some(sd) = out
+            .frf
+            .std_dev()
+            .filter(|sd| sd.iter().any(|v| !v.is_finite()))
+        else {
+            excited.push(None);
+            continue;
+        };
+        let keep: Vec<usize> = (0..sd.len()).filter(|&k| sd[k].is_finite()).collect();
+        match out.frf.lines(&keep) {
+            Some(f) => excited.push(Some(f)),
+            None => {
+                return Err(DiagnoseError::TooFewLines {
+                    lines: 0,
+                    parameters: model.model.parameters().len() + 1,
+                })
+            }
+        }
+    }
+    let kept: Vec<OutputFrf> = outputs
+        .iter()
+        .zip(&excited)
+        .map(|(out, e)| OutputFrf {
+            frf: e.as_ref().unwrap_or(out.frf),
+            chain: out.chain,
+        })
+        .collect();
+    let outputs = &kept[..];
     let freq_all: Vec<f64> = outputs
         .iter()
         .flat_map(|out| out.frf.freq_hz().iter().copied())
