@@ -236,5 +236,11 @@ fn markdown(o: &Options, s: &Summary) -> String {
     for (decade, (count, median, max)) in &s.time {
         let _ = writeln!(m, "| {decade} | {count} | {median:.2} s | {max:.2} s |");
     }
+    let (count, median, max) = s.two_mass_per_100k;
+    let _ = writeln!(
+        m,
+        "\nPer 100 000 samples, time records of 2-mass chains with one sensor ({count} cases): \
+         median {median:.2} s, largest {max:.2} s."
+    );
     m
 }

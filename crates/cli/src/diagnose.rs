@@ -898,6 +898,26 @@ fn time_markdown(s: &mut String, d: &TimeDiagnosis) {
             (h.after / h.samples as f64).sqrt()
         );
     }
+    if let Some(r) = &d.whole_record {
+        let h = &r.held_out;
+        let _ = writeln!(
+            s,
+            "Searched on the first {} of {} samples; both models refitted on the whole record: \
+             held-out error {:.4e} -> {:.4e} RMS, {:.1} noise units against a price of {:.1} \
+             ({}).",
+            r.search_samples,
+            r.samples,
+            (h.before / h.samples.max(1) as f64).sqrt(),
+            (h.after / h.samples.max(1) as f64).sqrt(),
+            r.gain,
+            r.price,
+            if r.confirmed {
+                "the effects hold on the whole record"
+            } else {
+                "the search's effects do not hold on the whole record: rejected"
+            }
+        );
+    }
     s.push_str("\n### Evidence\n\n");
     for e in record_evidence(&d.evidence) {
         let _ = writeln!(s, "- {e}");

@@ -104,12 +104,14 @@ pub struct DiagnosisOptions {
     /// How the recording's H1 estimate was made (segment length or
     /// period): the simulated models' curves use the same.
     pub welch: WelchOptions,
-    /// The time-domain hypotheses are fitted on at most this many samples
-    /// from the start of an open-loop record (three times as many in a
-    /// closed loop, whose reference may take longer to visit every
-    /// motion): each fit simulates the whole stretch hundreds of times,
-    /// and a few seconds of a drive show a friction or a backlash as well
-    /// as a minute does.
+    /// The time-domain search (calibration and forward selection, which
+    /// simulate the stretch hundreds of times) runs on at most this many
+    /// samples from the start of an open-loop record (three times as many
+    /// in a closed loop, whose reference may take longer to visit every
+    /// motion); the models it chose are then refitted on the whole record
+    /// and kept only if its held-out blocks confirm them
+    /// ([`TimeDiagnosis::whole_record`]). The figures that compare the two
+    /// domains on held-out samples use the search's stretch.
     pub time_samples: usize,
     /// Rerun the diagnosis on the halves of the record and at half the
     /// segment length, and report whether the headline holds.
@@ -407,7 +409,14 @@ pub fn diagnose_recording(
         let fd = frequency_part(frf, band, model, o)?;
         let (frequency_model, td) = match (&fd, samples) {
             (Some(f), Some(s)) => {
-                let td = time_part(s, 0, &time_start(model, f), closed_loop, corner, o)?;
+                let td = time_part(
+                    s,
+                    0..s.u.len(),
+                    &time_start(model, f),
+                    closed_loop,
+                    corner,
+                    o,
+                )?;
                 let error = frequency_model_error(s, model, closed_loop, f, &td, o);
                 (error, Some(td))
             }
@@ -671,16 +680,17 @@ fn joint_diagnosis(
                 .map(|(t, out)| (&t.y[..w.min(t.y.len())], out.chain.sensor()))
                 .collect();
             let record = closed_loop.map(|l| l.window(0..w));
-            let to = time_options(o, corner);
-            let td = diagnose_time_outputs(
-                &s.u[..w],
-                &s.y[..w],
-                &others,
-                s.fs,
-                &first,
-                record.as_ref(),
-                &to,
-            )?;
+            let to = TimeOptions {
+                search_samples: Some(w),
+                ..time_options(o, corner)
+            };
+            let others_all: Vec<(&[f64], mms::Port)> = samples[1..]
+                .iter()
+                .zip(&outputs[1..])
+                .map(|(t, out)| (&t.y[..], out.chain.sensor()))
+                .collect();
+            let td =
+                diagnose_time_outputs(&s.u, &s.y, &others_all, s.fs, &first, closed_loop, &to)?;
             // The frequency domain's model on the same held-out samples of
             // every output, each weighted as the time domain weighs it.
             let weighted: Vec<(&[f64], mms::Port, f64)> = others
@@ -807,26 +817,28 @@ fn frequency_part(
     }
 }
 
-/// The samples the time-domain half uses from `start` on: at most
-/// [`DiagnosisOptions::time_samples`] of an open loop, three times as many
-/// in a closed loop.
+/// The samples of a stretch of `len` the time-domain search uses (from
+/// its start): at most [`DiagnosisOptions::time_samples`] of an open
+/// loop, three times as many in a closed loop.
 fn time_window(len: usize, closed: bool, o: &DiagnosisOptions) -> usize {
     let cap = o.time_samples.max(64);
     len.min(if closed { 3 * cap } else { cap })
 }
 
-/// The time-domain diagnosis of the samples from `start` on.
+/// The time-domain diagnosis of the samples in `range`: searched on
+/// their first samples ([`time_window`]), checked and valued on all.
 fn time_part(
     s: &Samples,
-    start: usize,
+    range: std::ops::Range<usize>,
     model: &ModelFile,
     closed_loop: Option<&LoopRecord>,
     corner: Option<f64>,
     o: &DiagnosisOptions,
 ) -> Result<TimeDiagnosis, DiagnosisError> {
-    let to = time_options(o, corner);
-    let w = time_window(s.u.len() - start, closed_loop.is_some(), o);
-    let range = start..start + w;
+    let to = TimeOptions {
+        search_samples: Some(time_window(range.len(), closed_loop.is_some(), o)),
+        ..time_options(o, corner)
+    };
     let (u, y) = (&s.u[range.clone()], &s.y[range.clone()]);
     Ok(match closed_loop {
         None => diagnose_time(u, y, s.fs, model, &to)?,
@@ -1040,18 +1052,17 @@ fn rerun(
             .frf(c.range.clone(), &c.welch)
             .map_err(|e| e.to_string())?;
         let band = band_of(&est, model, o);
-        // The same first samples as the whole record: the same time-domain
-        // result, shared.
-        let whole = time_window(s.u.len(), false, o);
+        // The same samples as the whole record (another segment length):
+        // the same time-domain result, shared.
         let here = time_window(c.range.len(), false, o);
-        let shared = c.range.start == 0 && here == whole;
+        let shared = c.range == (0..s.u.len());
         let fd = frequency_part(&est, band, model, o).map_err(|e| e.to_string())?;
         let Some(f) = &fd else {
             return Ok((None, None, false, None));
         };
         let td = (!shared)
             .then(|| {
-                time_part(s, c.range.start, &time_start(model, f), None, corner, o)
+                time_part(s, c.range.clone(), &time_start(model, f), None, corner, o)
                     .map_err(|e| e.to_string())
             })
             .transpose()?;

@@ -149,7 +149,18 @@ pub struct TimeOptions {
     /// whether it was). Slow motion is otherwise compared as it is: a
     /// friction shows at the velocity reversals of slow moves.
     pub drift_corner_hz: Option<f64>,
+    /// Search on the first this many samples only (`None`: the whole
+    /// record): the calibration and the forward selection simulate the
+    /// stretch hundreds of times. The chosen models are then refitted on
+    /// the whole record and the effects kept only if the whole record's
+    /// held-out blocks confirm them ([`TimeDiagnosis::whole_record`]);
+    /// their values come from every sample.
+    pub search_samples: Option<usize>,
 }
+
+/// Levenberg-Marquardt iterations of each refit on the whole record,
+/// which starts from the search's solution.
+pub const WHOLE_RECORD_ITERATIONS: usize = 4;
 
 /// The share of the calibrated linear model's output error below
 /// [`TimeOptions::drift_corner_hz`] above which it is a drift to take out.
@@ -173,6 +184,7 @@ impl Default for TimeOptions {
             informative: 0.5,
             highpass_hz: None,
             drift_corner_hz: None,
+            search_samples: None,
         }
     }
 }
@@ -243,6 +255,33 @@ pub struct TimeDiagnosis {
     /// output).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub output_weights: Vec<f64>,
+    /// Where the search used the first samples only
+    /// ([`TimeOptions::search_samples`]): the check on the whole record.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub whole_record: Option<WholeRecord>,
+}
+
+/// The search's models refitted on the whole record (each from the
+/// search's solution, on the whole record's fitted blocks) and compared on
+/// its held-out blocks: the effects stay only if they lower the error
+/// there by more than the price of their parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct WholeRecord {
+    /// Samples the search used (from the first).
+    pub search_samples: usize,
+    /// Samples in the record.
+    pub samples: usize,
+    /// The held-out sums of squares, the figures of
+    /// [`TimeHeldOut`] on the whole record.
+    pub held_out: TimeHeldOut,
+    /// `-2 ln` of the likelihood ratio there ([`TimeHeldOut::evidence`]).
+    pub gain: f64,
+    /// What the effects must gain: `ln` of the effective held-out samples
+    /// per effect parameter.
+    pub price: f64,
+    /// Whether the whole record keeps the search's effects (always for a
+    /// search that named none).
+    pub confirmed: bool,
 }
 
 /// The output error on the samples held out of every fit.
@@ -1365,6 +1404,27 @@ pub fn diagnose_time_outputs(
     if !(o.tolerance > 0.0 && o.damper_tolerance > 0.0 && o.margin.is_finite()) {
         return bad("tolerances must be positive, the margin finite".into());
     }
+    // The search runs on the first samples; the whole record refits and
+    // checks what it chose (TimeOptions::search_samples).
+    let n_all = u.len();
+    let w = o.search_samples.map_or(n_all, |k| k.clamp(64, n_all));
+    let (u_all, y_all, others_all, record_all) = (u, y, others, record);
+    if let Some(rec) = record {
+        let lengths = [
+            ("the reference", Some(rec.reference.len())),
+            ("the disturbance", rec.disturbance.map(<[f64]>::len)),
+            ("the controller's output", rec.feedback.map(|f| f.y.len())),
+        ];
+        for (what, len) in lengths {
+            if let Some(len) = len.filter(|&l| l != n_all) {
+                return bad(format!("{what} has {len} samples, the record {n_all}"));
+            }
+        }
+    }
+    let window_record = record.map(|r| r.window(0..w));
+    let others_window: Vec<(&[f64], mms::Port)> =
+        others.iter().map(|&(o, p)| (&o[..w], p)).collect();
+    let (u, y, others, record) = (&u[..w], &y[..w], &others_window[..], window_record.as_ref());
     let n = u.len();
     // Check the model can be simulated at all before any search.
     Simulator::new(model, fs, &SimOptions::default())?;
@@ -1727,9 +1787,9 @@ pub fn diagnose_time_outputs(
             .collect();
         Ok::<_, TimeDiagnoseError>(tried)
     })?;
-    let kinds: Vec<EffectKind> = selected.kept.iter().map(|v| v.kind).collect();
+    let mut kinds: Vec<EffectKind> = selected.kept.iter().map(|v| v.kind).collect();
     let mut kept = selected.kept;
-    let rejected = selected.rejected;
+    let mut rejected = selected.rejected;
     let Fit {
         x: mut x_base,
         rss: mut rss_base,
@@ -1787,11 +1847,131 @@ pub fn diagnose_time_outputs(
             *p = value(kind, v);
         }
     }
-    let after = fit_base;
+    let mut after = fit_base;
+    let mut before = before;
+    let mut noise = (rss_base / n_fit as f64).sqrt();
+    let mut model_after = problem.model(&kinds, &x_base)?.within_ranges();
+    let mut whole_record = None;
+    if w < n_all {
+        // The whole record: both models refitted from the search's
+        // solutions on its fitted blocks, compared on its held-out blocks.
+        let held = held_blocks(n_all, o.holdout);
+        let mut big = Problem {
+            file: model,
+            u: u_all,
+            y: y_all,
+            extra: others_all
+                .iter()
+                .zip(&problem.extra)
+                .map(|(&(y, place), e)| Extra {
+                    y,
+                    place,
+                    weight: e.weight,
+                })
+                .collect(),
+            fs,
+            free: problem.free.clone(),
+            offset_scale: problem.offset_scale,
+            closed: record_all.map(|r| r.closed_loop(y_all, fs)),
+            welch: &o.welch,
+            trend_basis: TrendBasis::new(&held, MAX_TREND_TERMS),
+            held,
+            trend: problem.trend,
+            highpass: problem
+                .highpass
+                .as_ref()
+                .and_then(|_| highpass(false, applied_corner, fs, n_all)),
+        };
+        let its = WHOLE_RECORD_ITERATIONS;
+        // With nothing named there is nothing to confirm: the calibrated
+        // chain is scored as the search left it (one simulation).
+        let xc = if kinds.is_empty() {
+            x_cal.clone()
+        } else {
+            big.fit(&[], x_cal.clone(), &lo, &hi, its).0
+        };
+        let test_c = big.test_rss(&[], &xc);
+        let (xs, test_s) = if kinds.is_empty() {
+            (xc.clone(), test_c)
+        } else {
+            let (xs, _) = big.fit(&kinds, x_base.clone(), &lo_base, &hi_base, its);
+            let t = big.test_rss(&kinds, &xs);
+            (xs, t)
+        };
+        let eff = big.effective_counts(&kinds, &xs).1;
+        let n_test_all = outputs * big.held.iter().filter(|&&h| h).count();
+        let held_out = TimeHeldOut {
+            samples: n_test_all,
+            before: test_c,
+            after: test_s,
+            effective_samples: eff,
+        };
+        let gain = held_out.evidence();
+        let price = kinds.len() as f64 * eff.max(2.0).ln();
+        let confirmed = kinds.is_empty() || n_test_all == 0 || gain > price;
+        let measured_all = h1(u_all, y_all, fs, welch).ok();
+        let frf_all = measured_all.as_ref().map(|e| &e.frf);
+        let mut x_final = if confirmed { xs } else { xc.clone() };
+        if !confirmed {
+            // The search's effects do not hold on the record: rejected,
+            // with the whole record's held-out figures.
+            for mut v in kept.drain(..) {
+                v.score = v.score.min(-1.0);
+                if let Evidence::Time(t) = &mut v.evidence {
+                    t.validated = false;
+                    t.held_out = Some(HeldOutSamples {
+                        before: (test_c / n_test_all as f64).sqrt(),
+                        after: (test_s / n_test_all as f64).sqrt(),
+                        samples: n_test_all,
+                        gain,
+                        price,
+                    });
+                }
+                rejected.push(v);
+            }
+            rejected.sort_by(|a, b| b.score.total_cmp(&a.score));
+            kinds.clear();
+        }
+        // The kept effects' values from every sample.
+        if !kinds.is_empty() {
+            big.hold(vec![false; n_all]);
+            let (xf, rf) = big.fit(&kinds, x_final.clone(), &lo_base, &hi_base, its);
+            if rf.is_finite() {
+                x_final = xf;
+                noise = (rf / (outputs * n_all) as f64).sqrt();
+            }
+        }
+        for (e, &v) in kept.iter_mut().zip(&x_final[np..]) {
+            let kind = e.kind;
+            for p in e.parameters.values_mut() {
+                *p = value(kind, v);
+            }
+        }
+        if let Some(est) = &measured_all {
+            evidence.coherence = coherence_evidence(&est.frf);
+        }
+        before = big.time_fit(&[], &xc, frf_all)?;
+        after = if kinds.is_empty() && x_final == xc {
+            before
+        } else {
+            big.time_fit(&kinds, &x_final, frf_all)?
+        };
+        if kinds.is_empty() {
+            noise = after.rms_time;
+        }
+        model_after = big.model(&kinds, &x_final)?.within_ranges();
+        whole_record = Some(WholeRecord {
+            search_samples: w,
+            samples: n_all,
+            held_out,
+            gain,
+            price,
+            confirmed,
+        });
+    }
     // Informative when the model, with whatever effects it earned, meets
     // most of the output.
     let informative = after.rms_time_rel <= o.informative;
-    let model_after = problem.model(&kinds, &x_base)?.within_ranges();
     let effects = if kept.is_empty() {
         vec![none(&rejected)]
     } else {
@@ -1802,12 +1982,12 @@ pub fn diagnose_time_outputs(
     // driven by the recorded force.
     let inverse_dynamics = match (record, model.model.n_masses(), model.output) {
         (Some(_), 1, mms::Output::Position) => {
-            let force: Vec<f64> = u.iter().map(|v| v * scale).collect();
+            let force: Vec<f64> = u_all.iter().map(|v| v * scale).collect();
             let options = IdimOptions {
                 viscous: model.effects.viscous_friction.is_some(),
                 ..IdimOptions::default()
             };
-            idim_ls(&force, y, fs, &options).ok()
+            idim_ls(&force, y_all, fs, &options).ok()
         }
         _ => None,
     };
@@ -1818,9 +1998,9 @@ pub fn diagnose_time_outputs(
         fit: BeforeAfter { before, after },
         calibration,
         evidence,
-        noise: (rss_base / n_fit as f64).sqrt(),
+        noise,
         model_after,
-        samples: n,
+        samples: n_all,
         fs,
         closed_loop: record.is_some(),
         inverse_dynamics,
@@ -1833,6 +2013,7 @@ pub fn diagnose_time_outputs(
         informative,
         highpass_hz: problem.highpass.as_ref().and(applied_corner),
         output_weights: problem.extra.iter().map(|e| e.weight).collect(),
+        whole_record,
     })
 }
 
