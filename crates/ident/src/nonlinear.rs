@@ -672,6 +672,31 @@ impl Problem<'_> {
         (effective_samples(&fit), effective_samples(&test))
     }
 
+    /// The columns `d(model)/dx_i = -(d residual)/dx_i` at `x`, whose
+    /// residual is `r`, by forward differences (backward at an upper
+    /// bound `hi`): one simulation each, side by side, so that the cores
+    /// stay busy to the end of a diagnosis (each column is computed as
+    /// alone). `None` where a step cannot be simulated.
+    fn jacobian(
+        &self,
+        kinds: &[EffectKind],
+        x: &[f64],
+        hi: &[f64],
+        r: &[f64],
+    ) -> Option<Vec<Vec<f64>>> {
+        (0..x.len())
+            .into_par_iter()
+            .map(|i| {
+                let mut xi = x.to_vec();
+                let step = if xi[i] + 1e-4 > hi[i] { -1e-4 } else { 1e-4 };
+                xi[i] += step;
+                let (ri, rssi) = self.residual(kinds, &xi);
+                (rssi.is_finite() && ri.len() == r.len())
+                    .then(|| r.iter().zip(&ri).map(|(a, b)| (a - b) / step).collect())
+            })
+            .collect()
+    }
+
     /// The covariance of the coordinates at `x` (row-major): the inverse
     /// of the Gauss-Newton matrix of forward differences (one simulation
     /// per coordinate) times the residual's variance, inflated by its
@@ -682,18 +707,7 @@ impl Problem<'_> {
         if !rss.is_finite() || r.len() <= p {
             return None;
         }
-        let columns: Vec<Option<Vec<f64>>> = (0..p)
-            .into_par_iter()
-            .map(|i| {
-                let mut xi = x.to_vec();
-                let step = if xi[i] + 1e-4 > hi[i] { -1e-4 } else { 1e-4 };
-                xi[i] += step;
-                let (ri, rssi) = self.residual(kinds, &xi);
-                (rssi.is_finite() && ri.len() == r.len())
-                    .then(|| r.iter().zip(&ri).map(|(a, b)| (a - b) / step).collect())
-            })
-            .collect();
-        let jac: Vec<Vec<f64>> = columns.into_iter().collect::<Option<_>>()?;
+        let jac = self.jacobian(kinds, x, hi, &r)?;
         let mut a = vec![0.0; p * p];
         for i in 0..p {
             for j in 0..=i {
@@ -735,22 +749,7 @@ impl Problem<'_> {
         }
         let mut lambda = 1e-3;
         for _ in 0..iterations {
-            // Forward differences in the coordinates, one simulation each,
-            // side by side (so the cores stay busy to the end of a
-            // diagnosis; each column is computed as alone).
-            let columns: Vec<Option<Vec<f64>>> = (0..p)
-                .into_par_iter()
-                .map(|i| {
-                    let mut xi = x.clone();
-                    let step = if xi[i] + 1e-4 > hi[i] { -1e-4 } else { 1e-4 };
-                    xi[i] += step;
-                    let (ri, rssi) = self.residual(kinds, &xi);
-                    // d(model)/dx = -(d residual)/dx.
-                    rssi.is_finite()
-                        .then(|| r.iter().zip(&ri).map(|(a, b)| (a - b) / step).collect())
-                })
-                .collect();
-            let Some(jac) = columns.into_iter().collect::<Option<Vec<Vec<f64>>>>() else {
+            let Some(jac) = self.jacobian(kinds, &x, hi, &r) else {
                 return (x, rss);
             };
             let mut a = vec![0.0; p * p];
