@@ -97,6 +97,36 @@ fn multisine(rng: &mut XorShift) -> Vec<f64> {
     (0..8).flat_map(|_| one.iter().copied()).collect()
 }
 
+/// `truth` driven by the periodic `u` (periods of [`PERIOD`] samples at
+/// [`FS`]) with output noise `noise` times the output's RMS about its
+/// mean: the FRF over the periods, the samples and how the FRF was made.
+fn recorded(
+    truth: &ModelFile,
+    u: Vec<f64>,
+    noise: f64,
+    rng: &mut XorShift,
+) -> (Frf, Samples, WelchOptions) {
+    let clean = simulate(truth, &u, FS).unwrap();
+    let mean = clean.iter().sum::<f64>() / clean.len() as f64;
+    let rms = (clean.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / clean.len() as f64).sqrt();
+    let y: Vec<f64> = clean
+        .iter()
+        .map(|v| v + noise * rms * rng.normal())
+        .collect();
+    let welch = WelchOptions {
+        period: Some(PERIOD),
+        ..WelchOptions::default()
+    };
+    let frf = h1(&u, &y, FS, &welch).unwrap().frf;
+    let samples = Samples {
+        u,
+        y,
+        fs: FS,
+        excitation: None,
+    };
+    (frf, samples, welch)
+}
+
 /// A time-domain recording of a random linear chain: a random-phase
 /// multisine on the lines 1-100 Hz, 8 periods at 1 kHz, output noise
 /// 0.5-2 % of the output's RMS about its mean.
@@ -110,35 +140,13 @@ fn time_case(seed: u64) -> (Frf, Samples, ModelFile, WelchOptions, String) {
     nominal.effects.time_delay_s = Some(0.5 / FS);
     let noise = log_uniform(&mut rng, 0.005, 0.02);
     let u = multisine(&mut rng);
-    let clean = simulate(&truth, &u, FS).unwrap();
-    let mean = clean.iter().sum::<f64>() / clean.len() as f64;
-    let rms = (clean.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / clean.len() as f64).sqrt();
-    let y: Vec<f64> = clean
-        .iter()
-        .map(|v| v + noise * rms * rng.normal())
-        .collect();
-    let welch = WelchOptions {
-        period: Some(PERIOD),
-        ..WelchOptions::default()
-    };
-    let frf = h1(&u, &y, FS, &welch).unwrap().frf;
+    let (frf, samples, welch) = recorded(&truth, u, noise, &mut rng);
     let label = format!(
         "time seed {seed}: {} {output:?}, noise {:.2} %",
         truth.model.id(),
         100.0 * noise
     );
-    (
-        frf,
-        Samples {
-            u,
-            y,
-            fs: FS,
-            excitation: None,
-        },
-        nominal,
-        welch,
-        label,
-    )
+    (frf, samples, nominal, welch, label)
 }
 
 /// Cases where something is named, printed with what.
@@ -375,23 +383,7 @@ fn the_whole_record_confirms_and_values_what_the_search_found() {
     let f_rms = (u.iter().map(|v| v * v).sum::<f64>() / u.len() as f64).sqrt();
     let coulomb = 0.2 * f_rms;
     truth.effects.coulomb_friction = Some(coulomb);
-    let clean = simulate(&truth, &u, FS).unwrap();
-    let rms = (clean.iter().map(|v| v * v).sum::<f64>() / clean.len() as f64).sqrt();
-    let y: Vec<f64> = clean
-        .iter()
-        .map(|v| v + 0.01 * rms * rng.normal())
-        .collect();
-    let welch = WelchOptions {
-        period: Some(PERIOD),
-        ..WelchOptions::default()
-    };
-    let frf = h1(&u, &y, FS, &welch).unwrap().frf;
-    let samples = Samples {
-        u,
-        y,
-        fs: FS,
-        excitation: None,
-    };
+    let (frf, samples, welch) = recorded(&truth, u, 0.01, &mut rng);
     let o = DiagnosisOptions {
         welch,
         stability: false,
@@ -443,18 +435,7 @@ fn an_odd_odd_multisine_names_a_dead_time_from_its_excited_lines() {
         })
         .collect();
     let u: Vec<f64> = (0..8).flat_map(|_| one.iter().copied()).collect();
-    let clean = simulate(&truth, &u, FS).unwrap();
-    let mean = clean.iter().sum::<f64>() / clean.len() as f64;
-    let rms = (clean.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / clean.len() as f64).sqrt();
-    let y: Vec<f64> = clean
-        .iter()
-        .map(|v| v + 0.01 * rms * rng.normal())
-        .collect();
-    let welch = WelchOptions {
-        period: Some(PERIOD),
-        ..WelchOptions::default()
-    };
-    let frf = h1(&u, &y, FS, &welch).unwrap().frf;
+    let (frf, samples, welch) = recorded(&truth, u, 0.01, &mut rng);
     let unexcited = frf
         .std_dev()
         .unwrap()
@@ -466,12 +447,6 @@ fn an_odd_odd_multisine_names_a_dead_time_from_its_excited_lines() {
         welch,
         stability: false,
         ..DiagnosisOptions::default()
-    };
-    let samples = Samples {
-        u,
-        y,
-        fs: FS,
-        excitation: None,
     };
     let d = diagnose_recording(&frf, Some(&samples), &nominal, None, &o).unwrap();
     let fd = d
