@@ -476,6 +476,40 @@ pub fn check_sample_rate(fs: f64) -> Result<(), String> {
     Ok(())
 }
 
+/// The largest spread of a periodic excitation's periods about their
+/// mean (after the first, the transient), as a share of the mean
+/// period's RMS, above which a period is refused: a recorded input
+/// repeats to within its noise; read at a wrong period, the periods are
+/// as unlike as random signals (a spread of about the square root of the
+/// number of periods less one).
+pub const MAX_PERIOD_SPREAD: f64 = 0.5;
+
+/// The RMS of `x`'s periods of `period` samples (the first left out)
+/// about their mean, over the mean period's RMS about its own mean;
+/// `None` with fewer than two such periods or a silent signal.
+fn period_spread(x: &[f64], period: usize) -> Option<f64> {
+    let periods = x.len() / period;
+    if periods < 3 {
+        return None;
+    }
+    let rest = &x[period..periods * period];
+    let k = (periods - 1) as f64;
+    let mean: Vec<f64> = (0..period)
+        .map(|i| rest.chunks_exact(period).map(|c| c[i]).sum::<f64>() / k)
+        .collect();
+    let level = mean.iter().sum::<f64>() / period as f64;
+    let power = mean.iter().map(|v| (v - level).powi(2)).sum::<f64>() / period as f64;
+    if power <= 0.0 || !power.is_finite() {
+        return None;
+    }
+    let scatter = rest
+        .chunks_exact(period)
+        .flat_map(|c| c.iter().zip(&mean).map(|(a, b)| (a - b).powi(2)))
+        .sum::<f64>()
+        / rest.len() as f64;
+    Some((scatter / power).sqrt())
+}
+
 /// Reads a measurement file into an FRF; see the
 /// [module documentation](self) for formats, defaults and errors.
 ///
@@ -689,6 +723,33 @@ fn estimate(
                     "the {what} {name} is constant ({first} in all {} samples): there is \
                      nothing to estimate an FRF from",
                     x.len()
+                )));
+            }
+        }
+    }
+    if let Some(period) = opts.welch.period.filter(|&p| p >= 2) {
+        // A period must fit the record whole, and the excitation (the
+        // injected one, else the input) must repeat at it.
+        let n = u.len();
+        if !n.is_multiple_of(period) {
+            return Err(ctx.file(format!(
+                "a period of {period} samples: the record's {n} samples are not a whole \
+                 number of periods ({} periods and {} samples)",
+                n / period,
+                n % period
+            )));
+        }
+        let (signal, what) = match &excitation {
+            Some((x, name)) => (x.as_slice(), name.as_str()),
+            None => (u, input.as_str()),
+        };
+        if let Some(spread) = period_spread(signal, period) {
+            if spread > MAX_PERIOD_SPREAD {
+                return Err(ctx.file(format!(
+                    "a period of {period} samples: {what} does not repeat at it (its periods \
+                     differ from their mean by {:.0} % of its RMS, more than {:.0} %)",
+                    100.0 * spread,
+                    100.0 * MAX_PERIOD_SPREAD
                 )));
             }
         }
@@ -1228,6 +1289,49 @@ mod tests {
             y: Some(y.parse().unwrap()),
             ..Default::default()
         }
+    }
+
+    /// A period is checked against the record: whole periods, and an
+    /// input that repeats at it. A periodic input (8 periods of 512,
+    /// 2 % noise) passes; the same record at a period that does not
+    /// divide it, or white noise read as periodic, is a one-line error
+    /// naming the file and the period.
+    #[test]
+    fn a_period_must_fit_the_record_and_the_input_repeat_at_it() {
+        let dir = Scratch::new("period");
+        let one = white(512, 3);
+        let noise = white(4096, 4);
+        let periodic: Vec<f64> = (0..4096).map(|k| one[k % 512] + 0.02 * noise[k]).collect();
+        let csv = |u: &[f64]| -> String {
+            let y = fir(u);
+            let mut text = String::from("t,u,y\n");
+            for n in 0..u.len() {
+                text.push_str(&format!("{},{},{}\n", n as f64 / 500.0, u[n], y[n]));
+            }
+            text
+        };
+        let with = |period: usize| RecordingOptions {
+            welch: WelchOptions {
+                period: Some(period),
+                ..WelchOptions::default()
+            },
+            ..RecordingOptions::default()
+        };
+        let good = dir.write("periodic.csv", csv(&periodic));
+        assert!(read_recording(&good, &with(512)).is_ok());
+        let e = read_recording(&good, &with(500)).unwrap_err().to_string();
+        assert!(
+            e.contains("periodic.csv") && e.contains("8 periods and 96 samples"),
+            "{e}"
+        );
+        assert_eq!(e.lines().count(), 1);
+        let random = dir.write("random.csv", csv(&white(4096, 5)));
+        let e = read_recording(&random, &with(512)).unwrap_err().to_string();
+        assert!(
+            e.contains("random.csv") && e.contains("does not repeat"),
+            "{e}"
+        );
+        assert_eq!(e.lines().count(), 1);
     }
 
     #[test]
