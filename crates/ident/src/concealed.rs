@@ -259,32 +259,15 @@ pub struct Cell {
     pub closed_loop: bool,
 }
 
-/// The domain an effect shows in.
+/// The domain an effect shows in: the time domain's for the effects its
+/// diagnosis tries.
 fn effect_domain(kind: EffectKind) -> &'static str {
     match kind {
-        EffectKind::CoulombFriction | EffectKind::Backlash | EffectKind::Offset => "time",
         EffectKind::None => "none",
+        k if crate::nonlinear::HYPOTHESES.contains(&k) => "time",
         _ => "frequency",
     }
 }
-
-/// The frequency-domain effects.
-const FREQUENCY_EFFECTS: [EffectKind; 7] = [
-    EffectKind::TimeDelay,
-    EffectKind::Lowpass,
-    EffectKind::GainError,
-    EffectKind::HystereticDamping,
-    EffectKind::ViscousFriction,
-    EffectKind::PreSlidingFriction,
-    EffectKind::ExtraMode,
-];
-
-/// The time-domain effects.
-const TIME_EFFECTS: [EffectKind; 3] = [
-    EffectKind::CoulombFriction,
-    EffectKind::Backlash,
-    EffectKind::Offset,
-];
 
 /// How many draws a case may take before it gives up.
 const ATTEMPTS: usize = 40;
@@ -438,9 +421,12 @@ fn draw(rng: &mut XorShift, index: usize) -> Option<Case> {
     // What is concealed: nothing in 35 % of the cases, one effect in 50 %,
     // two in 15 %.
     let time = matches!(kind, Kind::Time { .. });
-    let possible: Vec<EffectKind> = FREQUENCY_EFFECTS
+    // Every effect the diagnosis tries: the frequency domain's, an extra
+    // mode, the time domain's (in this order, which the draws index).
+    let possible: Vec<EffectKind> = EffectKind::HYPOTHESES
         .into_iter()
-        .chain(TIME_EFFECTS)
+        .chain([EffectKind::ExtraMode])
+        .chain(crate::nonlinear::HYPOTHESES)
         .filter(|&k| allowed(k, &model, time, closed))
         .collect();
     let r = rng.uniform();

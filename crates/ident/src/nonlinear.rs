@@ -332,7 +332,7 @@ pub enum TimeDiagnoseError {
 }
 
 /// The effects the time-domain diagnosis tries.
-const HYPOTHESES: [EffectKind; 3] = [
+pub(crate) const HYPOTHESES: [EffectKind; 3] = [
     EffectKind::CoulombFriction,
     EffectKind::Backlash,
     EffectKind::Offset,
