@@ -11,7 +11,10 @@
 //!   Coulomb force and the gap stay in the model's physical units (for a
 //!   linear model it makes no difference where the gain sits). A `lowpass`
 //!   effect is a first-order lag state on `F`; a `time_delay` shifts the
-//!   held input (to the nearest sub-step). `hysteretic_damping` has no
+//!   held input by whole sub-steps, their count chosen so that the delay
+//!   falls on one (to 1 % of it; [`delay_substeps`]). The hold itself is
+//!   half a sample of dead time, which a delay fitted to a recording's FRF
+//!   includes ([`SimOptions::delay_includes_hold`]). `hysteretic_damping` has no
 //!   causal time-domain form and is refused.
 //! - **Coulomb friction** `F_c sign(v)` on one mass against the ground
 //!   (default: the driven mass, the actuator's `plus` mass, as for viscous
@@ -118,8 +121,56 @@ pub struct SimOptions {
     /// The spring with backlash, by its lower node (0: the ground to m1,
     /// 1: m1 to m2, ...); `None`: the default place.
     pub backlash_link: Option<usize>,
-    /// Sub-steps per sample; `None`: from the chain's fastest eigenvalue.
+    /// Sub-steps per sample; `None`: from the chain's fastest eigenvalue
+    /// and, with a `time_delay`, enough for the delay to fall on a sub-step
+    /// (see [`delay_substeps`]).
     pub substeps: Option<usize>,
+    /// The model's `time_delay` is the whole dead time a sampled
+    /// recording's FRF shows, the hold's half sample included (a delay
+    /// fitted to a recording's FRF). The simulation holds each sample
+    /// itself, so it applies only the rest (none if the delay is shorter
+    /// than the hold). Without it the delay is dead time besides the hold.
+    pub delay_includes_hold: bool,
+}
+
+/// The sub-steps per sample, at least `min`, on whose grid a dead time of
+/// `delay` samples falls to within 1 % of itself or 0.002 of a sample
+/// (the finer of the two a count up to 256 reaches; past that, the count
+/// up to 256 that comes closest): the held input is shifted by whole
+/// sub-steps, so a count chosen for the chain's speed alone would round a
+/// dead time of a fraction of a sample to nothing or to a whole one.
+///
+/// ```
+/// use mms::simulate::delay_substeps;
+/// // A whole number of samples needs no sub-steps.
+/// assert_eq!(delay_substeps(3.0, 1), 1);
+/// // 0.221 of a sample: 9 sub-steps put it at 2/9 = 0.2222 (0.5 %).
+/// assert_eq!(delay_substeps(0.221, 1), 9);
+/// // Half a sample: 2 sub-steps, or any even count above `min`.
+/// assert_eq!(delay_substeps(0.5, 3), 4);
+/// ```
+pub fn delay_substeps(delay: f64, min: usize) -> usize {
+    const MAX_SUBSTEPS: usize = 256;
+    let min = min.max(1);
+    if !(delay.is_finite() && delay > 0.0) || min >= MAX_SUBSTEPS {
+        return min;
+    }
+    let tolerance = (0.01 * delay).max(0.002);
+    let error = |s: usize| {
+        let steps = delay * s as f64;
+        (steps - steps.round()).abs() / s as f64
+    };
+    let mut best = (f64::INFINITY, min);
+    for s in min..=MAX_SUBSTEPS {
+        let e = error(s);
+        if e <= tolerance {
+            return s;
+        }
+        if e < best.0 {
+            best = (e, s);
+        }
+    }
+    best.1
 }
 
 /// A compiled simulation: a model, its parameters and effects, a sample
@@ -287,6 +338,11 @@ impl Simulator {
             f => f.unwrap_or(0.0),
         };
         let delay = check("time_delay.delay_s", effects.time_delay_s, true)?;
+        let delay = if options.delay_includes_hold {
+            (delay - 0.5 / fs).max(0.0)
+        } else {
+            delay
+        };
         let lag = match effects.lowpass_hz {
             None => 0.0,
             Some(f) => 2.0 * std::f64::consts::PI * check("lowpass.corner_hz", Some(f), false)?,
@@ -336,7 +392,7 @@ impl Simulator {
             .fold(lag, f64::max);
         let substeps = match options.substeps {
             Some(s) => s.max(1),
-            None => ((rate / fs / 0.3).ceil() as usize).max(1),
+            None => delay_substeps(delay * fs, ((rate / fs / 0.3).ceil() as usize).max(1)),
         };
         let h = 1.0 / (fs * substeps as f64);
         let to_f64 = |v: Vec<i64>| v.into_iter().map(|x| x as f64).collect();

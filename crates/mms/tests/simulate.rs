@@ -502,3 +502,45 @@ fn benchmark_two_mass_coulomb() {
         sim.substeps()
     );
 }
+
+/// A dead time of a fraction of a sample: a constant force from sample 0
+/// on, held and delayed by `tau`, moves a free mass as `F (t - tau)^2 /
+/// 2m` from `t = tau` on (exact for RK4 on a double integrator), whether
+/// `tau` is 0.3 of a sample, 1.6 samples, or 0.8 of a sample of which the
+/// hold's half sample is part.
+#[test]
+fn a_dead_time_of_a_fraction_of_a_sample_is_kept() {
+    let (m, force, fs) = (2.0, 3.0, 200.0);
+    let free = |delay: f64, includes_hold: bool| -> Vec<f64> {
+        let mut f = one_mass(m, 0.0, Output::Position);
+        f.effects = Effects {
+            time_delay_s: Some(delay),
+            ..Effects::default()
+        };
+        let options = SimOptions {
+            delay_includes_hold: includes_hold,
+            ..SimOptions::default()
+        };
+        Simulator::new(&f, fs, &options)
+            .unwrap()
+            .run(&[force; 60])
+            .unwrap()
+    };
+    for (delay, includes_hold, tau) in [
+        (0.3 / fs, false, 0.3 / fs),
+        (1.6 / fs, false, 1.6 / fs),
+        (0.8 / fs, true, 0.3 / fs),
+    ] {
+        let x = free(delay, includes_hold);
+        for (k, &xk) in x.iter().enumerate() {
+            let t = (k as f64 / fs - tau).max(0.0);
+            let exact = force * t * t / (2.0 * m);
+            assert!(
+                (xk - exact).abs() < 1e-9 * (1.0 + exact),
+                "delay {delay} s (hold included: {includes_hold}) at sample {k}: {xk} vs {exact}"
+            );
+        }
+    }
+    // A delay shorter than the hold leaves the hold alone.
+    assert_eq!(free(0.2 / fs, true), free(0.0, false));
+}
