@@ -1713,6 +1713,7 @@ fn significance(
     // hold delay), is the value to tell the estimate from.
     let sigmas = match (kind.current(ctx.input), kind) {
         (Some(c), _) if c > 0.0 => (x[k] - c.ln()).abs() / se,
+        (_, EffectKind::GainError) if statistical => gain_sigmas(fitted, i, ctx),
         (_, EffectKind::GainError) => x[k].abs() / se,
         _ => 1.0 / se,
     };
@@ -1727,6 +1728,37 @@ fn significance(
         );
     }
     (errors, None)
+}
+
+/// How far a gain error's factor lies from 1, in standard errors, read
+/// from the profile of the fit rather than its curvature: the joint fit is
+/// refitted with the factor held at 1, and the deviance it loses (on the
+/// held-out lines if there are any, else on the fitted ones in units of
+/// their misfit per row) is the square of the distance. A factor common to
+/// every output is all but a common scale of the chain's parameters, which
+/// only their prior tells apart, so the curvature's standard error
+/// describes the prior, not what the data say about a factor of 1.
+fn gain_sigmas(fitted: &Fitted, i: usize, ctx: &Context) -> f64 {
+    let problem = &fitted.problem;
+    let k = problem.np() + i;
+    let mut kinds = fitted.kinds.clone();
+    kinds.remove(i);
+    let mut x0 = fitted.state.x.clone();
+    x0.remove(k);
+    let (lo, hi) = ctx.state_bounds(problem, &kinds);
+    let Ok(null) = problem.fit(&kinds, x0, &lo, &hi, ctx.o.max_iterations) else {
+        return f64::NAN;
+    };
+    let deviance = if problem.test_sigma.iter().any(|&w| w > 0.0) {
+        let Ok(test) = problem.test_cost(&kinds, &null.x) else {
+            return f64::NAN;
+        };
+        let n = problem.held_out_count(&fitted.kinds, &fitted.state.x);
+        profiled_gain(test, fitted.test_cost, n)
+    } else {
+        (null.cost - fitted.state.cost) / (fitted.state.cost / ctx.rows).max(1.0)
+    };
+    deviance.max(0.0).sqrt()
 }
 
 /// What every hypothesis needs to know besides its base.
@@ -1958,9 +1990,27 @@ fn add_effect<'a>(
     }
     let (_, x0) = best?;
     let (lo, hi) = ctx.state_bounds(problem, &kinds);
-    let state = problem
+    let mut state = problem
         .fit(&kinds, x0, &lo, &hi, ctx.o.max_iterations)
         .ok()?;
+    // A factor is all but a common scale of the chain's parameters: the
+    // calibration, which had no factor, may have pressed them against
+    // their bounds to imitate it, and from there the fit finds only part
+    // of it. So the factor is also fitted from the nominal chain.
+    if kind == EffectKind::GainError {
+        let np = problem.np();
+        let mut x = problem.nominal_ln.clone();
+        x.extend_from_slice(&base.state.x[np..]);
+        if let Ok(e) = problem.errors(&base.kinds, &x) {
+            let mean = e.iter().map(|e| e.re).sum::<f64>() / e.len().max(1) as f64;
+            x.push((-mean).clamp(lo_e.ln(), hi_e.ln()));
+            if let Ok(other) = problem.fit(&kinds, x, &lo, &hi, ctx.o.max_iterations) {
+                if other.cost < state.cost {
+                    state = other;
+                }
+            }
+        }
+    }
     let test_cost = problem.test_cost(&kinds, &state.x).ok()?;
     Some(Fitted {
         problem: problem.clone(),

@@ -77,7 +77,7 @@ use frf::welch::WelchOptions;
 use frf::{Complex64, Frf, Samples};
 use mms::model_file::ModelFile;
 use mms::response::{ChainResponse, Effects};
-use mms::simulate::{SimOptions, Simulator};
+use mms::simulate::Simulator;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -1312,7 +1312,8 @@ fn simulated_frf(
     welch: &WelchOptions,
     like: &Frf,
 ) -> Result<Vec<Complex64>, DiagnosisError> {
-    let sim = Simulator::new(m, s.fs, &SimOptions::default()).map_err(TimeDiagnoseError::from)?;
+    let sim =
+        Simulator::new(m, s.fs, &crate::nonlinear::RECORDED).map_err(TimeDiagnoseError::from)?;
     let (u, y) = match closed_loop {
         None => (s.u.clone(), sim.run(&s.u).map_err(TimeDiagnoseError::from)?),
         Some(l) => {

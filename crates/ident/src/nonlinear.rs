@@ -103,6 +103,16 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::f64::consts::LN_10;
 
+/// How the diagnosis simulates a model: its dead time is what a
+/// recording's FRF shows, the drive's hold included, and the simulation
+/// holds each sample itself.
+pub(crate) const RECORDED: SimOptions = SimOptions {
+    friction_mass: None,
+    backlash_link: None,
+    substeps: None,
+    delay_includes_hold: true,
+};
+
 /// Options of [`diagnose_time`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct TimeOptions {
@@ -497,7 +507,7 @@ impl Problem<'_> {
     /// places.
     fn run(&self, kinds: &[EffectKind], x: &[f64]) -> Result<Run, TimeDiagnoseError> {
         let m = self.model(kinds, x)?;
-        let sim = Simulator::new(&m, self.fs, &SimOptions::default())?;
+        let sim = Simulator::new(&m, self.fs, &RECORDED)?;
         let places: Vec<mms::Port> = self.extra.iter().map(|e| e.place).collect();
         Ok(match &self.closed {
             None if places.is_empty() => (sim.run(self.u)?, None, Vec::new()),
@@ -1426,7 +1436,7 @@ pub fn diagnose_time_outputs(
     let (u, y, others, record) = (&u[..w], &y[..w], &others_window[..], window_record.as_ref());
     let n = u.len();
     // Check the model can be simulated at all before any search.
-    Simulator::new(model, fs, &SimOptions::default())?;
+    Simulator::new(model, fs, &RECORDED)?;
 
     // Evidence from the H1 estimates.
     let mut evidence = RecordEvidence::default();
@@ -1618,7 +1628,7 @@ pub fn diagnose_time_outputs(
 
     let cal_model = problem.model(&[], &x_cal)?;
     let deflection = default_backlash_link(&model.model).and_then(|i| {
-        let x = Simulator::new(&cal_model, fs, &SimOptions::default())
+        let x = Simulator::new(&cal_model, fs, &RECORDED)
             .ok()?
             .positions(u)
             .ok()?;
