@@ -982,6 +982,11 @@ fn effects_and_calibration(
                 ident::diagnose::SIGNIFICANCE_SIGMAS,
                 100.0 * standard_error
             ),
+            Some(Unresolved::MergedChainFits { gain }) => format!(
+                "; not kept: the chain without the extra mass, refitted with it merged into \
+                 its neighbours, predicts the held-out lines as well (the mass gains {gain:.1} \
+                 over it): it moved the calibration, it adds no mode"
+            ),
         };
         let _ = writeln!(
             s,

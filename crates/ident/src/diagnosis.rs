@@ -406,7 +406,7 @@ pub fn diagnose_recording(
         // The frequency domain first: its calibrated chain is where the
         // time domain starts (an output error from a chain 30 % off has
         // many local minima; the FRF's calibration has few).
-        let fd = frequency_part(frf, band, model, o)?;
+        let fd = frequency_part(frf, band, model, samples.map(|s| s.fs), o)?;
         let (frequency_model, td) = match (&fd, samples) {
             (Some(f), Some(s)) => {
                 let td = time_part(
@@ -629,7 +629,7 @@ fn joint_frequency_part(
             .frf
             .band(lo.max(f64::MIN_POSITIVE), hi)
             .ok_or(DiagnosisError::EmptyBand(lo, hi))?;
-        lines.push(data);
+        lines.push(unsampled(data, model, out.chain, out.samples.map(|s| s.fs)));
     }
     let frfs: Vec<crate::diagnose::OutputFrf> = lines
         .iter()
@@ -797,6 +797,7 @@ fn frequency_part(
     frf: &Frf,
     band: Option<(f64, f64)>,
     model: &ModelFile,
+    fs: Option<f64>,
     o: &DiagnosisOptions,
 ) -> Result<Option<Diagnosis>, DiagnosisError> {
     let Some((lo, hi)) = band else {
@@ -805,6 +806,7 @@ fn frequency_part(
     let data = frf
         .band(lo.max(f64::MIN_POSITIVE), hi)
         .ok_or(DiagnosisError::EmptyBand(lo, hi))?;
+    let data = unsampled(data, model, model.model, fs);
     // The FRF knows nothing of the nonlinear effects.
     let linear = ModelFile {
         effects: model.effects.linear(),
@@ -814,6 +816,47 @@ fn frequency_part(
         Ok(f) => Ok(Some(f)),
         Err(DiagnoseError::TooFewLines { .. }) => Ok(None),
         Err(e) => Err(e.into()),
+    }
+}
+
+/// `frf` (estimated from samples at rate `fs`, the input held over each
+/// sample) as the transfer function of `chain` times its hold's half
+/// sample of delay would show it: divided, line by line, by what sampling
+/// changes beyond that delay (the hold's droop, the images folded back
+/// from above the Nyquist frequency; [`ChainResponse::held_factor`], from
+/// `model`'s values). Those are a fraction of a percent to a few percent
+/// in the top of a band that reaches a tenth of the rate, smooth in the
+/// frequency: a pole-zero pair or a lag would otherwise be fitted to them.
+/// Unchanged without a rate, for an acceleration (read at the instant its
+/// input changes) or where the factor cannot be evaluated.
+fn unsampled(frf: Frf, model: &ModelFile, chain: mms::Model, fs: Option<f64>) -> Frf {
+    let Some(fs) = fs else {
+        return frf;
+    };
+    if model.output == mms::Output::Acceleration {
+        return frf;
+    }
+    let g = ChainResponse::new(&chain, model.output);
+    let Ok(c) = g.held_factor(model.parameters.values(), frf.freq_hz(), fs) else {
+        return frf;
+    };
+    if c.iter().any(|c| !(c.norm() > 0.0 && c.norm().is_finite())) {
+        return frf;
+    }
+    let h: Vec<Complex64> = frf.response().iter().zip(&c).map(|(h, c)| h / c).collect();
+    let coherence = frf.coherence().map(<[f64]>::to_vec);
+    let std_dev = frf.std_dev().map(|s| {
+        s.iter()
+            .zip(&c)
+            .map(|(s, c)| s / c.norm())
+            .collect::<Vec<f64>>()
+    });
+    let Ok(out) = Frf::new(frf.freq_hz().to_vec(), h, coherence) else {
+        return frf;
+    };
+    match std_dev {
+        Some(sd) => out.with_std_dev(sd).unwrap_or(frf),
+        None => out,
     }
 }
 
@@ -1056,7 +1099,7 @@ fn rerun(
         // the same time-domain result, shared.
         let here = time_window(c.range.len(), false, o);
         let shared = c.range == (0..s.u.len());
-        let fd = frequency_part(&est, band, model, o).map_err(|e| e.to_string())?;
+        let fd = frequency_part(&est, band, model, Some(s.fs), o).map_err(|e| e.to_string())?;
         let Some(f) = &fd else {
             return Ok((None, None, false, None));
         };
