@@ -57,6 +57,19 @@ fn sine_amplitude(y: &[f64], t: &[f64], w: f64) -> Complex64 {
     Complex64::new(x[2], -x[3])
 }
 
+/// The complex amplitude of `file`'s sampled output in the steady state
+/// of the input `sin(2 pi f t)` at rate `fs`: 4000 samples, the first 2000
+/// (1 s at 2 kHz, where the flexible modes' transient has decayed) left
+/// out.
+fn steady_sine(file: &ModelFile, f: f64, fs: f64) -> Complex64 {
+    let w = 2.0 * PI * f;
+    let n = 4000;
+    let u: Vec<f64> = (0..n).map(|k| (w * k as f64 / fs).sin()).collect();
+    let y = simulate(file, &u, fs).unwrap();
+    let t: Vec<f64> = (2000..n).map(|k| k as f64 / fs).collect();
+    sine_amplitude(&y[2000..], &t, w)
+}
+
 /// Without nonlinearities the steady state of a sine input is the linear
 /// FRF times the zero-order hold's `sinc(w T/2) e^(-j w T/2)`, for every
 /// output and a 3-mass chain with a rigid-body mode, at frequencies below,
@@ -75,12 +88,7 @@ fn linear_sine_matches_frf() {
                 continue;
             }
             let w = 2.0 * PI * f;
-            let n = 4000;
-            let u: Vec<f64> = (0..n).map(|k| (w * k as f64 / fs).sin()).collect();
-            let y = simulate(&file(a2, output, p.clone(), Effects::default()), &u, fs).unwrap();
-            // The flexible modes' transient has decayed after 1 s.
-            let t: Vec<f64> = (2000..n).map(|k| k as f64 / fs).collect();
-            let got = sine_amplitude(&y[2000..], &t, w);
+            let got = steady_sine(&file(a2, output, p.clone(), Effects::default()), f, fs);
             let g = ChainResponse::new(&a2, output).eval(&p, f).unwrap();
             let x = w / (2.0 * fs);
             let zoh = Complex64::from_polar(x.sin() / x, -x);
@@ -561,11 +569,7 @@ fn the_held_response_is_what_the_samples_show() {
     for output in [Output::Position, Output::Velocity] {
         for f in [7.0, 61.0, 140.0, 400.0] {
             let w = 2.0 * PI * f;
-            let n = 4000;
-            let u: Vec<f64> = (0..n).map(|k| (w * k as f64 / fs).sin()).collect();
-            let y = simulate(&file(a2, output, p.clone(), Effects::default()), &u, fs).unwrap();
-            let t: Vec<f64> = (2000..n).map(|k| k as f64 / fs).collect();
-            let got = sine_amplitude(&y[2000..], &t, w);
+            let got = steady_sine(&file(a2, output, p.clone(), Effects::default()), f, fs);
             let g = ChainResponse::new(&a2, output);
             let want = g.eval_held(&p, f, fs).unwrap() * Complex64::new(0.0, -1.0);
             let err = (got - want).norm() / want.norm();
