@@ -1778,17 +1778,15 @@ fn merged_chain_fits(start: &Fitted, fitted: &Fitted, ctx: &Context) -> Option<U
         let Ok(state) = problem.fit(&fitted.kinds, x0, &lo, &hi, ctx.o.max_iterations) else {
             continue;
         };
+        let Some(lost) = deviance_lost(problem, &fitted.kinds, &state, fitted, ctx) else {
+            continue;
+        };
+        // Without held-out lines the mass's three parameters are priced as
+        // the selection prices them.
         let gain = if holdout {
-            let Ok(test) = problem.test_cost(&fitted.kinds, &state.x) else {
-                continue;
-            };
-            let n_eff = fitted
-                .problem
-                .held_out_count(&fitted.kinds, &fitted.state.x);
-            profiled_gain(test, fitted.test_cost, n_eff)
+            lost
         } else {
-            (state.cost - fitted.state.cost) / (fitted.state.cost / ctx.rows).max(1.0)
-                - 3.0 * ctx.rows.ln()
+            lost - 3.0 * ctx.rows.ln()
         };
         best = Some(best.map_or(gain, |b: f64| b.min(gain)));
     }
@@ -1859,16 +1857,31 @@ fn gain_sigmas(fitted: &Fitted, i: usize, ctx: &Context) -> f64 {
     let Ok(null) = problem.fit(&kinds, x0, &lo, &hi, ctx.o.max_iterations) else {
         return f64::NAN;
     };
-    let deviance = if problem.test_sigma.iter().any(|&w| w > 0.0) {
-        let Ok(test) = problem.test_cost(&kinds, &null.x) else {
-            return f64::NAN;
-        };
-        let n = problem.held_out_count(&fitted.kinds, &fitted.state.x);
-        profiled_gain(test, fitted.test_cost, n)
+    deviance_lost(problem, &kinds, &null, fitted, ctx).map_or(f64::NAN, |d| d.max(0.0).sqrt())
+}
+
+/// The evidence `fitted` holds over a `null` fit (with its problem and
+/// effect kinds) that lacks one of its hypotheses, in the selection's
+/// units: on the held-out lines if there are any (the noise level profiled
+/// out, `fitted`'s residuals counted by their effective number), else the
+/// drop of the fitted cost in units of `fitted`'s misfit per row. `None`
+/// where the null's held-out lines cannot be evaluated.
+fn deviance_lost(
+    problem: &Problem,
+    kinds: &[EffectKind],
+    null: &State,
+    fitted: &Fitted,
+    ctx: &Context,
+) -> Option<f64> {
+    if problem.test_sigma.iter().any(|&w| w > 0.0) {
+        let test = problem.test_cost(kinds, &null.x).ok()?;
+        let n = fitted
+            .problem
+            .held_out_count(&fitted.kinds, &fitted.state.x);
+        Some(profiled_gain(test, fitted.test_cost, n))
     } else {
-        (null.cost - fitted.state.cost) / (fitted.state.cost / ctx.rows).max(1.0)
-    };
-    deviance.max(0.0).sqrt()
+        Some((null.cost - fitted.state.cost) / (fitted.state.cost / ctx.rows).max(1.0))
+    }
 }
 
 /// What every hypothesis needs to know besides its base.

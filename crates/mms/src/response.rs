@@ -38,6 +38,13 @@ use num_complex::Complex64;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
+/// The zero-order-hold equivalent at `w` (rad/s) with sample time `t`
+/// from `sum = sum_k G(j w_k) / (j w_k)` over the sampling's images:
+/// `(1 - e^(-j w t)) / t * sum` ([`ChainResponse::eval_held`]).
+fn held(sum: Complex64, w: f64, t: f64) -> Complex64 {
+    (Complex64::new(1.0, 0.0) - Complex64::from_polar(1.0, -w * t)) / t * sum
+}
+
 /// Why a response cannot be evaluated.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ResponseError {
@@ -517,9 +524,7 @@ impl ChainResponse {
         }
         let w = 2.0 * PI * freq_hz;
         let own = self.eval(values, freq_hz)? / Complex64::new(0.0, w);
-        let sum = own + self.folded(values, freq_hz, fs)?;
-        let t = 1.0 / fs;
-        Ok((Complex64::new(1.0, 0.0) - Complex64::from_polar(1.0, -w * t)) / t * sum)
+        Ok(held(own + self.folded(values, freq_hz, fs)?, w, 1.0 / fs))
     }
 
     /// `sum_{k != 0, |k| <= 64} G(j w_k) / (j w_k)` of [`ChainResponse::eval_held`]:
@@ -593,10 +598,8 @@ impl ChainResponse {
                 let i = x.floor() as i64;
                 let a = x - i as f64;
                 let folded = folded_at(i)? * (1.0 - a) + folded_at(i + 1)? * a;
-                let sum = g / Complex64::new(0.0, w) + folded;
-                let held =
-                    (Complex64::new(1.0, 0.0) - Complex64::from_polar(1.0, -w * t)) / t * sum;
-                Ok(held / (g * Complex64::from_polar(1.0, -w * t / 2.0)))
+                let sampled = held(g / Complex64::new(0.0, w) + folded, w, t);
+                Ok(sampled / (g * Complex64::from_polar(1.0, -w * t / 2.0)))
             })
             .collect()
     }

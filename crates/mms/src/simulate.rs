@@ -134,9 +134,9 @@ pub struct SimOptions {
 }
 
 /// The sub-steps per sample, at least `min`, on whose grid a dead time of
-/// `delay` samples falls to within 1 % of itself or 0.002 of a sample
-/// (the finer of the two a count up to 256 reaches; past that, the count
-/// up to 256 that comes closest): the held input is shifted by whole
+/// `delay` samples falls to within the larger of 1 % of itself and 0.002
+/// of a sample (the first count that does, up to 256; where none does,
+/// the count up to 256 that comes closest): the held input is shifted by whole
 /// sub-steps, so a count chosen for the chain's speed alone would round a
 /// dead time of a fraction of a sample to nothing or to a whole one.
 ///
