@@ -918,6 +918,13 @@ fn time_markdown(s: &mut String, d: &TimeDiagnosis) {
             }
         );
     }
+    if let Some(at) = d.whole_record_diverged_at {
+        let _ = writeln!(
+            s,
+            "Searched on the first samples only: a model diverged inside the loop at sample {at} \
+             of the whole record, so the verdict rests on the searched stretch."
+        );
+    }
     s.push_str("\n### Evidence\n\n");
     for e in record_evidence(&d.evidence) {
         let _ = writeln!(s, "- {e}");

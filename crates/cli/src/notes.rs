@@ -214,6 +214,42 @@ pub fn identify_note(n: &IdentifyNote) -> String {
              {} masses; with {masses} the exact elimination of one candidate can take minutes",
             ident::identify::EQUIVALENTS_MAX_MASSES
         ),
+        IdentifyNote::PolarityFromFit {
+            score_db,
+            reversed_db,
+        } => format!(
+            "polarity: the level below the features read says the sensor counts the other way, \
+             but with it the best fit misses the lines by {reversed_db:.2} dB, as read by \
+             {score_db:.2} dB: a resonance missed below the band had set that level"
+        ),
+        IdentifyNote::TypeOpened {
+            masses,
+            structures,
+            score_db,
+            type_db,
+        } => format!(
+            "candidates: those that show the type read miss the lines by {type_db:.2} dB, so the \
+             {structures} other {masses}-mass structures with as many modes were fitted too (an \
+             antiresonance closer to its resonance than the line spacing shows in no type); the \
+             best of all misses them by {score_db:.2} dB"
+        ),
+        IdentifyNote::MassesFromFit {
+            masses,
+            score_db,
+            fewer_db,
+        } => format!(
+            "masses: {masses}, from the fit: with one fewer the best structure misses the lines \
+             by {fewer_db:.2} dB, with {masses} by {score_db:.2} dB (a resonance and antiresonance \
+             closer than the line spacing, or sharper than it, show in no type)"
+        ),
+        IdentifyNote::MoreModesTried {
+            masses,
+            score_db,
+            kept_db,
+        } => format!(
+            "masses: the best structure misses the lines by {kept_db:.2} dB; with {masses} masses \
+             the best misses them by {score_db:.2} dB, not far enough below to take a mode more"
+        ),
         IdentifyNote::NotFitted { structure, error } => {
             format!("{structure}: not fitted: {error}")
         }

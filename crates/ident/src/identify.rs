@@ -43,7 +43,7 @@ use crate::fit::{fit, Fit, FitError, FitOptions, Gain};
 use crate::notes::{CandidateNote, IdentifyNote};
 use crate::start::{feature_starts, roots, FeatureTarget};
 use frf::Frf;
-use mms::analysis::{analyze, Feature, SearchLimits, Status};
+use mms::analysis::{analyze, Feature, FrfType, SearchLimits, Status};
 use mms::backsolve::{back_solve, BackSolution, NoSolution, Target};
 use mms::response::Parameters;
 use mms::xorshift::XorShift;
@@ -127,6 +127,11 @@ pub struct CandidateFit {
     pub back_solutions: usize,
     /// 1 for the best.
     pub rank: usize,
+    /// A parameter ended at an end of its physical range (see
+    /// [`CandidateNote::AtRangeEnd`]): the fit degenerated into a chain
+    /// with fewer masses or a rigid link, so it failed as this structure.
+    /// Such fits are ranked after every fit that did not fail.
+    pub failed: bool,
     /// Remarks on plausibility (parameter spread, damping) and on the
     /// start.
     pub notes: Vec<CandidateNote>,
@@ -347,122 +352,80 @@ pub fn identify_with_progress(
     if masses == 0 || masses > mms::MAX_MASSES {
         return Err(IdentifyError::Masses(masses));
     }
-    let all = mms::rule3_models(masses).map_err(|_| IdentifyError::Masses(masses))?;
     let t = &classification.frf_type;
-    let mut candidates: Vec<Model> = if masses <= 3 {
-        notes.push(IdentifyNote::CandidatesFromTypeTable {
-            masses,
-            frf_type: t.clone(),
-        });
-        all.iter()
-            .copied()
-            .filter(|m| {
-                analyze(m, &SearchLimits::default())
-                    .types
-                    .iter()
-                    .any(|v| v.frf_type == *t && v.status == Status::Possible)
-            })
-            .collect()
-    } else {
-        notes.push(IdentifyNote::CandidatesFromDegrees {
-            masses,
-            frf_type: t.clone(),
-        });
-        all.iter()
-            .copied()
-            .filter(|m| {
-                let tf = m.undamped_tf();
-                tf.den.degree(mms::OMEGA) as usize == resonances
-                    && tf.num.degree(mms::OMEGA) >= t.antiresonances()
-            })
-            .collect()
-    };
-    if candidates.is_empty() {
-        notes.push(IdentifyNote::NoStructureShowsType {
-            masses,
-            frf_type: t.clone(),
-        });
-        candidates = all.clone();
-    }
+    let candidates = structures_showing(masses, t, &mut notes)?;
     match options.gain {
         Gain::Known(gain) => notes.push(IdentifyNote::GainKnown { gain }),
         Gain::Fit(_) => notes.push(IdentifyNote::GainFitted),
     }
 
+    let zeta = mean_damping(&classification);
+    let fitting = Fitting {
+        output,
+        data: &data,
+        zeta,
+        noise_db: classification.noise_db,
+        progress,
+    };
+    let mut search_notes = Vec::new();
+    let (mut fits, mut masses) = fitting.open_search(
+        &candidates,
+        masses,
+        resonances,
+        target.as_ref(),
+        options,
+        &mut search_notes,
+    )?;
+    let mut sensor_reversed = sensor_reversed;
+    // The polarity is read from the level below the features: where a
+    // pair of them was missed below the band, that level is another
+    // one's, and the fits of the other polarity tell.
+    if sensor_reversed && options.masses.is_none() && fitting.lacks_fit(&fits) {
+        let turned = IdentifyOptions {
+            gain: match options.gain {
+                Gain::Known(g) => Gain::Known(-g),
+                Gain::Fit(g) => Gain::Fit(-g),
+            },
+            ..options.clone()
+        };
+        let mut turned_notes = Vec::new();
+        let (turned_fits, turned_masses) = fitting.open_search(
+            &candidates,
+            options.masses.unwrap_or(resonances + 1),
+            resonances,
+            None,
+            &turned,
+            &mut turned_notes,
+        )?;
+        let (kept, other) = (
+            fits.first().map_or(f64::INFINITY, |f| f.score_db),
+            turned_fits.first().map_or(f64::INFINITY, |f| f.score_db),
+        );
+        if other <= kept * MORE_MODES_SCORE_RATIO && !fitting.lacks_fit(&turned_fits) {
+            notes.push(IdentifyNote::PolarityFromFit {
+                score_db: other,
+                reversed_db: kept,
+            });
+            (fits, masses, search_notes, sensor_reversed) =
+                (turned_fits, turned_masses, turned_notes, false);
+        }
+    }
     if sensor_reversed {
         notes.push(IdentifyNote::SensorReversed);
     }
-    let zeta = mean_damping(&classification);
-    // The candidates are independent: fitted on every core, collected in
-    // their order, so the result does not depend on the threads.
-    let workers = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .clamp(1, candidates.len().max(1));
-    let total = candidates.len();
-    let finished = AtomicUsize::new(0);
-    let finished = &finished;
-    let results: Vec<_> = std::thread::scope(|scope| {
-        let chunks: Vec<&[Model]> = candidates
-            .chunks(candidates.len().div_ceil(workers).max(1))
-            .collect();
-        let handles: Vec<_> = chunks
-            .into_iter()
-            .map(|chunk| {
-                let (data, target) = (&data, target.as_ref());
-                scope.spawn(move || {
-                    chunk
-                        .iter()
-                        .map(|m| {
-                            let fitted = fit_candidate(m, output, data, target, zeta, options);
-                            let done = finished.fetch_add(1, Ordering::Relaxed) + 1;
-                            progress(Progress { done, total });
-                            (*m, fitted)
-                        })
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
-            .collect()
-    });
-    let mut fits = Vec::new();
-    for (model, result) in results {
-        // One candidate that cannot be fitted (e.g. its model is singular
-        // on the grid) does not stop the others.
-        let (fit_result, start, back_solutions, why_not) = match result {
-            Ok(r) => r,
-            Err(e) => {
-                notes.push(IdentifyNote::NotFitted {
-                    structure: model.name(),
-                    error: e.to_string(),
-                });
-                continue;
-            }
-        };
-        let score_db = score(&fit_result);
-        let mut notes = plausibility(&model, &fit_result);
-        notes.extend(why_not);
-        fits.push(CandidateFit {
-            id: model.name(),
-            model,
-            fit: fit_result,
-            score_db,
-            start,
-            back_solutions,
-            rank: 0,
-            notes,
-        });
-    }
-    fits.sort_by(|a, b| by_score(a.score_db, b.score_db).then_with(|| a.model.cmp(&b.model)));
+    notes.extend(search_notes);
     for (i, f) in fits.iter_mut().enumerate() {
         f.rank = i + 1;
     }
     let tolerance = options
         .indistinguishable_db
         .max(classification.noise_db * 0.5);
-    let indistinguishable = groups(fits.iter().map(|f| (f.id.as_str(), f.score_db)), tolerance);
+    // A failed fit is like no other: it stands alone (NaN joins no group).
+    let indistinguishable = groups(
+        fits.iter()
+            .map(|f| (f.id.as_str(), if f.failed { f64::NAN } else { f.score_db })),
+        tolerance,
+    );
     let best_group: Vec<Candidate> = fits
         .iter()
         .take(indistinguishable.first().map_or(0, Vec::len))
@@ -497,6 +460,306 @@ pub fn identify_with_progress(
         notes,
     })
 }
+
+/// What every candidate of one identification is fitted with.
+struct Fitting<'a> {
+    output: Output,
+    data: &'a Frf,
+    zeta: f64,
+    noise_db: f64,
+    progress: &'a (dyn Fn(Progress) + Sync),
+}
+
+impl Fitting<'_> {
+    /// Whether the best of `fits` misses the lines by far more than their
+    /// scatter ([`LACK_OF_FIT_DB`]) on a grid coarse enough to hide a
+    /// mode between its lines ([`HIDING_SPACING`]).
+    fn lacks_fit(&self, fits: &[CandidateFit]) -> bool {
+        let f = self.data.freq_hz();
+        let mut spacing: Vec<f64> = f.windows(2).map(|w| (w[1] / w[0]).ln()).collect();
+        let hides = !spacing.is_empty() && {
+            let k = spacing.len() / 2;
+            *spacing.select_nth_unstable_by(k, f64::total_cmp).1 >= HIDING_SPACING
+        };
+        hides
+            && fits
+                .first()
+                .is_some_and(|b| b.score_db > LACK_OF_FIT_DB.max(LACK_OF_FIT_NOISE * self.noise_db))
+    }
+
+    /// The candidates fitted, best first, with their masses: those of the
+    /// type read, and where they miss the lines by far more than their
+    /// scatter, the other structures and those with more modes.
+    fn open_search(
+        &self,
+        candidates: &[Model],
+        mut masses: usize,
+        resonances: usize,
+        target: Option<&(Vec<f64>, Vec<f64>)>,
+        options: &IdentifyOptions,
+        notes: &mut Vec<IdentifyNote>,
+    ) -> Result<(Vec<CandidateFit>, usize), IdentifyError> {
+        let fit_all = |candidates: &[Model], notes: &mut Vec<IdentifyNote>| {
+            fit_candidates(
+                candidates,
+                self.output,
+                self.data,
+                target,
+                self.zeta,
+                options,
+                self.progress,
+                notes,
+            )
+        };
+        let mut fits = fit_all(candidates, notes);
+        // An antiresonance closer to its resonance than the line spacing
+        // shows in no type, and the type read may exclude the structure:
+        // every structure of these masses and modes is compared on the
+        // lines.
+        if options.masses.is_none() && self.lacks_fit(&fits) {
+            let others: Vec<Model> = structures_with_resonances(masses, resonances)?
+                .into_iter()
+                .filter(|m| !candidates.contains(m))
+                .collect();
+            if !others.is_empty() {
+                let before = fits.first().map_or(f64::NAN, |b| b.score_db);
+                fits.extend(fit_all(&others, notes));
+                sort_fits(&mut fits);
+                notes.push(IdentifyNote::TypeOpened {
+                    masses,
+                    structures: others.len(),
+                    score_db: fits.first().map_or(f64::NAN, |b| b.score_db),
+                    type_db: before,
+                });
+            }
+        }
+        // A resonance and its antiresonance missed the same way: where the
+        // best still misses the lines by far more than their noise, the
+        // structures with a mode more are fitted too (and two more, up to
+        // MORE_MODES_MAX_MASSES, where one more does not do), and taken if
+        // they explain the lines far better.
+        let mut modes = resonances;
+        'more: while options.masses.is_none() && masses < INFERRED_MAX_MASSES {
+            if !self.lacks_fit(&fits) {
+                break;
+            }
+            let Some(best) = fits.first() else { break };
+            for extra in 1..=2 {
+                if extra == 2 && masses + 2 > MORE_MODES_MAX_MASSES.min(INFERRED_MAX_MASSES) {
+                    break;
+                }
+                let tried = structures_with_resonances(masses + extra, modes + extra)?;
+                let more = fit_all(&tried, notes);
+                let Some(next) = more.first() else { break };
+                let (lines, p_best, p_next) = (
+                    self.data.len(),
+                    best.model.parameters().len(),
+                    next.model.parameters().len(),
+                );
+                // A mode more must bring the fit down to what a well-read
+                // chain attains: one that only takes a share off a phase
+                // trend (a dead time no chain has) is not a missed mode.
+                let explains = next.score_db <= best.score_db * MORE_MODES_SCORE_RATIO
+                    && !self.lacks_fit(&more)
+                    && 2 * lines >= p_next + 2 * p_next.saturating_sub(p_best);
+                if explains {
+                    notes.push(IdentifyNote::MassesFromFit {
+                        masses: masses + extra,
+                        score_db: next.score_db,
+                        fewer_db: best.score_db,
+                    });
+                    masses += extra;
+                    modes += extra;
+                    fits = more;
+                    continue 'more;
+                }
+                notes.push(IdentifyNote::MoreModesTried {
+                    masses: masses + extra,
+                    score_db: next.score_db,
+                    kept_db: best.score_db,
+                });
+            }
+            break;
+        }
+        Ok((fits, masses))
+    }
+}
+
+/// The structures of `masses` masses that can show the type read, with
+/// the note saying how they were chosen (every structure when none can).
+fn structures_showing(
+    masses: usize,
+    t: &FrfType,
+    notes: &mut Vec<IdentifyNote>,
+) -> Result<Vec<Model>, IdentifyError> {
+    let all = mms::rule3_models(masses).map_err(|_| IdentifyError::Masses(masses))?;
+    let resonances = t.resonances() as usize;
+    let candidates: Vec<Model> = if masses <= 3 {
+        notes.push(IdentifyNote::CandidatesFromTypeTable {
+            masses,
+            frf_type: t.clone(),
+        });
+        all.iter()
+            .copied()
+            .filter(|m| {
+                analyze(m, &SearchLimits::default())
+                    .types
+                    .iter()
+                    .any(|v| v.frf_type == *t && v.status == Status::Possible)
+            })
+            .collect()
+    } else {
+        notes.push(IdentifyNote::CandidatesFromDegrees {
+            masses,
+            frf_type: t.clone(),
+        });
+        all.iter()
+            .copied()
+            .filter(|m| {
+                let tf = m.undamped_tf();
+                tf.den.degree(mms::OMEGA) as usize == resonances
+                    && tf.num.degree(mms::OMEGA) >= t.antiresonances()
+            })
+            .collect()
+    };
+    if candidates.is_empty() {
+        notes.push(IdentifyNote::NoStructureShowsType {
+            masses,
+            frf_type: t.clone(),
+        });
+        return Ok(all);
+    }
+    Ok(candidates)
+}
+
+/// The structures of `masses` masses with `resonances` resonances,
+/// whatever their antiresonances.
+fn structures_with_resonances(
+    masses: usize,
+    resonances: usize,
+) -> Result<Vec<Model>, IdentifyError> {
+    Ok(mms::rule3_models(masses)
+        .map_err(|_| IdentifyError::Masses(masses))?
+        .into_iter()
+        .filter(|m| m.undamped_tf().den.degree(mms::OMEGA) as usize == resonances)
+        .collect())
+}
+
+/// Fits every candidate (independent: on every core, collected in their
+/// order, so the result does not depend on the threads), best first; a
+/// candidate that cannot be fitted (e.g. its model is singular on the
+/// grid) is noted and does not stop the others.
+#[allow(clippy::too_many_arguments)]
+fn fit_candidates(
+    candidates: &[Model],
+    output: Output,
+    data: &Frf,
+    target: Option<&(Vec<f64>, Vec<f64>)>,
+    zeta: f64,
+    options: &IdentifyOptions,
+    progress: &(dyn Fn(Progress) + Sync),
+    notes: &mut Vec<IdentifyNote>,
+) -> Vec<CandidateFit> {
+    let workers = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, candidates.len().max(1));
+    let total = candidates.len();
+    let finished = AtomicUsize::new(0);
+    let finished = &finished;
+    let results: Vec<_> = std::thread::scope(|scope| {
+        let handles: Vec<_> = candidates
+            .chunks(candidates.len().div_ceil(workers).max(1))
+            .map(|chunk| {
+                scope.spawn(move || {
+                    chunk
+                        .iter()
+                        .map(|m| {
+                            let fitted = fit_candidate(m, output, data, target, zeta, options);
+                            let done = finished.fetch_add(1, Ordering::Relaxed) + 1;
+                            progress(Progress { done, total });
+                            (*m, fitted)
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+            .collect()
+    });
+    let mut fits = Vec::new();
+    for (model, result) in results {
+        let (fit_result, start, back_solutions, why_not) = match result {
+            Ok(r) => r,
+            Err(e) => {
+                notes.push(IdentifyNote::NotFitted {
+                    structure: model.name(),
+                    error: e.to_string(),
+                });
+                continue;
+            }
+        };
+        let score_db = score(&fit_result);
+        let mut notes = plausibility(&model, &fit_result);
+        let failed = notes
+            .iter()
+            .any(|n| matches!(n, CandidateNote::AtRangeEnd { .. }));
+        notes.extend(why_not);
+        fits.push(CandidateFit {
+            id: model.name(),
+            model,
+            fit: fit_result,
+            score_db,
+            start,
+            back_solutions,
+            rank: 0,
+            failed,
+            notes,
+        });
+    }
+    sort_fits(&mut fits);
+    fits
+}
+
+/// Fits that did not fail first, then by score, then by structure.
+fn sort_fits(fits: &mut [CandidateFit]) {
+    fits.sort_by(|a, b| {
+        a.failed
+            .cmp(&b.failed)
+            .then_with(|| by_score(a.score_db, b.score_db))
+            .then_with(|| a.model.cmp(&b.model))
+    });
+}
+
+/// A best fit missing the lines by more than this (RMS of the complex
+/// log error, dB-equivalent) and [`LACK_OF_FIT_NOISE`] times their
+/// scatter has features the type read does not show: structures with a
+/// mode more are tried. A well-read chain fits to a few tenths of a dB;
+/// leakage and bias of a noise-excited estimate leave one to two dB.
+pub const LACK_OF_FIT_DB: f64 = 1.5;
+
+/// See [`LACK_OF_FIT_DB`].
+pub const LACK_OF_FIT_NOISE: f64 = 4.0;
+
+/// The median spacing of the lines (in `ln f`: 1.5 %) from which a
+/// resonance and its antiresonance can hide between two lines: the
+/// multisine grids of a short period. On denser grids a mode shows in the
+/// type unless damped beyond reading, and a misfit there is more often a
+/// dead time or friction no chain has, which a mode more only mimics
+/// (the shared recordings' grids lie below 0.9 %).
+pub const HIDING_SPACING: f64 = 0.015;
+
+/// The most masses reached by trying two modes more than the type read
+/// at once (fitting every 5-mass structure takes tens of seconds).
+pub const MORE_MODES_MAX_MASSES: usize = 4;
+
+/// Structures with a mode more than the type read are taken only if they
+/// miss the lines by at most this share of the best fit's error: a ninth
+/// of its squared error. A missed mode leaves the fewer masses several dB
+/// that the mode more takes down to the scatter; a mode more fitted to
+/// an estimate's leakage or bias takes off a half to two thirds.
+pub const MORE_MODES_SCORE_RATIO: f64 = 1.0 / 3.0;
 
 /// The most masses for which [`identify`] back-solves the exactly
 /// equivalent parameter sets of every candidate
@@ -1134,8 +1397,12 @@ fn multistart(
         fixed: fixed.to_vec(),
         ..fit_options(options, 25)
     };
+    // Few lines leave the cost full of valleys (a feature between two
+    // lines can sit anywhere between them) and make a start cheap: up to
+    // sixteen times the starts where there are fewer than 300 lines.
+    let starts = options.multistarts.max(1) * (MULTISTART_LINES / data.len().max(1)).clamp(1, 16);
     let mut trials: Vec<Fit> = Vec::new();
-    for _ in 0..options.multistarts.max(1) {
+    for _ in 0..starts {
         let masses: Vec<f64> = (0..n)
             .map(|_| total / n as f64 * rng.log_uniform(0.2, 5.0))
             .collect();
@@ -1186,6 +1453,10 @@ fn multistart(
         }
     }
 }
+
+/// Below this many lines the multi-start draws more starts (see
+/// [`multistart`]).
+const MULTISTART_LINES: usize = 300;
 
 fn model_hash(m: &Model) -> u64 {
     m.id().bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {

@@ -269,6 +269,10 @@ pub struct TimeDiagnosis {
     /// ([`TimeOptions::search_samples`]): the check on the whole record.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub whole_record: Option<WholeRecord>,
+    /// The sample of the whole record at which a model diverged inside
+    /// the loop, where the search's stretch stayed finite: the verdict
+    /// rests on that stretch alone.
+    pub whole_record_diverged_at: Option<usize>,
 }
 
 /// The search's models refitted on the whole record (each from the
@@ -1861,122 +1865,148 @@ pub fn diagnose_time_outputs(
     let mut noise = (rss_base / n_fit as f64).sqrt();
     let mut model_after = problem.model(&kinds, &x_base)?.within_ranges();
     let mut whole_record = None;
+    let mut whole_record_diverged_at = None;
     if w < n_all {
-        // The whole record: both models refitted from the search's
-        // solutions on its fitted blocks, compared on its held-out blocks.
-        let held = held_blocks(n_all, o.holdout);
-        let mut big = Problem {
-            file: model,
-            u: u_all,
-            y: y_all,
-            extra: others_all
-                .iter()
-                .zip(&problem.extra)
-                .map(|(&(y, place), e)| Extra {
-                    y,
-                    place,
-                    weight: e.weight,
-                })
-                .collect(),
-            fs,
-            free: problem.free.clone(),
-            offset_scale: problem.offset_scale,
-            closed: record_all.map(|r| r.closed_loop(y_all, fs)),
-            welch: &o.welch,
-            trend_basis: TrendBasis::new(&held, MAX_TREND_TERMS),
-            held,
-            trend: problem.trend,
-            highpass: problem
-                .highpass
-                .as_ref()
-                .and_then(|_| highpass(false, applied_corner, fs, n_all)),
-        };
-        let its = WHOLE_RECORD_ITERATIONS;
-        // With nothing named there is nothing to confirm: the calibrated
-        // chain is scored as the search left it (one simulation).
-        let xc = if kinds.is_empty() {
-            x_cal.clone()
-        } else {
-            big.fit(&[], x_cal.clone(), &lo, &hi, its).0
-        };
-        let test_c = big.test_rss(&[], &xc);
-        let (xs, test_s) = if kinds.is_empty() {
-            (xc.clone(), test_c)
-        } else {
-            let (xs, _) = big.fit(&kinds, x_base.clone(), &lo_base, &hi_base, its);
-            let t = big.test_rss(&kinds, &xs);
-            (xs, t)
-        };
-        let eff = big.effective_counts(&kinds, &xs).1;
-        let n_test_all = outputs * big.held.iter().filter(|&&h| h).count();
-        let held_out = TimeHeldOut {
-            samples: n_test_all,
-            before: test_c,
-            after: test_s,
-            effective_samples: eff,
-        };
-        let gain = held_out.evidence();
-        let price = kinds.len() as f64 * eff.max(2.0).ln();
-        let confirmed = kinds.is_empty() || n_test_all == 0 || gain > price;
-        let measured_all = h1(u_all, y_all, fs, welch).ok();
-        let frf_all = measured_all.as_ref().map(|e| &e.frf);
-        let mut x_final = if confirmed { xs } else { xc.clone() };
-        if !confirmed {
-            // The search's effects do not hold on the record: rejected,
-            // with the whole record's held-out figures.
-            for mut v in kept.drain(..) {
-                v.score = v.score.min(-1.0);
-                if let Evidence::Time(t) = &mut v.evidence {
-                    t.validated = false;
-                    t.held_out = Some(HeldOutSamples {
-                        before: (test_c / n_test_all as f64).sqrt(),
-                        after: (test_s / n_test_all as f64).sqrt(),
-                        samples: n_test_all,
-                        gain,
-                        price,
-                    });
+        // A model that stays finite on the search's stretch may diverge
+        // later inside the loop: then the verdict rests on the stretch,
+        // and the report says where the whole record could not be run.
+        let saved = (
+            kept.clone(),
+            rejected.clone(),
+            noise,
+            evidence.clone(),
+            before,
+            after,
+            model_after.clone(),
+        );
+        let mut whole = || -> Result<(), TimeDiagnoseError> {
+            // The whole record: both models refitted from the search's
+            // solutions on its fitted blocks, compared on its held-out blocks.
+            let held = held_blocks(n_all, o.holdout);
+            let mut big = Problem {
+                file: model,
+                u: u_all,
+                y: y_all,
+                extra: others_all
+                    .iter()
+                    .zip(&problem.extra)
+                    .map(|(&(y, place), e)| Extra {
+                        y,
+                        place,
+                        weight: e.weight,
+                    })
+                    .collect(),
+                fs,
+                free: problem.free.clone(),
+                offset_scale: problem.offset_scale,
+                closed: record_all.map(|r| r.closed_loop(y_all, fs)),
+                welch: &o.welch,
+                trend_basis: TrendBasis::new(&held, MAX_TREND_TERMS),
+                held,
+                trend: problem.trend,
+                highpass: problem
+                    .highpass
+                    .as_ref()
+                    .and_then(|_| highpass(false, applied_corner, fs, n_all)),
+            };
+            let its = WHOLE_RECORD_ITERATIONS;
+            // With nothing named there is nothing to confirm: the calibrated
+            // chain is scored as the search left it (one simulation).
+            let xc = if kinds.is_empty() {
+                x_cal.clone()
+            } else {
+                big.fit(&[], x_cal.clone(), &lo, &hi, its).0
+            };
+            let test_c = big.test_rss(&[], &xc);
+            let (xs, test_s) = if kinds.is_empty() {
+                (xc.clone(), test_c)
+            } else {
+                let (xs, _) = big.fit(&kinds, x_base.clone(), &lo_base, &hi_base, its);
+                let t = big.test_rss(&kinds, &xs);
+                (xs, t)
+            };
+            let eff = big.effective_counts(&kinds, &xs).1;
+            let n_test_all = outputs * big.held.iter().filter(|&&h| h).count();
+            let held_out = TimeHeldOut {
+                samples: n_test_all,
+                before: test_c,
+                after: test_s,
+                effective_samples: eff,
+            };
+            let gain = held_out.evidence();
+            let price = kinds.len() as f64 * eff.max(2.0).ln();
+            let confirmed = kinds.is_empty() || n_test_all == 0 || gain > price;
+            let measured_all = h1(u_all, y_all, fs, welch).ok();
+            let frf_all = measured_all.as_ref().map(|e| &e.frf);
+            let mut x_final = if confirmed { xs } else { xc.clone() };
+            if !confirmed {
+                // The search's effects do not hold on the record: rejected,
+                // with the whole record's held-out figures.
+                for mut v in kept.drain(..) {
+                    v.score = v.score.min(-1.0);
+                    if let Evidence::Time(t) = &mut v.evidence {
+                        t.validated = false;
+                        t.held_out = Some(HeldOutSamples {
+                            before: (test_c / n_test_all as f64).sqrt(),
+                            after: (test_s / n_test_all as f64).sqrt(),
+                            samples: n_test_all,
+                            gain,
+                            price,
+                        });
+                    }
+                    rejected.push(v);
                 }
-                rejected.push(v);
+                rejected.sort_by(|a, b| b.score.total_cmp(&a.score));
+                kinds.clear();
             }
-            rejected.sort_by(|a, b| b.score.total_cmp(&a.score));
-            kinds.clear();
-        }
-        // The kept effects' values from every sample.
-        if !kinds.is_empty() {
-            big.hold(vec![false; n_all]);
-            let (xf, rf) = big.fit(&kinds, x_final.clone(), &lo_base, &hi_base, its);
-            if rf.is_finite() {
-                x_final = xf;
-                noise = (rf / (outputs * n_all) as f64).sqrt();
+            // The kept effects' values from every sample.
+            if !kinds.is_empty() {
+                big.hold(vec![false; n_all]);
+                let (xf, rf) = big.fit(&kinds, x_final.clone(), &lo_base, &hi_base, its);
+                if rf.is_finite() {
+                    x_final = xf;
+                    noise = (rf / (outputs * n_all) as f64).sqrt();
+                }
             }
-        }
-        for (e, &v) in kept.iter_mut().zip(&x_final[np..]) {
-            let kind = e.kind;
-            for p in e.parameters.values_mut() {
-                *p = value(kind, v);
+            for (e, &v) in kept.iter_mut().zip(&x_final[np..]) {
+                let kind = e.kind;
+                for p in e.parameters.values_mut() {
+                    *p = value(kind, v);
+                }
             }
-        }
-        if let Some(est) = &measured_all {
-            evidence.coherence = coherence_evidence(&est.frf);
-        }
-        before = big.time_fit(&[], &xc, frf_all)?;
-        after = if kinds.is_empty() && x_final == xc {
-            before
-        } else {
-            big.time_fit(&kinds, &x_final, frf_all)?
+            if let Some(est) = &measured_all {
+                evidence.coherence = coherence_evidence(&est.frf);
+            }
+            before = big.time_fit(&[], &xc, frf_all)?;
+            after = if kinds.is_empty() && x_final == xc {
+                before
+            } else {
+                big.time_fit(&kinds, &x_final, frf_all)?
+            };
+            if kinds.is_empty() {
+                noise = after.rms_time;
+            }
+            model_after = big.model(&kinds, &x_final)?.within_ranges();
+            whole_record = Some(WholeRecord {
+                search_samples: w,
+                samples: n_all,
+                held_out,
+                gain,
+                price,
+                confirmed,
+            });
+
+            Ok(())
         };
-        if kinds.is_empty() {
-            noise = after.rms_time;
+        match whole() {
+            Ok(()) => {}
+            Err(TimeDiagnoseError::Simulate(SimulateError::Diverged(at))) => {
+                (kept, rejected, noise, evidence, before, after, model_after) = saved;
+                whole_record = None;
+                whole_record_diverged_at = Some(at);
+            }
+            Err(e) => return Err(e),
         }
-        model_after = big.model(&kinds, &x_final)?.within_ranges();
-        whole_record = Some(WholeRecord {
-            search_samples: w,
-            samples: n_all,
-            held_out,
-            gain,
-            price,
-            confirmed,
-        });
     }
     // Informative when the model, with whatever effects it earned, meets
     // most of the output.
@@ -2023,6 +2053,7 @@ pub fn diagnose_time_outputs(
         highpass_hz: problem.highpass.as_ref().and(applied_corner),
         output_weights: problem.extra.iter().map(|e| e.weight).collect(),
         whole_record,
+        whole_record_diverged_at,
     })
 }
 

@@ -324,6 +324,56 @@ pub enum IdentifyNote {
         /// The masses of the candidates.
         masses: usize,
     },
+    /// The level below the features read said the sensor counts the other
+    /// way, but the fits of that polarity missed the lines by far more
+    /// than their scatter and those of the sensor's own polarity explain
+    /// them far better: features missed below the band had set that level.
+    PolarityFromFit {
+        /// The best fit taken (RMS of the complex log error, dB-equivalent).
+        score_db: f64,
+        /// The best fit with the sensor taken as reversed.
+        reversed_db: f64,
+    },
+    /// The structures that can show the type read missed the lines by far
+    /// more than their scatter (an antiresonance closer to its resonance
+    /// than the line spacing shows in no type): every other structure of
+    /// these masses and modes was fitted too and ranked with them.
+    TypeOpened {
+        /// The masses.
+        masses: usize,
+        /// The structures added.
+        structures: usize,
+        /// The best fit of all (RMS of the complex log error,
+        /// dB-equivalent).
+        score_db: f64,
+        /// The best fit of those showing the type read.
+        type_db: f64,
+    },
+    /// The structures of the type read missed the lines by far more than
+    /// their scatter, and those with a mode more (a resonance and
+    /// antiresonance closer than the line spacing, or sharper than it,
+    /// show in no type) explain them far better: the candidates have
+    /// `masses` masses.
+    MassesFromFit {
+        /// The masses taken.
+        masses: usize,
+        /// The best fit with them (RMS of the complex log error,
+        /// dB-equivalent).
+        score_db: f64,
+        /// The best fit with one mass fewer.
+        fewer_db: f64,
+    },
+    /// The structures of the type read missed the lines by far more than
+    /// their scatter; those with a mode more were fitted too but did not
+    /// explain the lines far better, so they are not the candidates.
+    MoreModesTried {
+        /// Their masses.
+        masses: usize,
+        /// Their best fit (dB-equivalent).
+        score_db: f64,
+        /// The best fit kept.
+        kept_db: f64,
+    },
     /// A candidate could not be fitted; the others were.
     NotFitted {
         /// The candidate's ID.
