@@ -1397,12 +1397,8 @@ fn multistart(
         fixed: fixed.to_vec(),
         ..fit_options(options, 25)
     };
-    // Few lines leave the cost full of valleys (a feature between two
-    // lines can sit anywhere between them) and make a start cheap: up to
-    // sixteen times the starts where there are fewer than 300 lines.
-    let starts = options.multistarts.max(1) * (MULTISTART_LINES / data.len().max(1)).clamp(1, 16);
     let mut trials: Vec<Fit> = Vec::new();
-    for _ in 0..starts {
+    for _ in 0..options.multistarts.max(1) {
         let masses: Vec<f64> = (0..n)
             .map(|_| total / n as f64 * rng.log_uniform(0.2, 5.0))
             .collect();
@@ -1453,10 +1449,6 @@ fn multistart(
         }
     }
 }
-
-/// Below this many lines the multi-start draws more starts (see
-/// [`multistart`]).
-const MULTISTART_LINES: usize = 300;
 
 fn model_hash(m: &Model) -> u64 {
     m.id().bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
