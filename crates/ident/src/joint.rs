@@ -356,9 +356,8 @@ pub fn identify_sensors_with_progress(
         .max()
         .unwrap_or(0);
     let masses = options.masses.unwrap_or((most + 1).max(placed));
-    if masses == 0 || masses > mms::MAX_MASSES {
-        return Err(IdentifyError::Masses(masses));
-    }
+    // Too many features read is said as such, before the count they
+    // imply is checked against what a chain can have.
     if options.masses.is_none() && most + 1 > crate::identify::INFERRED_MAX_MASSES {
         return Err(IdentifyError::TooManyFeatures {
             masses: most + 1,
@@ -368,6 +367,9 @@ pub fn identify_sensors_with_progress(
                 .map(|r| r.classification.frf_type.to_string())
                 .unwrap_or_default(),
         });
+    }
+    if masses == 0 || masses > mms::MAX_MASSES {
+        return Err(IdentifyError::Masses(masses));
     }
     for (o, r) in outputs.iter().zip(&readings) {
         if let Some(loc) = o.location {

@@ -332,3 +332,45 @@ fn benchmark_two_sensor_pairs() {
         start.elapsed().as_secs_f64()
     );
 }
+
+/// An output that reads nine resonances (more than any chain here has
+/// masses for) is refused as too many features read, the error that says
+/// what to do (narrow the band or give the masses), not as a chain of ten
+/// masses that does not exist.
+#[test]
+fn too_many_features_on_one_output_are_said_as_such() {
+    let factor = |s: Complex64, f: f64| {
+        let w = 2.0 * std::f64::consts::PI * f;
+        1.0 + 0.02 * s / w + (s / w) * (s / w)
+    };
+    let freq: Vec<f64> = (0..4000)
+        .map(|i| 5.0 * 400f64.powf(i as f64 / 3999.0))
+        .collect();
+    let many: Vec<Complex64> = freq
+        .iter()
+        .map(|&f| {
+            let s = Complex64::new(0.0, 2.0 * std::f64::consts::PI * f);
+            (0..9).fold(1.0 / (s * s), |h, k| {
+                let a = 10.0 * 1.8f64.powi(k);
+                h * factor(s, a) / factor(s, 1.3 * a)
+            })
+        })
+        .collect();
+    let rigid: Vec<Complex64> = freq
+        .iter()
+        .map(|&f| {
+            let s = Complex64::new(0.0, 2.0 * std::f64::consts::PI * f);
+            1.0 / (s * s)
+        })
+        .collect();
+    let (h1, h2) = (
+        Frf::new(freq.clone(), many, None).unwrap(),
+        Frf::new(freq, rigid, None).unwrap(),
+    );
+    let outputs = two_outputs((&h1, Some("1")), (&h2, Some("2")));
+    let e = identify_sensors(&outputs, Output::Position, &IdentifyOptions::default()).unwrap_err();
+    assert!(
+        matches!(e, ident::identify::IdentifyError::TooManyFeatures { masses, .. } if masses >= 9),
+        "{e}"
+    );
+}
