@@ -398,6 +398,7 @@ fn candidate_json(c: &CandidateFit) -> Value {
         "start": c.start,
         "back_solutions": c.back_solutions,
         "rank": c.rank,
+        "failed": c.failed,
         "notes": c.notes.iter().map(candidate_note).collect::<Vec<_>>(),
         "note_data": c.notes,
     })
@@ -594,9 +595,14 @@ fn markdown(
     for cand in &id.candidates {
         let _ = writeln!(
             s,
-            "| {} | {} | {:.3} | {:.2} | {} | {} |",
+            "| {} | {}{} | {:.3} | {:.2} | {} | {} |",
             cand.rank,
             cand.id,
+            if cand.failed {
+                " (failed: a parameter at an end of its range)"
+            } else {
+                ""
+            },
             cand.fit.rms_db,
             cand.fit.rms_deg,
             match cand.start {

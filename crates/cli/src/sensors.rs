@@ -173,6 +173,7 @@ fn to_json(id: &SensorsIdentification) -> Value {
                 "per_output": c.per_output.iter().map(|e| json!({"rms_db": e.0, "rms_deg": e.1})).collect::<Vec<_>>(),
                 "score_db": c.score_db,
                 "first_output_score_db": c.first_output_score_db,
+                "failed": c.failed,
             })
         }).collect::<Vec<_>>(),
         "indistinguishable": id.indistinguishable,
@@ -321,9 +322,14 @@ fn markdown(name: &str, id: &SensorsIdentification, plot: Option<&str>) -> Strin
     }
     s.push_str("---:|\n");
     for c in &id.candidates {
+        let failed = if c.failed {
+            " (failed: a parameter at an end of its range)"
+        } else {
+            ""
+        };
         let _ = write!(
             s,
-            "| {} | {} | {:.3} / {:.2} |",
+            "| {} | {}{failed} | {:.3} / {:.2} |",
             c.rank, c.id, c.fit.rms_db, c.fit.rms_deg
         );
         for e in &c.per_output {

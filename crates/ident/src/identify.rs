@@ -1457,6 +1457,14 @@ fn model_hash(m: &Model) -> u64 {
 }
 
 /// Remarks an engineer would make about a fitted parameter set.
+/// Whether a parameter of `f` ended at an end of its physical range: the
+/// fit degenerated into another structure ([`CandidateFit::failed`]).
+pub(crate) fn degenerate(model: &Model, f: &Fit) -> bool {
+    plausibility(model, f)
+        .iter()
+        .any(|n| matches!(n, CandidateNote::AtRangeEnd { .. }))
+}
+
 fn plausibility(model: &Model, f: &Fit) -> Vec<CandidateNote> {
     let mut notes = Vec::new();
     let n = model.n_masses();

@@ -225,6 +225,10 @@ pub struct SensorsCandidate {
     pub first_output_score_db: f64,
     /// 1 for the best.
     pub rank: usize,
+    /// A parameter ended at an end of its physical range: the fit
+    /// degenerated into another structure, so it failed as this one.
+    /// Such fits are ranked after every fit that did not fail.
+    pub failed: bool,
 }
 
 /// A structure the first output alone could not rule out and the others
@@ -503,6 +507,7 @@ pub fn identify_sensors_with_progress(
             .map_or(f64::INFINITY, score);
         fits.push(SensorsCandidate {
             id,
+            failed: crate::identify::degenerate(&models[0], &best.fit),
             models: models.clone(),
             score_db: score(&best.fit),
             per_output: best.per_output,
@@ -516,7 +521,10 @@ pub fn identify_sensors_with_progress(
         total: candidates.len(),
     });
     fits.sort_by(|a, b| {
-        crate::identify::by_score(a.score_db, b.score_db).then_with(|| a.models.cmp(&b.models))
+        a.failed
+            .cmp(&b.failed)
+            .then_with(|| crate::identify::by_score(a.score_db, b.score_db))
+            .then_with(|| a.models.cmp(&b.models))
     });
     for (i, f) in fits.iter_mut().enumerate() {
         f.rank = i + 1;
@@ -526,7 +534,12 @@ pub fn identify_sensors_with_progress(
         .map(|r| r.classification.noise_db)
         .fold(0.0, f64::max);
     let tolerance = options.indistinguishable_db.max(noise * 0.5);
-    let indistinguishable = groups(fits.iter().map(|f| (f.id.as_str(), f.score_db)), tolerance);
+    // A failed fit is like no other: it stands alone (NaN joins no group).
+    let indistinguishable = groups(
+        fits.iter()
+            .map(|f| (f.id.as_str(), if f.failed { f64::NAN } else { f.score_db })),
+        tolerance,
+    );
     // The first output alone: every tuple whose first structure could
     // show its type, fitted or not jointly.
     let mut first_scores: Vec<(String, f64, Option<usize>)> = fits
