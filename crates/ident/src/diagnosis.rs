@@ -1357,14 +1357,20 @@ fn simulated_frf(
 ) -> Result<Vec<Complex64>, DiagnosisError> {
     let sim =
         Simulator::new(m, s.fs, &crate::nonlinear::RECORDED).map_err(TimeDiagnoseError::from)?;
-    let (u, y) = match closed_loop {
-        None => (s.u.clone(), sim.run(&s.u).map_err(TimeDiagnoseError::from)?),
-        Some(l) => {
-            let run = sim
-                .run_closed_loop(&l.closed_loop(&s.y, s.fs))
-                .map_err(TimeDiagnoseError::from)?;
-            (run.u, run.y)
+    let run = match closed_loop {
+        None => sim.run(&s.u).map(|y| (s.u.clone(), y)),
+        Some(l) => sim
+            .run_closed_loop(&l.closed_loop(&s.y, s.fs))
+            .map(|run| (run.u, run.y)),
+    };
+    // A model that diverges inside the loop has no curve to draw: the plot
+    // leaves it out, the verdict stands.
+    let (u, y) = match run {
+        Ok(r) => r,
+        Err(mms::simulate::SimulateError::Diverged(_)) => {
+            return Ok(vec![Complex64::new(f64::NAN, f64::NAN); like.len()]);
         }
+        Err(e) => return Err(TimeDiagnoseError::from(e).into()),
     };
     // Same options, same lines; a different grid (it cannot happen with
     // the recording's own options) or an output with no estimate (a
