@@ -219,8 +219,9 @@ pub fn identify_note(n: &IdentifyNote) -> String {
             reversed_db,
         } => format!(
             "polarity: the level below the features read says the sensor counts the other way, \
-             but with it the best fit misses the lines by {reversed_db:.2} dB, as read by \
-             {score_db:.2} dB: a resonance missed below the band had set that level"
+             but with it the best fit misses the lines by {reversed_db:.2} dB, with the sensor's \
+             own polarity by {score_db:.2} dB: features missed between or below the lines had \
+             set that level"
         ),
         IdentifyNote::TypeOpened {
             masses,

@@ -408,6 +408,11 @@ pub fn identify_with_progress(
             });
             (fits, masses, search_notes, sensor_reversed) =
                 (turned_fits, turned_masses, turned_notes, false);
+            for n in &mut notes {
+                if let IdentifyNote::GainKnown { gain } = n {
+                    *gain = -*gain;
+                }
+            }
         }
     }
     if sensor_reversed {

@@ -327,7 +327,8 @@ pub enum IdentifyNote {
     /// The level below the features read said the sensor counts the other
     /// way, but the fits of that polarity missed the lines by far more
     /// than their scatter and those of the sensor's own polarity explain
-    /// them far better: features missed below the band had set that level.
+    /// them far better: features missed between or below the lines had set
+    /// that level.
     PolarityFromFit {
         /// The best fit taken (RMS of the complex log error, dB-equivalent).
         score_db: f64,

@@ -75,6 +75,11 @@ fn a_polarity_read_above_a_missed_resonance_is_corrected_by_the_fit() {
     let frf = coarse_frf(&drive, Output::Position, p.values());
     let id = identify(&frf, Output::Position, &IdentifyOptions::default()).unwrap();
     assert!(!id.sensor_reversed, "{:?}", id.notes);
+    // The scale the report states is the one the fits used.
+    assert!(id
+        .notes
+        .iter()
+        .any(|n| matches!(n, IdentifyNote::GainKnown { gain } if *gain == 1.0)));
     assert!(id
         .notes
         .iter()
