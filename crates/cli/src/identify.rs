@@ -3,7 +3,7 @@
 //! a model file when `--out DIR` is given.
 
 use crate::notes::{
-    candidate_note, classify_note, equivalent_family, identify_note, no_equivalent,
+    candidate_note, classify_note, equivalent_family, failed_mark, identify_note, no_equivalent,
 };
 use crate::recording::RecordingArgs;
 use crate::report::{Links, Outcome};
@@ -598,11 +598,7 @@ fn markdown(
             "| {} | {}{} | {:.3} | {:.2} | {} | {} |",
             cand.rank,
             cand.id,
-            if cand.failed {
-                " (failed: a parameter at an end of its range)"
-            } else {
-                ""
-            },
+            failed_mark(cand.failed),
             cand.fit.rms_db,
             cand.fit.rms_deg,
             match cand.start {

@@ -257,6 +257,15 @@ pub fn identify_note(n: &IdentifyNote) -> String {
     }
 }
 
+/// What a candidate table adds after a failed fit's structure.
+pub fn failed_mark(failed: bool) -> &'static str {
+    if failed {
+        " (failed: a parameter at an end of its range)"
+    } else {
+        ""
+    }
+}
+
 /// A note on a fitted candidate in words.
 pub fn candidate_note(n: &CandidateNote) -> String {
     match n {

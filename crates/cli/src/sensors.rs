@@ -10,7 +10,7 @@ use crate::diagnose::{
 use crate::identify::{
     fitted_model, fmt_sig, model_curve, parameters_json, progress_bar, show, IdentifyArgs,
 };
-use crate::notes::sensors_note;
+use crate::notes::{failed_mark, sensors_note};
 use crate::recording::SensorRecording;
 use crate::report::{Links, Outcome};
 use ident::classify::feature_name;
@@ -322,11 +322,7 @@ fn markdown(name: &str, id: &SensorsIdentification, plot: Option<&str>) -> Strin
     }
     s.push_str("---:|\n");
     for c in &id.candidates {
-        let failed = if c.failed {
-            " (failed: a parameter at an end of its range)"
-        } else {
-            ""
-        };
+        let failed = failed_mark(c.failed);
         let _ = write!(
             s,
             "| {} | {}{failed} | {:.3} / {:.2} |",

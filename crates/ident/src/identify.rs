@@ -354,19 +354,9 @@ pub fn identify_with_progress(
     }
     let t = &classification.frf_type;
     let candidates = structures_showing(masses, t, &mut notes)?;
-    match options.gain {
-        Gain::Known(gain) => notes.push(IdentifyNote::GainKnown { gain }),
-        Gain::Fit(_) => notes.push(IdentifyNote::GainFitted),
-    }
 
     let zeta = mean_damping(&classification);
-    let fitting = Fitting {
-        output,
-        data: &data,
-        zeta,
-        noise_db: classification.noise_db,
-        progress,
-    };
+    let fitting = Fitting::new(output, &data, zeta, classification.noise_db, progress);
     let mut search_notes = Vec::new();
     let (mut fits, mut masses) = fitting.open_search(
         &candidates,
@@ -377,6 +367,7 @@ pub fn identify_with_progress(
         &mut search_notes,
     )?;
     let mut sensor_reversed = sensor_reversed;
+    let mut gain = options.gain;
     // The polarity is read from the level below the features: where a
     // pair of them was missed below the band, that level is another
     // one's, and the fits of the other polarity tell.
@@ -391,7 +382,7 @@ pub fn identify_with_progress(
         let mut turned_notes = Vec::new();
         let (turned_fits, turned_masses) = fitting.open_search(
             &candidates,
-            options.masses.unwrap_or(resonances + 1),
+            resonances + 1,
             resonances,
             None,
             &turned,
@@ -406,15 +397,15 @@ pub fn identify_with_progress(
                 score_db: other,
                 reversed_db: kept,
             });
-            (fits, masses, search_notes, sensor_reversed) =
-                (turned_fits, turned_masses, turned_notes, false);
-            for n in &mut notes {
-                if let IdentifyNote::GainKnown { gain } = n {
-                    *gain = -*gain;
-                }
-            }
+            (fits, masses, search_notes, sensor_reversed, gain) =
+                (turned_fits, turned_masses, turned_notes, false, turned.gain);
         }
     }
+    // The scale the fits used.
+    notes.push(match gain {
+        Gain::Known(gain) => IdentifyNote::GainKnown { gain },
+        Gain::Fit(_) => IdentifyNote::GainFitted,
+    });
     if sensor_reversed {
         notes.push(IdentifyNote::SensorReversed);
     }
@@ -425,10 +416,8 @@ pub fn identify_with_progress(
     let tolerance = options
         .indistinguishable_db
         .max(classification.noise_db * 0.5);
-    // A failed fit is like no other: it stands alone (NaN joins no group).
     let indistinguishable = groups(
-        fits.iter()
-            .map(|f| (f.id.as_str(), if f.failed { f64::NAN } else { f.score_db })),
+        fits.iter().map(|f| (f.id.as_str(), f.score_db, f.failed)),
         tolerance,
     );
     let best_group: Vec<Candidate> = fits
@@ -473,20 +462,43 @@ struct Fitting<'a> {
     zeta: f64,
     noise_db: f64,
     progress: &'a (dyn Fn(Progress) + Sync),
+    /// Whether the lines are far enough apart to hide a mode between two
+    /// of them ([`HIDING_SPACING`]).
+    hides: bool,
 }
 
-impl Fitting<'_> {
-    /// Whether the best of `fits` misses the lines by far more than their
-    /// scatter ([`LACK_OF_FIT_DB`]) on a grid coarse enough to hide a
-    /// mode between its lines ([`HIDING_SPACING`]).
-    fn lacks_fit(&self, fits: &[CandidateFit]) -> bool {
-        let f = self.data.freq_hz();
-        let mut spacing: Vec<f64> = f.windows(2).map(|w| (w[1] / w[0]).ln()).collect();
+impl<'a> Fitting<'a> {
+    fn new(
+        output: Output,
+        data: &'a Frf,
+        zeta: f64,
+        noise_db: f64,
+        progress: &'a (dyn Fn(Progress) + Sync),
+    ) -> Fitting<'a> {
+        let mut spacing: Vec<f64> = data
+            .freq_hz()
+            .windows(2)
+            .map(|w| (w[1] / w[0]).ln())
+            .collect();
         let hides = !spacing.is_empty() && {
             let k = spacing.len() / 2;
             *spacing.select_nth_unstable_by(k, f64::total_cmp).1 >= HIDING_SPACING
         };
-        hides
+        Fitting {
+            output,
+            data,
+            zeta,
+            noise_db,
+            progress,
+            hides,
+        }
+    }
+
+    /// Whether the best of `fits` misses the lines by far more than their
+    /// scatter ([`LACK_OF_FIT_DB`]) on a grid coarse enough to hide a
+    /// mode between its lines ([`HIDING_SPACING`]).
+    fn lacks_fit(&self, fits: &[CandidateFit]) -> bool {
+        self.hides
             && fits
                 .first()
                 .is_some_and(|b| b.score_db > LACK_OF_FIT_DB.max(LACK_OF_FIT_NOISE * self.noise_db))
@@ -707,9 +719,7 @@ fn fit_candidates(
         };
         let score_db = score(&fit_result);
         let mut notes = plausibility(&model, &fit_result);
-        let failed = notes
-            .iter()
-            .any(|n| matches!(n, CandidateNote::AtRangeEnd { .. }));
+        let failed = at_range_end(&notes);
         notes.extend(why_not);
         fits.push(CandidateFit {
             id: model.name(),
@@ -778,18 +788,19 @@ pub const EQUIVALENTS_MAX_MASSES: usize = 3;
 /// as modes, and fitting every chain of that many masses takes minutes.
 pub const INFERRED_MAX_MASSES: usize = 5;
 
-/// Groups of candidates in ranked order (`(id, score)`, best first) whose
-/// scores lie within `tolerance` of their group's first: what the data
-/// cannot tell apart.
+/// Groups of candidates in ranked order (`(id, score, failed)`, best
+/// first) whose scores lie within `tolerance` of their group's first:
+/// what the data cannot tell apart. A failed fit is like no other and
+/// stands alone.
 pub(crate) fn groups<'a>(
-    ranked: impl Iterator<Item = (&'a str, f64)>,
+    ranked: impl Iterator<Item = (&'a str, f64, bool)>,
     tolerance: f64,
 ) -> Vec<Vec<String>> {
     let mut out: Vec<Vec<String>> = Vec::new();
     let mut group_best = f64::NAN;
-    for (id, score_db) in ranked {
+    for (id, score_db, failed) in ranked {
         match out.last_mut() {
-            Some(g) if score_db <= group_best + tolerance => g.push(id.to_string()),
+            Some(g) if !failed && score_db <= group_best + tolerance => g.push(id.to_string()),
             _ => {
                 group_best = score_db;
                 out.push(vec![id.to_string()]);
@@ -1461,15 +1472,20 @@ fn model_hash(m: &Model) -> u64 {
     })
 }
 
-/// Remarks an engineer would make about a fitted parameter set.
 /// Whether a parameter of `f` ended at an end of its physical range: the
 /// fit degenerated into another structure ([`CandidateFit::failed`]).
 pub(crate) fn degenerate(model: &Model, f: &Fit) -> bool {
-    plausibility(model, f)
+    at_range_end(&plausibility(model, f))
+}
+
+/// Whether `notes` say a parameter ended at an end of its range.
+fn at_range_end(notes: &[CandidateNote]) -> bool {
+    notes
         .iter()
         .any(|n| matches!(n, CandidateNote::AtRangeEnd { .. }))
 }
 
+/// Remarks an engineer would make about a fitted parameter set.
 fn plausibility(model: &Model, f: &Fit) -> Vec<CandidateNote> {
     let mut notes = Vec::new();
     let n = model.n_masses();

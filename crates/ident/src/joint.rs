@@ -534,10 +534,8 @@ pub fn identify_sensors_with_progress(
         .map(|r| r.classification.noise_db)
         .fold(0.0, f64::max);
     let tolerance = options.indistinguishable_db.max(noise * 0.5);
-    // A failed fit is like no other: it stands alone (NaN joins no group).
     let indistinguishable = groups(
-        fits.iter()
-            .map(|f| (f.id.as_str(), if f.failed { f64::NAN } else { f.score_db })),
+        fits.iter().map(|f| (f.id.as_str(), f.score_db, f.failed)),
         tolerance,
     );
     // The first output alone: every tuple whose first structure could
