@@ -92,7 +92,7 @@ pub fn outcome(args: &IdentifyArgs, links: Links) -> Result<Outcome, String> {
     let stability = match (&rec.samples, &rec.source) {
         (Some(s), frf::Source::TimeDomain { nfft, .. }) => Some(verdict_stability(
             s,
-            &args.recording.welch(),
+            &rec.source.welch(&args.recording.welch()),
             *nfft,
             output,
             &options,
@@ -140,7 +140,13 @@ pub fn outcome(args: &IdentifyArgs, links: Links) -> Result<Outcome, String> {
                 .collect(),
         );
     }
-    let mut md = markdown(&name, &id, stability.as_ref(), links.to("bode").as_deref());
+    if let Some((estimate, _)) = crate::recording::periodic_estimate(&rec.source) {
+        json["estimate"] = estimate;
+    }
+    let mut md = crate::recording::with_periodic_estimate(
+        markdown(&name, &id, stability.as_ref(), links.to("bode").as_deref()),
+        &rec.source,
+    );
     md.push_str(closed.as_deref().unwrap_or(""));
     md.push_str(&operating_markdown(&name, &operating));
     let mut outcome = Outcome::new("mms identify", &md, json, figures);

@@ -204,3 +204,54 @@ pub fn run(args: &RecordingArgs, format: FrfFormat) -> Result<String, String> {
             .map_err(|e| format!("{}: {e}", args.path().unwrap_or(Path::new("-")).display())),
     }
 }
+
+/// How a time-domain recording's FRF was estimated, where that is worth
+/// saying: over the periods of its excitation, given or found in it. The
+/// JSON value and a Markdown paragraph.
+pub fn periodic_estimate(source: &frf::Source) -> Option<(serde_json::Value, String)> {
+    let frf::Source::TimeDomain {
+        fs,
+        averages,
+        period: Some(period),
+        ..
+    } = source
+    else {
+        return None;
+    };
+    let (samples, how) = match period {
+        frf::period::Period::Given(p) => (*p, "given"),
+        frf::period::Period::Found(p) => (*p, "found"),
+    };
+    let seconds = samples as f64 / fs;
+    let json = serde_json::json!({
+        "period_samples": samples,
+        "period_s": seconds,
+        "period": how,
+        "periods_averaged": averages,
+    });
+    let whence = match period {
+        frf::period::Period::Given(_) => "at the period given".to_string(),
+        frf::period::Period::Found(_) => {
+            "at a period found in the recording, which repeats at it (no --period given)"
+                .to_string()
+        }
+    };
+    let md = format!(
+        "The FRF is the average over {averages} periods of {samples} samples ({} s), \
+         {whence}: only the lines the excitation reaches carry an estimate, each with the \
+         scatter between the periods as its noise.\n\n",
+        crate::identify::fmt_sig(seconds)
+    );
+    Some((json, md))
+}
+
+/// `md` with the paragraph of [`periodic_estimate`] after its title.
+pub fn with_periodic_estimate(md: String, source: &frf::Source) -> String {
+    let Some((_, paragraph)) = periodic_estimate(source) else {
+        return md;
+    };
+    match md.find("\n\n") {
+        Some(i) => format!("{}{}{}", &md[..i + 2], paragraph, &md[i + 2..]),
+        None => md + "\n\n" + &paragraph,
+    }
+}

@@ -363,11 +363,12 @@ pub fn diagnose(args: &DiagnoseArgs, links: Links) -> Result<Outcome, String> {
         return Err("give the model: --model MODEL.toml or --simulation FILE".into());
     };
     let (model, sensors, source_text) = load_model(args, source)?;
-    let options = diagnose_options(args)?;
     let outputs = args.recording.read_outputs(&sensors)?;
-    if let Some(first) = outputs.first() {
-        crate::diagnose::model_on_lines(&model, source, &first.recording.frf)?;
-    }
+    let Some(first) = outputs.first() else {
+        return Err(format!("{name}: no output to diagnose"));
+    };
+    crate::diagnose::model_on_lines(&model, source, &first.recording.frf)?;
+    let options = diagnose_options(args, &first.recording.source)?;
     let chain = model.model;
     let n = chain.n_masses();
     let mut ports = Vec::with_capacity(outputs.len());

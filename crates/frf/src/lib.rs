@@ -14,6 +14,8 @@
 //! * [`uff`]: universal file dataset 58 (ASCII) reader and writer;
 //! * [`mat`]: MATLAB level-5 MAT-file reader (numeric variables,
 //!   uncompressed or zlib-compressed);
+//! * [`period`]: the period of a repeating excitation, read from the
+//!   signal;
 //! * [`welch`]: H1 estimation with Welch averaging, for random or periodic
 //!   excitation, with a standard deviation per line;
 //! * [`uncertainty`]: the relative uncertainty of every line, from the
@@ -40,6 +42,7 @@
 pub mod csv;
 pub mod fft;
 pub mod mat;
+pub mod period;
 pub mod recording;
 pub mod uff;
 pub mod uncertainty;

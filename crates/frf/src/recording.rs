@@ -13,7 +13,9 @@
 //! | other | sniffed: MAT header, UFF `-1` line, a CSV header, else numbers | as above |
 //!
 //! Time-domain recordings are turned into an FRF with the H1 estimator of
-//! [`crate::welch`] (options in [`RecordingOptions::welch`]).
+//! [`crate::welch`] (options in [`RecordingOptions::welch`]); a caller
+//! that wants a repeating record estimated over its periods without
+//! naming one finds them with [`crate::period::periodic_options`].
 //!
 //! **Signals** are named with [`SignalRef`], the CLI syntax `VAR[:COL]`:
 //! a `.mat` variable or a CSV column name, or a column number (from 1) for
@@ -62,6 +64,7 @@
 
 use crate::csv::{self, CsvError};
 use crate::mat::{self, MatError, MatFile, MatVariable};
+use crate::period::Period;
 use crate::uff::{self, UffError};
 use crate::welch::{self, sample_rate_from_times, WelchOptions};
 use crate::{Frf, MIN_LINES};
@@ -203,7 +206,44 @@ pub enum Source {
         input: String,
         /// The output signal.
         output: String,
+        /// The period of a periodic estimate: given, or found in the
+        /// excitation, which repeats at it; `None` for Welch's averages.
+        period: Option<Period>,
     },
+}
+
+impl Source {
+    /// The estimation options behind this FRF, from those `asked`: with
+    /// the period where one was found in the excitation, so that cuts and
+    /// re-estimates of the samples are read the same way.
+    ///
+    /// ```
+    /// use frf::period::Period;
+    /// use frf::{Source, WelchOptions};
+    /// let source = Source::TimeDomain {
+    ///     fs: 1000.0,
+    ///     n_samples: 8000,
+    ///     averages: 7,
+    ///     nfft: 1000,
+    ///     input: "u".into(),
+    ///     output: "y".into(),
+    ///     period: Some(Period::Found(1000)),
+    /// };
+    /// assert_eq!(source.welch(&WelchOptions::default()).period, Some(1000));
+    /// assert_eq!(Source::FrfFile.welch(&WelchOptions::default()).period, None);
+    /// ```
+    pub fn welch(&self, asked: &WelchOptions) -> WelchOptions {
+        match self {
+            Source::TimeDomain {
+                period: Some(Period::Found(p)),
+                ..
+            } => WelchOptions {
+                period: Some(*p),
+                ..asked.clone()
+            },
+            _ => asked.clone(),
+        }
+    }
 }
 
 /// The samples a time-domain recording's FRF was estimated from.
@@ -484,32 +524,6 @@ pub fn check_sample_rate(fs: f64) -> Result<(), String> {
 /// number of periods less one).
 pub const MAX_PERIOD_SPREAD: f64 = 0.5;
 
-/// The RMS of `x`'s periods of `period` samples (the first left out)
-/// about their mean, over the mean period's RMS about its own mean;
-/// `None` with fewer than two such periods or a silent signal.
-fn period_spread(x: &[f64], period: usize) -> Option<f64> {
-    let periods = x.len() / period;
-    if periods < 3 {
-        return None;
-    }
-    let rest = &x[period..periods * period];
-    let k = (periods - 1) as f64;
-    let mean: Vec<f64> = (0..period)
-        .map(|i| rest.chunks_exact(period).map(|c| c[i]).sum::<f64>() / k)
-        .collect();
-    let level = mean.iter().sum::<f64>() / period as f64;
-    let power = mean.iter().map(|v| (v - level).powi(2)).sum::<f64>() / period as f64;
-    if power <= 0.0 || !power.is_finite() {
-        return None;
-    }
-    let scatter = rest
-        .chunks_exact(period)
-        .flat_map(|c| c.iter().zip(&mean).map(|(a, b)| (a - b).powi(2)))
-        .sum::<f64>()
-        / rest.len() as f64;
-    Some((scatter / power).sqrt())
-}
-
 /// Reads a measurement file into an FRF; see the
 /// [module documentation](self) for formats, defaults and errors.
 ///
@@ -727,6 +741,10 @@ fn estimate(
             }
         }
     }
+    // Only a period given is used: read without one, the 2018 scan's
+    // harmonics (found by `crate::period`) are too noisy to classify in
+    // the band its documented commands use.
+    let (welch, period) = (opts.welch.clone(), opts.welch.period.map(Period::Given));
     if let Some(period) = opts.welch.period.filter(|&p| p >= 2) {
         // A period must fit the record whole, and the excitation (the
         // injected one, else the input) must repeat at it.
@@ -743,7 +761,7 @@ fn estimate(
             Some((x, name)) => (x.as_slice(), name.as_str()),
             None => (u, input.as_str()),
         };
-        if let Some(spread) = period_spread(signal, period) {
+        if let Some(spread) = crate::period::spread(signal, period) {
             if spread > MAX_PERIOD_SPREAD {
                 return Err(ctx.file(format!(
                     "a period of {period} samples: {what} does not repeat at it (its periods \
@@ -763,7 +781,7 @@ fn estimate(
                     u.len()
                 )));
             }
-            let est = welch::three_point(x, u, y, fs, &opts.welch).map_err(|e| {
+            let est = welch::three_point(x, u, y, fs, &welch).map_err(|e| {
                 ctx.file(format!(
                     "estimating the FRF from {input} to {output} with the excitation {name}: {e}"
                 ))
@@ -773,10 +791,20 @@ fn estimate(
             // chance: with n averages it exceeds c at a line with
             // probability (1 - c)^(n - 1), so a line counts only above the
             // 1 % level (and 0.1), and the excitation reaches u if 5 % of
-            // the lines do.
+            // the lines it excites do (all of a random excitation's, the
+            // harmonics of a periodic one).
             let n = est.averages.max(2) as f64;
             let level = (1.0 - 0.01f64.powf(1.0 / (n - 1.0))).max(0.1);
-            let coh = est.sensitivity.coherence().unwrap_or(&[]);
+            let sd = est.sensitivity.std_dev();
+            let coh: Vec<f64> = est
+                .sensitivity
+                .coherence()
+                .unwrap_or(&[])
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| welch.period.is_none() || sd.is_none_or(|d| d[*k].is_finite()))
+                .map(|(_, &g)| g)
+                .collect();
             let above = coh.iter().filter(|&&g| g > level).count();
             if above * 20 < coh.len().max(1) {
                 let best = coh.iter().cloned().fold(0.0, f64::max);
@@ -802,7 +830,7 @@ fn estimate(
             )
         }
         None => {
-            let est = welch::h1(u, y, fs, &opts.welch).map_err(|e| {
+            let est = welch::h1(u, y, fs, &welch).map_err(|e| {
                 ctx.file(format!("estimating the FRF from {input} to {output}: {e}"))
             })?;
             (est.frf, est.averages, est.nfft, None, None)
@@ -828,6 +856,7 @@ fn estimate(
         nfft,
         input,
         output,
+        period,
     };
     Ok((frf, source))
 }

@@ -20,13 +20,14 @@
 //!   number of averages, which counts overlapping segments for less by the
 //!   window's own overlap correlation (Welch): Hann at 50 % gives about
 //!   `n / 1.06` for long records;
-//! * periodic excitation: the scatter of the per-period responses
-//!   `Y_p / U_p` about their mean, divided by the number of periods (at
+//! * periodic excitation: the scatter of the per-period spectra `U_p`,
+//!   `Y_p` about their means, carried to the ratio of the means (at
 //!   least two periods after the transient; with one, the standard
 //!   deviation is left out and users estimate it from the data);
 //! * a line without input power (below `1e-12` of the strongest line, such
-//!   as the unexcited lines of a multisine) gets `+inf`: it carries no
-//!   information and is no part of any band.
+//!   as the unexcited lines of a multisine, or, periodic, a mean input
+//!   within three of its standard deviations of zero) gets `+inf`: it
+//!   carries no information and is no part of any band.
 //!
 //! Two modes:
 //! * random excitation (default): Hann window, 50 % overlap, linear
@@ -35,7 +36,9 @@
 //! * periodic excitation ([`WelchOptions::period`]): one segment per
 //!   period, rectangular window, no overlap, the first period dropped as
 //!   the transient; with a steady-state periodic input this is leakage
-//!   free and H1 is exact up to noise. A drift common to the periods (the
+//!   free, and the FRF is the ratio of the period-averaged output and
+//!   input spectra, exact up to noise, which averaging reduces on the
+//!   input as on the output (H1 would keep the input noise's bias). A drift common to the periods (the
 //!   position of an axis that turns at a constant speed: a ramp under the
 //!   periodic motion) is taken out first, its slope from the change of
 //!   the period means, which a periodic signal does not have; the mean of
@@ -658,9 +661,10 @@ pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estima
     let mut us = vec![0.0; nfft];
     let mut ys = vec![0.0; nfft];
     let mut z = vec![Complex64::new(0.0, 0.0); nfft];
-    // Periodic mode: per-period responses, for their scatter.
+    // Periodic mode: each period's input and output spectra, for their
+    // means and scatter.
     let periodic = opts.period.is_some();
-    let mut per_period: Vec<Vec<Complex64>> = Vec::new();
+    let mut per_period: Vec<Vec<(Complex64, Complex64)>> = Vec::new();
     for &s in &starts {
         us.copy_from_slice(&u[s..s + nfft]);
         ys.copy_from_slice(&y[s..s + nfft]);
@@ -682,11 +686,7 @@ pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estima
             s_yy[k - 1] += yk.norm_sqr();
             s_uy[k - 1] += uk.conj() * yk;
             if periodic {
-                this_period.push(if uk.norm_sqr() > 0.0 {
-                    yk / uk
-                } else {
-                    Complex64::new(0.0, 0.0)
-                });
+                this_period.push((uk, yk));
             }
         }
         if periodic {
@@ -721,20 +721,14 @@ pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estima
     };
     let strongest = s_uu.iter().copied().fold(0.0, f64::max);
     let std_dev: Option<Vec<f64>> = if periodic && count >= 2 {
-        let p = count as f64;
-        Some(
-            (0..lines)
-                .map(|k| {
-                    if s_uu[k] <= NO_EXCITATION * strongest {
-                        return f64::INFINITY;
-                    }
-                    let mean = per_period.iter().map(|h| h[k]).sum::<Complex64>() / p;
-                    let ss: f64 = per_period.iter().map(|h| (h[k] - mean).norm_sqr()).sum();
-                    // var of the mean, split over the real and imaginary part
-                    (ss / (p - 1.0) / p / 2.0).sqrt()
-                })
-                .collect(),
-        )
+        let mut sd = Vec::with_capacity(lines);
+        for k in 0..lines {
+            let (g, sd_k, coh) = periodic_line(&per_period, k, NO_EXCITATION * strongest);
+            response[k] = g;
+            coherence[k] = coh;
+            sd.push(sd_k);
+        }
+        Some(sd)
     } else if !periodic && effective >= 2.0 {
         Some(
             (0..lines)
@@ -763,6 +757,60 @@ pub fn h1(u: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Result<H1Estima
         detrend: how,
         effective_averages: effective,
     })
+}
+
+/// One line of a periodic estimate from each period's input and output
+/// spectra `(U_p, Y_p)`: the ratio of their means `G = mean Y / mean U`,
+/// its standard deviation per real and imaginary part from their scatter
+/// between periods (first order: `var G = (var Y + |G|^2 var U - 2 Re(conj G
+/// cov(Y, U))) / |mean U|^2`, the variances those of the means), and the
+/// coherence that gives that deviation with as many averages
+/// (`1 / (1 + p var G / |G|^2)`).
+///
+/// Averaging the spectra before dividing takes out noise on the input as
+/// well as on the output (a closed loop feeds the sensor noise back into
+/// the plant input), where H1 would be biased by it. A line whose mean
+/// input is within three of its standard deviations of zero, or below
+/// `floor` in power, carries no excitation: `+inf` and coherence 0.
+fn periodic_line(
+    per_period: &[Vec<(Complex64, Complex64)>],
+    k: usize,
+    floor: f64,
+) -> (Complex64, f64, f64) {
+    let p = per_period.len() as f64;
+    let (su, sy) = per_period.iter().fold(
+        (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0)),
+        |(a, b), q| (a + q[k].0, b + q[k].1),
+    );
+    let (ub, yb) = (su / p, sy / p);
+    let (mut vu, mut vy, mut cyu) = (0.0, 0.0, Complex64::new(0.0, 0.0));
+    for q in per_period {
+        let (du, dy) = (q[k].0 - ub, q[k].1 - yb);
+        vu += du.norm_sqr();
+        vy += dy.norm_sqr();
+        cyu += dy * du.conj();
+    }
+    // Of the means: the scatter over p - 1, divided by p.
+    let of_mean = p * (p - 1.0);
+    let (vu, vy, cyu) = (vu / of_mean, vy / of_mean, cyu / of_mean);
+    let power = ub.norm_sqr();
+    if power <= floor || power <= 9.0 * vu {
+        let g = if power > 0.0 {
+            yb / ub
+        } else {
+            Complex64::new(0.0, 0.0)
+        };
+        return (g, f64::INFINITY, 0.0);
+    }
+    let g = yb / ub;
+    let var = ((vy + g.norm_sqr() * vu - 2.0 * (g.conj() * cyu).re) / power).max(0.0);
+    let gg = g.norm_sqr();
+    let coh = if gg > 0.0 {
+        1.0 / (1.0 + p * var / gg)
+    } else {
+        0.0
+    };
+    (g, (var / 2.0).sqrt(), coh)
 }
 
 /// How many independent values a sum of squares of `x` carries: the
@@ -1063,6 +1111,62 @@ mod tests {
                 mean(&unrelated_est)
             );
         }
+    }
+
+    /// Noise on the measured input (a closed loop feeds the sensor noise
+    /// back into it) biases H1 towards zero by the input's signal-to-noise
+    /// power ratio; the ratio of the period-averaged spectra is not
+    /// biased, and its standard deviation, carried from the scatter of
+    /// both spectra, covers its error as a standard deviation should.
+    #[test]
+    fn periodic_estimate_is_free_of_input_noise_bias() {
+        let (period, periods) = (128usize, 60usize);
+        let mut rng = Xorshift(11);
+        let one = rng.white(period);
+        let clean: Vec<f64> = (0..period * periods).map(|k| one[k % period]).collect();
+        // y = 0.5 u delayed by one sample, measured with 1 % noise; u
+        // measured with noise of its own size.
+        let y: Vec<f64> = (0..clean.len())
+            .map(|k| 0.5 * clean[(k + clean.len() - 1) % clean.len()] + 0.01 * rng.next())
+            .collect();
+        let u: Vec<f64> = clean.iter().map(|v| v + rng.next()).collect();
+        let opts = WelchOptions {
+            period: Some(period),
+            ..WelchOptions::default()
+        };
+        let est = h1(&u, &y, 1.0, &opts).unwrap();
+        let sd = est.frf.std_dev().unwrap();
+        let (mut errors, mut ratios) = (Vec::new(), Vec::new());
+        for (k, (&f, h)) in est.frf.freq_hz().iter().zip(est.frf.response()).enumerate() {
+            if !sd[k].is_finite() {
+                continue;
+            }
+            let truth = Complex64::from_polar(0.5, -2.0 * PI * f);
+            // Per real and imaginary part: |error|^2 / (2 sd^2) is about 1.
+            errors.push((h - truth).norm_sqr() / (2.0 * sd[k] * sd[k]));
+            ratios.push((h / truth).re);
+        }
+        assert!(errors.len() > 40, "{} lines", errors.len());
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+        let normalised = mean(&errors);
+        assert!(
+            (0.6..1.6).contains(&normalised),
+            "normalised squared error {normalised}"
+        );
+        // The estimate over the truth is 1 on average; H1's is about
+        // 1 / (1 + 1 / SNR), a half with input noise as strong as the
+        // input.
+        let ratio = mean(&ratios);
+        assert!((ratio - 1.0).abs() < 0.03, "estimate over truth {ratio}");
+        let welch = h1(&u, &y, 1.0, &WelchOptions::default()).unwrap();
+        let biased: Vec<f64> = welch
+            .frf
+            .freq_hz()
+            .iter()
+            .zip(welch.frf.response())
+            .map(|(&f, h)| (h / Complex64::from_polar(0.5, -2.0 * PI * f)).re)
+            .collect();
+        assert!(mean(&biased) < 0.7, "H1 over truth {}", mean(&biased));
     }
 
     #[test]
