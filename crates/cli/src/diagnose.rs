@@ -176,7 +176,7 @@ pub fn outcome(args: &DiagnoseArgs, links: Links) -> Result<Outcome, String> {
     let amplitude = levels.map(|(_, a)| a);
     let (model, _, source) = load_model(args, model_source)?;
     model_on_lines(&model, model_source, &rec.frf)?;
-    let options = options(args)?;
+    let options = options(args, &rec.source)?;
     let name = args.recording.path()?.display().to_string();
     let looped = match &args.closed_loop {
         Some(l) => Some(read_loop(args.recording, l, rec.samples.as_ref())?),
@@ -257,7 +257,13 @@ pub fn outcome(args: &DiagnoseArgs, links: Links) -> Result<Outcome, String> {
             .collect::<Result<Vec<_>, _>>()?
             .into();
     }
-    let mut m = markdown(&name, &source, &d, links.to("bode").as_deref());
+    if let Some((estimate, _)) = crate::recording::periodic_estimate(&rec.source) {
+        report["estimate"] = estimate;
+    }
+    let mut m = crate::recording::with_periodic_estimate(
+        markdown(&name, &source, &d, links.to("bode").as_deref()),
+        &rec.source,
+    );
     if rec.excitation.is_none() && !rec.possible_excitations.is_empty() {
         m.push_str(&crate::identify::possible_excitation_note(
             &rec.possible_excitations,
@@ -368,8 +374,9 @@ pub fn load_model(
     Ok((model, sensors, source))
 }
 
-/// The diagnosis options of the flags.
-pub fn options(args: &DiagnoseArgs) -> Result<DiagnosisOptions, String> {
+/// The diagnosis options of the flags, for a recording from `source`
+/// (whose samples are cut and estimated again as its FRF was).
+pub fn options(args: &DiagnoseArgs, source: &frf::Source) -> Result<DiagnosisOptions, String> {
     if !(args.tolerance.is_finite() && args.tolerance > 0.0 && args.tolerance < 10.0) {
         return Err(format!(
             "--tolerance {}: expected a fraction such as 0.2 (0 < t < 10)",
@@ -383,7 +390,7 @@ pub fn options(args: &DiagnoseArgs) -> Result<DiagnosisOptions, String> {
             SelectArg::Bic => Selection::Bic,
             SelectArg::Holdout => Selection::Holdout,
         },
-        welch: args.recording.welch(),
+        welch: source.welch(&args.recording.welch()),
         ..DiagnosisOptions::default()
     })
 }
@@ -479,6 +486,11 @@ fn evidence(x: Option<f64>) -> String {
 pub fn verdict_text(d: &RecordingDiagnosis) -> String {
     let v = &d.verdict;
     let mut s = match (v.decided_by, &d.frequency_domain, &d.time_domain) {
+        (None, None, Some(t)) if matches!(v.reason, Reason::NothingMissing) => format!(
+            "Nothing is missing: no effect lowers the prediction error on held-out samples; the \
+             calibrated model leaves {} % of the output RMS.",
+            percent(t.fit.before.rms_time_rel)
+        ),
         (None, None, _) => "Nothing can be compared: no line of the recording carries \
                             information (no excitation energy or no coherence), so no \
                             effect is named."
@@ -522,7 +534,16 @@ pub fn verdict_text(d: &RecordingDiagnosis) -> String {
         }
     };
     let why = match v.reason {
-        Reason::NothingInformative | Reason::NothingMissing => String::new(),
+        Reason::NothingMissing | Reason::TimeDomainOnly
+            if d.frequency_domain.is_none() && d.time_domain.is_some() =>
+        {
+            "The FRF has no informative band (too few lines above the noise, as behind a \
+             motion profile): the time domain alone decides."
+                .into()
+        }
+        Reason::NothingInformative | Reason::NothingMissing | Reason::TimeDomainOnly => {
+            String::new()
+        }
         Reason::FrequencyDomainOnly => {
             "The recording is an FRF: the frequency domain is the only one.".into()
         }
@@ -1393,7 +1414,8 @@ fn amplitude(
         let s = rec.samples.as_ref().ok_or_else(|| {
             format!("{name}: the amplitude dependence (--level) needs time-domain recordings")
         })?;
-        Level::from_samples(&name, &s.u, &s.y, s.fs, &welch).map_err(|e| e.to_string())
+        Level::from_samples(&name, &s.u, &s.y, s.fs, &rec.source.welch(&welch))
+            .map_err(|e| e.to_string())
     };
     let main = args.recording.path()?;
     let mut levels = vec![level(main, rec)?];

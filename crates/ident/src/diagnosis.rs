@@ -155,6 +155,9 @@ pub enum Reason {
     NothingMissing,
     /// An FRF file: the frequency domain is the only one.
     FrequencyDomainOnly,
+    /// The FRF has no informative band (a motion profile reaches few
+    /// lines above the noise): the time domain alone names the effects.
+    TimeDomainOnly,
     /// The model after the time-domain diagnosis still leaves this share
     /// of the output RMS, more than [`TimeOptions::informative`]: that
     /// comparison cannot decide, and the frequency domain does.
@@ -203,6 +206,7 @@ impl Reason {
             Reason::NothingInformative => "nothing_informative",
             Reason::NothingMissing => "nothing_missing",
             Reason::FrequencyDomainOnly => "frequency_domain_only",
+            Reason::TimeDomainOnly => "time_domain_only",
             Reason::TimeDomainNotInformative { .. } => "time_domain_not_informative",
             Reason::OnlyOneDomainNames => "only_one_domain_names",
             Reason::FrequencyDomainNotInformative { .. } => "frequency_domain_not_informative",
@@ -420,7 +424,12 @@ pub fn diagnose_recording(
                 let error = frequency_model_error(s, model, closed_loop, f, &td, o);
                 (error, Some(td))
             }
-            // Without a frequency-domain part nothing is compared in time.
+            // An FRF without information (a motion profile): the time
+            // domain alone, from the model as given.
+            (None, Some(s)) => {
+                let td = time_part(s, 0..s.u.len(), model, closed_loop, corner, o)?;
+                (None, Some(td))
+            }
             _ => (None, None),
         };
         let confirmation = match (&fd, samples, band) {
@@ -1100,17 +1109,16 @@ fn rerun(
         let here = time_window(c.range.len(), false, o);
         let shared = c.range == (0..s.u.len());
         let fd = frequency_part(&est, band, model, Some(s.fs), o).map_err(|e| e.to_string())?;
-        let Some(f) = &fd else {
-            return Ok((None, None, false, None));
-        };
+        let start = fd
+            .as_ref()
+            .map_or_else(|| model.clone(), |f| time_start(model, f));
         let td = (!shared)
             .then(|| {
-                time_part(s, c.range.clone(), &time_start(model, f), None, corner, o)
-                    .map_err(|e| e.to_string())
+                time_part(s, c.range.clone(), &start, None, corner, o).map_err(|e| e.to_string())
             })
             .transpose()?;
-        let confirmation = match band {
-            Some(b) if names(&f.effects) => {
+        let confirmation = match (&fd, band) {
+            (Some(f), Some(b)) if names(&f.effects) => {
                 let w = c.range.start..c.range.start + here;
                 confirm(&s.u[w.clone()], &s.y[w], &[], s.fs, model, f, None, b, o)
             }
@@ -1233,7 +1241,13 @@ fn reconcile(
         }
     };
     let Some(fd) = fd else {
-        return verdict(None, Reason::NothingInformative);
+        return match td {
+            Some(t) if t.informative && names(&t.effects) => {
+                verdict(Some(Domain::Time), Reason::TimeDomainOnly)
+            }
+            Some(t) if t.informative => verdict(None, Reason::NothingMissing),
+            _ => verdict(None, Reason::NothingInformative),
+        };
     };
     let fd_names = names(&fd.effects);
     let Some(td) = td else {

@@ -527,3 +527,59 @@ fn a_gain_error_behind_a_calibration_at_its_bounds_is_named() {
     let factor = d.verdict.effects[0].parameters["factor"];
     assert!((factor / 0.557 - 1.0).abs() < 0.15, "factor {factor}");
 }
+
+/// Back-and-forth moves of a random 2-mass chain, each a raised-cosine
+/// force pulse up and down over 0.3 s with pauses, 1 % noise, Coulomb
+/// friction of a fifth of the peak force: the moves reach too few lines
+/// for an informative FRF (its period's harmonics fall as the cube of
+/// the frequency), so the recording is diagnosed in the time domain alone,
+/// which names the friction and its value; it is no error.
+#[test]
+fn a_motion_profile_is_diagnosed_in_the_time_domain_alone() {
+    let mut rng = XorShift::new(5);
+    let (mut truth, nominal) = models(&mut rng, 2, Output::Position);
+    let len = 300;
+    let cycle = 2 * (2 * len + len / 2);
+    let pulse = |i: usize| -> f64 {
+        let j = i % cycle;
+        let dir = if j < cycle / 2 { 1.0 } else { -1.0 };
+        let j = j % (cycle / 2);
+        if j >= 2 * len {
+            return 0.0;
+        }
+        let s = if j < len { 1.0 } else { -1.0 };
+        dir * s * (PI * (j % len) as f64 / len as f64).sin().powi(2)
+    };
+    let u: Vec<f64> = (0..12 * cycle).map(pulse).collect();
+    let coulomb = 0.2;
+    truth.effects.coulomb_friction = Some(coulomb);
+    let clean = simulate(&truth, &u, FS).unwrap();
+    let mean = clean.iter().sum::<f64>() / clean.len() as f64;
+    let rms = (clean.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / clean.len() as f64).sqrt();
+    let y: Vec<f64> = clean
+        .iter()
+        .map(|v| v + 0.01 * rms * rng.normal())
+        .collect();
+    // As a recording is read: the moves repeat, so the FRF is over them.
+    let (welch, period) = frf::period::periodic_options(&WelchOptions::default(), &[&u], &y);
+    assert_eq!(period, Some(frf::period::Period::Found(cycle)));
+    let frf = h1(&u, &y, FS, &welch).unwrap().frf;
+    let samples = Samples {
+        u,
+        y,
+        fs: FS,
+        excitation: None,
+    };
+    let o = DiagnosisOptions {
+        welch,
+        stability: false,
+        ..DiagnosisOptions::default()
+    };
+    let d = diagnose_recording(&frf, Some(&samples), &nominal, None, &o).unwrap();
+    assert!(d.frequency_domain.is_none(), "{:?}", d.band_hz);
+    assert_eq!(d.verdict.decided_by, Some(Domain::Time), "{:?}", d.verdict);
+    assert!(matches!(d.verdict.reason, Reason::TimeDomainOnly));
+    assert_eq!(d.verdict.headline, EffectKind::CoulombFriction);
+    let got = d.verdict.effects[0].parameters["coulomb_n"];
+    assert!((got / coulomb - 1.0).abs() < 0.1, "{got} against {coulomb}");
+}
