@@ -215,33 +215,14 @@ pub fn spread(x: &[f64], period: usize) -> Option<f64> {
 }
 
 /// `x` less the straight line through the means of its whole periods
-/// after the first (least squares on their starts).
+/// after the first (as the periodic estimate takes it out).
 fn without_ramp(x: &[f64], period: usize) -> Vec<f64> {
     let periods = x.len() / period.max(1);
     if periods < 3 {
         return x.to_vec();
     }
-    let means: Vec<(f64, f64)> = (1..periods)
-        .map(|p| {
-            let s = p * period;
-            (
-                s as f64,
-                x[s..s + period].iter().sum::<f64>() / period as f64,
-            )
-        })
-        .collect();
-    let n = means.len() as f64;
-    let (ts, ms) = means
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (t, m)| (a + t / n, b + m / n));
-    let (num, den) = means.iter().fold((0.0, 0.0), |(a, b), (t, m)| {
-        (a + (t - ts) * (m - ms), b + (t - ts) * (t - ts))
-    });
-    let slope = if den > 0.0 { num / den } else { 0.0 };
-    x.iter()
-        .enumerate()
-        .map(|(k, v)| v - slope * k as f64)
-        .collect()
+    let starts: Vec<usize> = (1..periods).map(|p| p * period).collect();
+    crate::welch::without_ramp(x, &starts, period)
 }
 
 #[cfg(test)]

@@ -501,7 +501,7 @@ pub fn three_point(
 /// `starts`, `period` samples each): the slope is the least-squares slope
 /// of the period means against their start, which a periodic signal
 /// leaves at zero.
-fn without_ramp(x: &[f64], starts: &[usize], period: usize) -> Vec<f64> {
+pub(crate) fn without_ramp(x: &[f64], starts: &[usize], period: usize) -> Vec<f64> {
     let means: Vec<(f64, f64)> = starts
         .iter()
         .map(|&s| {
